@@ -1,0 +1,106 @@
+//! Command-line interface: one file per subcommand. clap types live here and
+//! nowhere else; each subcommand turns its arguments into library calls.
+use clap::{Parser, Subcommand};
+
+use crate::output::WriteError;
+use crate::pointfile::PointsError;
+
+mod evaluate;
+mod examples;
+mod fit;
+mod schema;
+
+/// Dimensional metrology on a simulated CMM: design-value scanning with
+/// automatic error correction, deviation evaluation and element fitting.
+#[derive(Debug, Parser)]
+#[command(name = "cmm", version, about, long_about = None)]
+pub struct Cli {
+    /// What to do.
+    #[command(subcommand)]
+    pub command: Command,
+}
+
+/// The subcommands.
+#[derive(Debug, Subcommand)]
+pub enum Command {
+    /// Deviation of measured points from the nominal CAD surfaces.
+    Evaluate(evaluate::EvaluateArgs),
+    /// Fit a geometric element (line, plane, circle, sphere, cylinder, cone) to points.
+    Fit(fit::FitArgs),
+    /// Print the JSON Schema of a file format.
+    Schema(schema::SchemaArgs),
+    /// Regenerate the example workpieces shipped in `workpieces/`.
+    #[command(hide = true)]
+    ExampleWorkpieces(examples::ExamplesArgs),
+}
+
+/// How a successful run ended; maps to the exit codes of DESIGN.md 5.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Status {
+    /// Everything measured and in tolerance (exit 0).
+    Pass,
+    /// Something out of tolerance (exit 1).
+    OutOfTolerance,
+    /// A measurement could not be completed even after all fallbacks (exit 3).
+    Incomplete,
+}
+
+impl Status {
+    /// The process exit code for this status.
+    pub fn code(self) -> u8 {
+        match self {
+            Status::Pass => 0,
+            Status::OutOfTolerance => 1,
+            Status::Incomplete => 3,
+        }
+    }
+}
+
+/// Every way a command can fail before producing its result; all of them are
+/// bad usage or bad input (exit 2) and leave no output behind.
+#[derive(Debug, thiserror::Error)]
+pub enum CliError {
+    /// A workpiece file is invalid.
+    #[error(transparent)]
+    Workpiece(#[from] crate::workpiece::WorkpieceError),
+    /// A point file is invalid.
+    #[error(transparent)]
+    Points(#[from] PointsError),
+    /// Fitting failed (degenerate input, no convergence).
+    #[error(transparent)]
+    Fit(#[from] crate::fit::FitError),
+    /// A closest-point query failed.
+    #[error(transparent)]
+    Projection(#[from] crate::geometry::ProjectionError),
+    /// An output file could not be written.
+    #[error(transparent)]
+    Write(#[from] WriteError),
+}
+
+impl CliError {
+    /// Exit code: 2 for bad usage or bad input (DESIGN.md 5).
+    pub fn exit_code(&self) -> u8 {
+        2
+    }
+}
+
+/// Runs a parsed command line.
+pub fn run(cli: Cli) -> Result<Status, CliError> {
+    match cli.command {
+        Command::Evaluate(args) => evaluate::run(&args),
+        Command::Fit(args) => fit::run(&args),
+        Command::Schema(args) => schema::run(&args),
+        Command::ExampleWorkpieces(args) => examples::run(&args),
+    }
+}
+
+/// Writes `text` to `out` atomically, or to stdout when `out` is `None`.
+fn emit(text: &str, out: Option<&std::path::Path>) -> Result<(), CliError> {
+    match out {
+        Some(path) => Ok(crate::output::write_atomic(path, text.as_bytes())?),
+        None => {
+            print!("{text}");
+            Ok(())
+        }
+    }
+}
