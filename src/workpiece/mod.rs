@@ -1,4 +1,5 @@
 //! Workpieces (placeholder).
+pub mod format;
 /// Workpiece error.
 #[derive(Debug, thiserror::Error)]
 #[error("workpiece error")]
