@@ -1,5 +1,14 @@
-//! Geometry kernel (placeholder while the kernel is written).
-/// Closest-point query failure.
-#[derive(Debug, thiserror::Error)]
-#[error("projection failed")]
-pub struct ProjectionError;
+//! Geometry kernel: NURBS curves and surfaces, closest-point projection,
+//! plane sections and offsets. f64, millimetres.
+
+pub mod nurbs;
+pub mod projection;
+pub mod section;
+
+pub use nurbs::bezier::BezierPatch;
+pub use nurbs::curve::NurbsCurve;
+pub use nurbs::insert::InsertError;
+pub use nurbs::knots::{KnotError, KnotVector};
+pub use nurbs::surface::{Curvature, NurbsSurface, SurfaceDerivs};
+pub use nurbs::NurbsError;
+pub use projection::{Projection, ProjectionError, ProjectionOptions};

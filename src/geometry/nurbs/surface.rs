@@ -1,0 +1,328 @@
+//! Rational B-spline (NURBS) surfaces: evaluation, derivatives, normals and
+//! curvature.
+use super::knots::{KnotVector, MAX_DEGREE};
+use super::{binomial, homogeneous, xyz, NurbsError};
+use crate::math::{Point3, Vec2, Vec3, Vec4};
+
+/// A NURBS surface `S(u, v)` with an outward side, mm.
+///
+/// Control points `[i][j]` run along u (i) and v (j). The outward normal is
+/// `Su x Sv` normalised, or its negation when the surface is `reversed`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct NurbsSurface {
+    ku: KnotVector,
+    kv: KnotVector,
+    /// Homogeneous control points, row-major: index `i * nv + j`.
+    pw: Vec<Vec4>,
+    nv: usize,
+    rational: bool,
+    reversed: bool,
+}
+
+/// Partial derivatives of a surface at one parameter: `d[k][l]` is
+/// `d^(k+l) S / du^k dv^l` (valid for `k + l <=` the requested order).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceDerivs {
+    /// The derivative table.
+    pub d: [[Vec3; 4]; 4],
+}
+
+impl SurfaceDerivs {
+    /// `S(u, v)`.
+    pub fn point(&self) -> Point3 {
+        Point3::from(self.d[0][0])
+    }
+    /// `dS/du`.
+    pub fn su(&self) -> Vec3 {
+        self.d[1][0]
+    }
+    /// `dS/dv`.
+    pub fn sv(&self) -> Vec3 {
+        self.d[0][1]
+    }
+    /// `d2S/du2`.
+    pub fn suu(&self) -> Vec3 {
+        self.d[2][0]
+    }
+    /// `d2S/dudv`.
+    pub fn suv(&self) -> Vec3 {
+        self.d[1][1]
+    }
+    /// `d2S/dv2`.
+    pub fn svv(&self) -> Vec3 {
+        self.d[0][2]
+    }
+}
+
+/// Principal curvatures (1/mm) and directions at a surface point. Signs are
+/// relative to the outward normal: positive where the surface bends towards
+/// it (concave from outside, e.g. a bore), negative where it bends away
+/// (convex, e.g. a sphere seen from outside).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Curvature {
+    /// Smaller principal curvature.
+    pub k_min: f64,
+    /// Larger principal curvature.
+    pub k_max: f64,
+    /// Unit tangent direction of `k_min`.
+    pub dir_min: Vec3,
+    /// Unit tangent direction of `k_max`.
+    pub dir_max: Vec3,
+}
+
+impl NurbsSurface {
+    /// Builds a surface from degrees, knots, `control_points[i][j]` and
+    /// optional weights of the same shape (default 1).
+    pub fn try_new(
+        degree: [usize; 2],
+        knots_u: Vec<f64>,
+        knots_v: Vec<f64>,
+        control_points: &[Vec<[f64; 3]>],
+        weights: Option<&[Vec<f64>]>,
+        reversed: bool,
+    ) -> Result<Self, NurbsError> {
+        let ku = KnotVector::try_new(knots_u, degree[0])
+            .map_err(|source| NurbsError::Knots { dir: "u", source })?;
+        let kv = KnotVector::try_new(knots_v, degree[1])
+            .map_err(|source| NurbsError::Knots { dir: "v", source })?;
+        let (nu, nv) = (ku.num_basis(), kv.num_basis());
+        check_grid(control_points.iter().map(Vec::len), nu, nv, "control_points")?;
+        if let Some(w) = weights {
+            check_grid(w.iter().map(Vec::len), nu, nv, "weights")?;
+        }
+        let pw = build_homogeneous(control_points, weights)?;
+        let rational = pw.iter().any(|p| p.w != 1.0);
+        Ok(NurbsSurface { ku, kv, pw, nv, rational, reversed })
+    }
+
+    /// Builds a surface from validated parts (used by knot insertion).
+    pub(crate) fn from_parts(ku: KnotVector, kv: KnotVector, pw: Vec<Vec4>, reversed: bool) -> Self {
+        let nv = kv.num_basis();
+        let rational = pw.iter().any(|p| p.w != 1.0);
+        NurbsSurface { ku, kv, pw, nv, rational, reversed }
+    }
+
+    /// Knot vector in u.
+    pub fn knots_u(&self) -> &KnotVector {
+        &self.ku
+    }
+    /// Knot vector in v.
+    pub fn knots_v(&self) -> &KnotVector {
+        &self.kv
+    }
+    /// Number of control points along u and v.
+    pub fn counts(&self) -> (usize, usize) {
+        (self.ku.num_basis(), self.nv)
+    }
+    /// Homogeneous control point `[i][j]`.
+    pub fn homogeneous_point(&self, i: usize, j: usize) -> Vec4 {
+        self.pw[i * self.nv + j]
+    }
+    /// All homogeneous control points, row-major (`i * nv + j`).
+    pub fn homogeneous_points(&self) -> &[Vec4] {
+        &self.pw
+    }
+    /// Whether any weight differs from 1.
+    pub fn is_rational(&self) -> bool {
+        self.rational
+    }
+    /// Whether the outward normal is `-(Su x Sv)`.
+    pub fn is_reversed(&self) -> bool {
+        self.reversed
+    }
+    /// Parameter domain `((u0, u1), (v0, v1))`.
+    pub fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (self.ku.domain(), self.kv.domain())
+    }
+    /// Clamps `(u, v)` into the domain.
+    pub fn clamp(&self, uv: Vec2) -> Vec2 {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        Vec2::new(uv.x.clamp(u0, u1), uv.y.clamp(v0, v1))
+    }
+
+    /// The point `S(u, v)`.
+    pub fn point(&self, u: f64, v: f64) -> Point3 {
+        self.derivs(u, v, 0).point()
+    }
+
+    /// `S` and its partial derivatives up to total order `nd` (at most 3).
+    /// Parameters outside the domain are clamped.
+    pub fn derivs(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
+        let nd = nd.min(3);
+        let p = self.ku.degree().max(self.kv.degree());
+        if p <= 3 {
+            self.derivs_n::<4>(u, v, nd)
+        } else if p <= 7 {
+            self.derivs_n::<8>(u, v, nd)
+        } else {
+            self.derivs_n::<{ MAX_DEGREE + 1 }>(u, v, nd)
+        }
+    }
+
+    fn derivs_n<const N: usize>(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
+        let uv = self.clamp(Vec2::new(u, v));
+        let (p, q) = (self.ku.degree(), self.kv.degree());
+        let (su, sv) = (self.ku.find_span(uv.x), self.kv.find_span(uv.y));
+        let nu = self.ku.basis_derivs::<N>(su, uv.x, nd);
+        let nvb = self.kv.basis_derivs::<N>(sv, uv.y, nd);
+        let mut aw = [[Vec4::zeros(); 4]; 4];
+        for k in 0..=nd.min(p) {
+            let mut temp = [Vec4::zeros(); N];
+            for r in 0..=p {
+                let row = (su - p + r) * self.nv + sv - q;
+                let coef = nu[k][r];
+                for (t, cp) in temp.iter_mut().zip(&self.pw[row..=row + q]) {
+                    *t += cp * coef;
+                }
+            }
+            for l in 0..=(nd - k).min(q) {
+                aw[k][l] = (0..=q).fold(Vec4::zeros(), |acc, s| acc + temp[s] * nvb[l][s]);
+            }
+        }
+        SurfaceDerivs { d: self.rational_derivs(&aw, nd) }
+    }
+
+    fn rational_derivs(&self, aw: &[[Vec4; 4]; 4], nd: usize) -> [[Vec3; 4]; 4] {
+        let mut skl = [[Vec3::zeros(); 4]; 4];
+        if !self.rational {
+            for k in 0..=nd {
+                for l in 0..=nd - k {
+                    skl[k][l] = xyz(&aw[k][l]);
+                }
+            }
+            return skl;
+        }
+        for k in 0..=nd {
+            for l in 0..=nd - k {
+                skl[k][l] = quotient_term(aw, &skl, k, l) / aw[0][0].w;
+            }
+        }
+        skl
+    }
+
+    /// Unit outward normal at `(u, v)`, with the limit taken at degenerate
+    /// points (poles, collapsed edges) from second derivatives.
+    pub fn normal(&self, u: f64, v: f64) -> Vec3 {
+        let d = self.derivs(u, v, 2);
+        self.normal_from(&d, Vec2::new(u, v))
+    }
+
+    /// Unit outward normal from precomputed derivatives (order >= 2 is
+    /// needed only at degenerate points; `uv` locates them).
+    pub fn normal_from(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
+        let sign = if self.reversed { -1.0 } else { 1.0 };
+        let n = d.su().cross(&d.sv());
+        let scale = d.su().norm_squared() + d.sv().norm_squared();
+        if n.norm_squared() > 1e-24 * scale * scale && scale > 0.0 {
+            return n.normalize() * sign;
+        }
+        self.degenerate_normal(d, self.clamp(uv)) * sign
+    }
+
+    fn degenerate_normal(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        let tiny = |x: Vec3, s: Vec3| x.norm() <= 1e-12 * (1.0 + s.norm());
+        // Step inward from the degenerate edge: Su(u, v + h) ~ h Suv.
+        let candidate = if tiny(d.su(), d.sv()) {
+            let h = if uv.y - v0 <= v1 - uv.y { 1.0 } else { -1.0 };
+            (d.suv() * h).cross(&d.sv())
+        } else {
+            let h = if uv.x - u0 <= u1 - uv.x { 1.0 } else { -1.0 };
+            d.su().cross(&(d.suv() * h))
+        };
+        if candidate.norm() > 0.0 {
+            return candidate.normalize();
+        }
+        self.nudged_normal(uv)
+    }
+
+    fn nudged_normal(&self, uv: Vec2) -> Vec3 {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        let (cu, cv) = (0.5 * (u0 + u1), 0.5 * (v0 + v1));
+        let t = 1e-7;
+        let nudged = Vec2::new(uv.x + (cu - uv.x) * t, uv.y + (cv - uv.y) * t);
+        let d = self.derivs(nudged.x, nudged.y, 1);
+        d.su().cross(&d.sv()).try_normalize(0.0).unwrap_or_else(Vec3::z)
+    }
+
+    /// Principal curvatures and directions at `(u, v)` (see [`Curvature`]).
+    pub fn curvature(&self, u: f64, v: f64) -> Curvature {
+        let d = self.derivs(u, v, 2);
+        let n = self.normal_from(&d, Vec2::new(u, v));
+        principal_curvatures(&d, n)
+    }
+}
+
+fn quotient_term(aw: &[[Vec4; 4]; 4], skl: &[[Vec3; 4]; 4], k: usize, l: usize) -> Vec3 {
+    let mut v = xyz(&aw[k][l]);
+    for j in 1..=l {
+        v -= skl[k][l - j] * (binomial(l, j) * aw[0][j].w);
+    }
+    for i in 1..=k {
+        v -= skl[k - i][l] * (binomial(k, i) * aw[i][0].w);
+        let mut v2 = Vec3::zeros();
+        for j in 1..=l {
+            v2 += skl[k - i][l - j] * (binomial(l, j) * aw[i][j].w);
+        }
+        v -= v2 * binomial(k, i);
+    }
+    v
+}
+
+/// Principal curvatures from the fundamental forms, signed against `n`.
+pub fn principal_curvatures(d: &SurfaceDerivs, n: Vec3) -> Curvature {
+    let (su, sv) = (d.su(), d.sv());
+    let (e, f, g) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
+    let (l, m, nn) = (d.suu().dot(&n), d.suv().dot(&n), d.svv().dot(&n));
+    let det = e * g - f * f;
+    let mean = (e * nn - 2.0 * f * m + g * l) / (2.0 * det);
+    let gauss = (l * nn - m * m) / det;
+    let disc = (mean * mean - gauss).max(0.0).sqrt();
+    let (k_min, k_max) = (mean - disc, mean + disc);
+    let dir = |k: f64| principal_direction(e, f, g, l, m, nn, k, su, sv);
+    Curvature { k_min, k_max, dir_min: dir(k_min), dir_max: dir(k_max) }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn principal_direction(e: f64, f: f64, g: f64, l: f64, m: f64, n: f64, k: f64, su: Vec3, sv: Vec3) -> Vec3 {
+    // (L - kE) du + (M - kF) dv = 0 and (M - kF) du + (N - kG) dv = 0.
+    let (a, b) = (l - k * e, m - k * f);
+    let (c, dd) = (m - k * f, n - k * g);
+    let cand = if a.abs() + b.abs() >= c.abs() + dd.abs() { (-b, a) } else { (-dd, c) };
+    let t = su * cand.0 + sv * cand.1;
+    t.try_normalize(1e-300).unwrap_or_else(|| su.try_normalize(1e-300).unwrap_or_else(Vec3::x))
+}
+
+fn check_grid(
+    rows: impl ExactSizeIterator<Item = usize>,
+    nu: usize,
+    nv: usize,
+    what: &str,
+) -> Result<(), NurbsError> {
+    if rows.len() != nu {
+        return Err(NurbsError::Count { dir: what.to_string(), expected: nu, found: rows.len() });
+    }
+    for (i, len) in rows.enumerate() {
+        if len != nv {
+            return Err(NurbsError::Count { dir: format!("{what}[{i}]"), expected: nv, found: len });
+        }
+    }
+    Ok(())
+}
+
+fn build_homogeneous(cps: &[Vec<[f64; 3]>], weights: Option<&[Vec<f64>]>) -> Result<Vec<Vec4>, NurbsError> {
+    let mut out = Vec::with_capacity(cps.len() * cps.first().map_or(0, Vec::len));
+    for (i, row) in cps.iter().enumerate() {
+        for (j, p) in row.iter().enumerate() {
+            let w = weights.and_then(|w| w.get(i)?.get(j).copied()).unwrap_or(1.0);
+            if !p.iter().all(|c| c.is_finite()) {
+                return Err(NurbsError::NotFinite { index: vec![i, j] });
+            }
+            if !(w.is_finite() && w > 0.0) {
+                return Err(NurbsError::Weight { index: vec![i, j], value: w });
+            }
+            out.push(homogeneous(*p, w));
+        }
+    }
+    Ok(out)
+}

@@ -1,0 +1,274 @@
+//! The cold-search hierarchy: near-flat Bezier leaves with oriented boxes
+//! under an axis-aligned bounding-box tree, searched best-first.
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use super::newton::{self, Bounds, Foot};
+use super::{check_finite, Projection, ProjectionError, ProjectionOptions};
+use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
+use crate::geometry::NurbsSurface;
+use crate::math::{Point3, Vec2, Vec3};
+
+/// Search structure for global closest-point queries on one surface.
+#[derive(Debug, Clone)]
+pub struct ProjectionIndex {
+    leaves: Vec<Leaf>,
+    nodes: Vec<Node>,
+    opts: ProjectionOptions,
+}
+
+#[derive(Debug, Clone)]
+struct Leaf {
+    bounds: Bounds,
+    obb: Obb,
+    /// A 3 x 3 grid of surface points with their parameters.
+    samples: [(Vec2, Point3); 9],
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Obb {
+    center: Point3,
+    axes: [Vec3; 3],
+    half: [f64; 3],
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Aabb {
+    min: Point3,
+    max: Point3,
+}
+
+#[derive(Debug, Clone, Copy)]
+struct Node {
+    aabb: Aabb,
+    /// `Ok(leaf)` or `Err((left, right))` child node indices.
+    kind: Result<usize, (usize, usize)>,
+}
+
+impl ProjectionIndex {
+    /// Builds the hierarchy for `surface`.
+    pub fn new(surface: &NurbsSurface, opts: &ProjectionOptions) -> ProjectionIndex {
+        let mut leaf_patches = Vec::new();
+        for patch in decompose(surface) {
+            split_until_flat(patch, 0, opts, &mut leaf_patches);
+        }
+        let leaves: Vec<Leaf> = leaf_patches.iter().map(|p| make_leaf(surface, p)).collect();
+        let boxes: Vec<Aabb> = leaf_patches.iter().map(|p| aabb_of(p.points())).collect();
+        let mut nodes = Vec::with_capacity(2 * leaves.len());
+        let mut ids: Vec<usize> = (0..leaves.len()).collect();
+        build_tree(&boxes, &mut ids, &mut nodes);
+        ProjectionIndex { leaves, nodes, opts: *opts }
+    }
+
+    /// Number of leaves (near-flat pieces) in the hierarchy.
+    pub fn leaf_count(&self) -> usize {
+        self.leaves.len()
+    }
+
+    /// Lower bound of the distance from `p` to the surface, mm.
+    pub fn lower_bound(&self, p: Point3) -> f64 {
+        self.nodes.last().map_or(f64::INFINITY, |n| n.aabb.dist2(p).sqrt())
+    }
+
+    /// Global closest point of `surface` (the one this index was built for).
+    pub fn project(&self, surface: &NurbsSurface, p: Point3) -> Result<Projection, ProjectionError> {
+        self.project_within(surface, p, f64::INFINITY)?
+            .map(|f| f.into_projection(surface, p))
+            .ok_or(ProjectionError::NotFinite { x: p.x, y: p.y, z: p.z })
+    }
+
+    /// Best-first search; only points closer than `sqrt(best_dist2)` count.
+    pub(crate) fn project_within(
+        &self,
+        surface: &NurbsSurface,
+        p: Point3,
+        mut best_dist2: f64,
+    ) -> Result<Option<Foot>, ProjectionError> {
+        check_finite(p)?;
+        let mut best: Option<Foot> = None;
+        let mut heap = BinaryHeap::new();
+        let Some(root) = self.nodes.len().checked_sub(1) else { return Ok(None) };
+        heap.push(Entry { dist2: self.nodes[root].aabb.dist2(p), node: root });
+        while let Some(Entry { dist2, node }) = heap.pop() {
+            if dist2 >= best_dist2 {
+                break;
+            }
+            match self.nodes[node].kind {
+                Err((a, b)) => {
+                    for child in [a, b] {
+                        let d2 = self.nodes[child].aabb.dist2(p);
+                        if d2 < best_dist2 {
+                            heap.push(Entry { dist2: d2, node: child });
+                        }
+                    }
+                }
+                Ok(leaf) => {
+                    if let Some(foot) = self.search_leaf(surface, leaf, p, best_dist2)? {
+                        best_dist2 = foot.dist2;
+                        best = Some(foot);
+                    }
+                }
+            }
+        }
+        Ok(best)
+    }
+
+    fn search_leaf(
+        &self,
+        surface: &NurbsSurface,
+        leaf: usize,
+        p: Point3,
+        best_dist2: f64,
+    ) -> Result<Option<Foot>, ProjectionError> {
+        let leaf = &self.leaves[leaf];
+        if leaf.obb.dist2(p) >= best_dist2 {
+            return Ok(None);
+        }
+        let start = leaf
+            .samples
+            .iter()
+            .min_by(|a, b| (a.1 - p).norm_squared().total_cmp(&(b.1 - p).norm_squared()))
+            .map_or(leaf.bounds.lo, |s| s.0);
+        let foot = newton::minimise(surface, p, start, &leaf.bounds, &self.opts)?;
+        Ok((foot.dist2 < best_dist2).then_some(foot))
+    }
+}
+
+/// Heap entry ordered by smallest distance first.
+struct Entry {
+    dist2: f64,
+    node: usize,
+}
+impl PartialEq for Entry {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+impl Eq for Entry {}
+impl PartialOrd for Entry {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+impl Ord for Entry {
+    fn cmp(&self, other: &Self) -> Ordering {
+        other.dist2.total_cmp(&self.dist2)
+    }
+}
+
+fn split_until_flat(patch: BezierPatch, depth: usize, opts: &ProjectionOptions, out: &mut Vec<BezierPatch>) {
+    if depth >= opts.max_leaf_depth || is_flat(&patch, opts.leaf_flatness) {
+        out.push(patch);
+        return;
+    }
+    let (a, b) = if u_extent(&patch) >= v_extent(&patch) { patch.split_u() } else { patch.split_v() };
+    split_until_flat(a, depth + 1, opts, out);
+    split_until_flat(b, depth + 1, opts, out);
+}
+
+fn corners(patch: &BezierPatch) -> [Point3; 4] {
+    let [p, q] = patch.degree;
+    [patch.point(0, 0), patch.point(p, 0), patch.point(0, q), patch.point(p, q)]
+}
+
+/// Length of the control net along u (longest row polyline).
+fn u_extent(patch: &BezierPatch) -> f64 {
+    let [p, q] = patch.degree;
+    (0..=q)
+        .map(|j| (1..=p).map(|i| (patch.point(i, j) - patch.point(i - 1, j)).norm()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+fn v_extent(patch: &BezierPatch) -> f64 {
+    let [p, q] = patch.degree;
+    (0..=p)
+        .map(|i| (1..=q).map(|j| (patch.point(i, j) - patch.point(i, j - 1)).norm()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+fn is_flat(patch: &BezierPatch, flatness: f64) -> bool {
+    let obb = obb_of(patch);
+    let size = obb.half[0].max(obb.half[1]);
+    obb.half[2] <= flatness * size
+}
+
+fn obb_of(patch: &BezierPatch) -> Obb {
+    let [c00, c10, c01, c11] = corners(patch);
+    let du = (c10 - c00) + (c11 - c01);
+    let dv = (c01 - c00) + (c11 - c10);
+    let axes = frame(du, dv);
+    let pts: Vec<Point3> = patch.points().collect();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for pt in &pts {
+        for k in 0..3 {
+            let s = pt.coords.dot(&axes[k]);
+            lo[k] = lo[k].min(s);
+            hi[k] = hi[k].max(s);
+        }
+    }
+    let mid: Vec3 = (0..3).map(|k| axes[k] * 0.5 * (lo[k] + hi[k])).sum();
+    Obb { center: Point3::from(mid), axes, half: [0, 1, 2].map(|k| 0.5 * (hi[k] - lo[k])) }
+}
+
+/// Orthonormal frame with the first axis along `du` and the third along
+/// `du x dv`; falls back to the coordinate axes for degenerate nets.
+fn frame(du: Vec3, dv: Vec3) -> [Vec3; 3] {
+    let (Some(a), Some(n)) = (du.try_normalize(1e-300), du.cross(&dv).try_normalize(1e-300)) else {
+        return [Vec3::x(), Vec3::y(), Vec3::z()];
+    };
+    [a, n.cross(&a), n]
+}
+
+impl Obb {
+    fn dist2(&self, p: Point3) -> f64 {
+        let r = p - self.center;
+        (0..3).map(|k| (r.dot(&self.axes[k]).abs() - self.half[k]).max(0.0).powi(2)).sum()
+    }
+}
+
+impl Aabb {
+    fn dist2(&self, p: Point3) -> f64 {
+        (0..3).map(|k| (self.min[k] - p[k]).max(p[k] - self.max[k]).max(0.0).powi(2)).sum()
+    }
+    fn union(&self, o: &Aabb) -> Aabb {
+        Aabb { min: self.min.inf(&o.min), max: self.max.sup(&o.max) }
+    }
+}
+
+fn aabb_of(points: impl Iterator<Item = Point3>) -> Aabb {
+    let init = Aabb { min: Point3::from([f64::INFINITY; 3]), max: Point3::from([f64::NEG_INFINITY; 3]) };
+    points.fold(init, |b, p| Aabb { min: b.min.inf(&p), max: b.max.sup(&p) })
+}
+
+fn make_leaf(surface: &NurbsSurface, patch: &BezierPatch) -> Leaf {
+    let bounds = Bounds { lo: Vec2::new(patch.u.0, patch.v.0), hi: Vec2::new(patch.u.1, patch.v.1) };
+    let samples = std::array::from_fn(|k| {
+        let (a, b) = ((k % 3) as f64 * 0.5, (k / 3) as f64 * 0.5);
+        let uv = bounds.lo + (bounds.hi - bounds.lo).component_mul(&Vec2::new(a, b));
+        (uv, surface.point(uv.x, uv.y))
+    });
+    Leaf { bounds, obb: obb_of(patch), samples }
+}
+
+/// Builds the tree bottom-up by median splits; the root is the last node.
+fn build_tree(boxes: &[Aabb], ids: &mut [usize], nodes: &mut Vec<Node>) -> usize {
+    let aabb = ids.iter().map(|&i| boxes[i]).reduce(|a, b| a.union(&b));
+    let Some(aabb) = aabb else {
+        return usize::MAX;
+    };
+    if let [only] = ids {
+        nodes.push(Node { aabb, kind: Ok(*only) });
+        return nodes.len() - 1;
+    }
+    let centre = |i: usize| (boxes[i].min.coords + boxes[i].max.coords) * 0.5;
+    let extent = aabb.max - aabb.min;
+    let axis = extent.iamax();
+    let mid = ids.len() / 2;
+    ids.select_nth_unstable_by(mid, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
+    let (left_ids, right_ids) = ids.split_at_mut(mid);
+    let left = build_tree(boxes, left_ids, nodes);
+    let right = build_tree(boxes, right_ids, nodes);
+    nodes.push(Node { aabb, kind: Err((left, right)) });
+    nodes.len() - 1
+}

@@ -1,0 +1,130 @@
+//! Closest-point projection of a point onto a NURBS surface.
+//!
+//! - **Warm** ([`project_from`]): bounded Newton from a parameter hint, as the
+//!   simulator calls it every control cycle. Finds the local minimum in the
+//!   basin of the hint.
+//! - **Cold** ([`ProjectionIndex::project`]): the global minimum. The surface
+//!   is split into near-flat rational Bezier leaves (each inside the convex hull
+//!   of its control points, since weights are positive) under a bounding-box
+//!   tree; a best-first search visits only leaves whose oriented box could
+//!   hold a closer point than the best found so far and minimises the distance
+//!   within each such leaf by bounded Newton. Poles, seams, collapsed edges,
+//!   far points and points beyond the boundary (answer on the boundary) need no
+//!   special cases.
+
+mod index;
+mod newton;
+
+pub use index::ProjectionIndex;
+
+use crate::geometry::NurbsSurface;
+use crate::math::{Point3, Vec2, Vec3};
+
+/// Tolerances and limits of projection (lengths in mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProjectionOptions {
+    /// Newton stops when a step would move the foot point by less than this
+    /// (mm). The distance is then exact to far better than this, since it is
+    /// stationary at the foot.
+    pub step_tol_mm: f64,
+    /// Newton iterations allowed per start before [`ProjectionError::NoConvergence`].
+    pub max_iterations: usize,
+    /// Halvings allowed in the line search of one Newton step.
+    pub max_halvings: usize,
+    /// A leaf of the cold-search tree is flat enough when its control points
+    /// lie within this fraction of its in-plane size from its mid plane.
+    pub leaf_flatness: f64,
+    /// Maximum subdivision depth of one Bezier patch into leaves.
+    pub max_leaf_depth: usize,
+}
+
+impl Default for ProjectionOptions {
+    fn default() -> Self {
+        ProjectionOptions {
+            step_tol_mm: 1e-11,
+            max_iterations: 60,
+            max_halvings: 40,
+            leaf_flatness: 0.05,
+            max_leaf_depth: 8,
+        }
+    }
+}
+
+/// Why a projection failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ProjectionError {
+    /// Newton did not settle within the iteration limit.
+    #[error("closest-point search for ({x}, {y}, {z}) did not converge in {iterations} iterations (last step {last_step_mm:e} mm)")]
+    NoConvergence {
+        /// Query point x.
+        x: f64,
+        /// Query point y.
+        y: f64,
+        /// Query point z.
+        z: f64,
+        /// Iterations used.
+        iterations: usize,
+        /// Size of the last step, mm.
+        last_step_mm: f64,
+    },
+    /// The query point has a NaN or infinite coordinate.
+    #[error("query point ({x}, {y}, {z}) is not finite")]
+    NotFinite {
+        /// Query point x.
+        x: f64,
+        /// Query point y.
+        y: f64,
+        /// Query point z.
+        z: f64,
+    },
+}
+
+/// The closest point found on a surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    /// Surface parameters of the foot point.
+    pub uv: Vec2,
+    /// The foot point `S(u, v)`.
+    pub point: Point3,
+    /// Unit outward normal at the foot.
+    pub normal: Vec3,
+    /// Unsigned distance from the query point to the foot, mm.
+    pub distance: f64,
+    /// Distance signed by `(query - foot) . normal` (positive outside), mm.
+    pub signed_distance: f64,
+    /// Newton iterations spent (all starts together for cold queries).
+    pub iterations: usize,
+}
+
+/// Warm projection: bounded Newton over the whole domain from `hint`.
+///
+/// ```
+/// use cmm::geometry::{NurbsSurface, projection::project_from, ProjectionOptions};
+/// use cmm::math::{Point3, Vec2};
+/// // Bilinear plane z = 0 over [0, 10]^2.
+/// let s = NurbsSurface::try_new([1, 1], vec![0., 0., 1., 1.], vec![0., 0., 1., 1.],
+///     &[vec![[0., 0., 0.], [0., 10., 0.]], vec![[10., 0., 0.], [10., 10., 0.]]], None, false).unwrap();
+/// let pr = project_from(&s, Point3::new(3., 4., 2.), Vec2::new(0.5, 0.5), &ProjectionOptions::default()).unwrap();
+/// assert!((pr.uv - Vec2::new(0.3, 0.4)).norm() < 1e-12);
+/// assert!((pr.signed_distance - 2.0).abs() < 1e-12);
+/// ```
+pub fn project_from(
+    surface: &NurbsSurface,
+    p: Point3,
+    hint: Vec2,
+    opts: &ProjectionOptions,
+) -> Result<Projection, ProjectionError> {
+    check_finite(p)?;
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let bounds = newton::Bounds { lo: Vec2::new(u0, v0), hi: Vec2::new(u1, v1) };
+    let foot = newton::minimise(surface, p, hint, &bounds, opts)?;
+    Ok(foot.into_projection(surface, p))
+}
+
+fn check_finite(p: Point3) -> Result<(), ProjectionError> {
+    if p.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(ProjectionError::NotFinite { x: p.x, y: p.y, z: p.z })
+    }
+}

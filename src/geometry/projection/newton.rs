@@ -1,0 +1,149 @@
+//! Bounded Newton minimisation of `|S(u, v) - p|^2 / 2` over a parameter box,
+//! with an active set for the box faces, a regularised Hessian and a
+//! backtracking line search.
+use super::{Projection, ProjectionError, ProjectionOptions};
+use crate::geometry::{NurbsSurface, SurfaceDerivs};
+use crate::math::{Mat2, Point3, Vec2};
+
+/// A parameter box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Bounds {
+    pub lo: Vec2,
+    pub hi: Vec2,
+}
+
+impl Bounds {
+    fn clamp(&self, x: Vec2) -> Vec2 {
+        Vec2::new(x.x.clamp(self.lo.x, self.hi.x), x.y.clamp(self.lo.y, self.hi.y))
+    }
+}
+
+/// A local minimum found by Newton.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Foot {
+    pub uv: Vec2,
+    pub d: SurfaceDerivs,
+    pub dist2: f64,
+    pub iterations: usize,
+}
+
+impl Foot {
+    fn new(uv: Vec2, d: SurfaceDerivs, p: Point3, iterations: usize) -> Foot {
+        Foot { uv, d, dist2: (d.point() - p).norm_squared(), iterations }
+    }
+
+    /// Finishes the foot into a projection with the outward normal.
+    pub fn into_projection(self, surface: &NurbsSurface, p: Point3) -> Projection {
+        let normal = surface.normal_from(&self.d, self.uv);
+        let point = self.d.point();
+        let distance = self.dist2.sqrt();
+        let sign = if (p - point).dot(&normal) < 0.0 { -1.0 } else { 1.0 };
+        Projection { uv: self.uv, point, normal, distance, signed_distance: sign * distance, iterations: self.iterations }
+    }
+}
+
+/// Minimises the squared distance from `p` over `bounds`, starting at `start`.
+pub(crate) fn minimise(
+    surface: &NurbsSurface,
+    p: Point3,
+    start: Vec2,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Result<Foot, ProjectionError> {
+    let x0 = bounds.clamp(start);
+    let mut foot = Foot::new(x0, surface.derivs(x0.x, x0.y, 2), p, 0);
+    let mut last_step = f64::INFINITY;
+    for it in 1..=opts.max_iterations {
+        let delta = bounds.clamp(foot.uv + newton_step(&foot.d, p, foot.uv, bounds)) - foot.uv;
+        last_step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
+        if last_step <= opts.step_tol_mm {
+            return Ok(Foot { iterations: it, ..foot });
+        }
+        match line_search(surface, p, &foot, delta, opts) {
+            Some(next) => foot = Foot { iterations: it, ..next },
+            None => return Ok(Foot { iterations: it, ..foot }),
+        }
+    }
+    Err(ProjectionError::NoConvergence {
+        x: p.x,
+        y: p.y,
+        z: p.z,
+        iterations: opts.max_iterations,
+        last_step_mm: last_step,
+    })
+}
+
+/// Backtracking: the first of `delta, delta/2, ...` that lowers the distance.
+fn line_search(
+    surface: &NurbsSurface,
+    p: Point3,
+    foot: &Foot,
+    delta: Vec2,
+    opts: &ProjectionOptions,
+) -> Option<Foot> {
+    let mut t = 1.0;
+    for _ in 0..=opts.max_halvings {
+        let x = foot.uv + delta * t;
+        let cand = Foot::new(x, surface.derivs(x.x, x.y, 2), p, foot.iterations);
+        if cand.dist2 < foot.dist2 {
+            return Some(cand);
+        }
+        t *= 0.5;
+    }
+    None
+}
+
+/// Newton step for the free variables (those not pinned at a box face with
+/// the gradient pushing outward).
+fn newton_step(d: &SurfaceDerivs, p: Point3, x: Vec2, bounds: &Bounds) -> Vec2 {
+    let r = d.point() - p;
+    let (su, sv) = (d.su(), d.sv());
+    let g = Vec2::new(su.dot(&r), sv.dot(&r));
+    let h = Mat2::new(
+        su.dot(&su) + d.suu().dot(&r),
+        su.dot(&sv) + d.suv().dot(&r),
+        su.dot(&sv) + d.suv().dot(&r),
+        sv.dot(&sv) + d.svv().dot(&r),
+    );
+    let metric = su.norm_squared() + sv.norm_squared();
+    let pinned = |k: usize| {
+        (x[k] <= bounds.lo[k] && g[k] > 0.0) || (x[k] >= bounds.hi[k] && g[k] < 0.0)
+    };
+    match (pinned(0), pinned(1)) {
+        (false, false) => solve_2x2(h, g, metric),
+        (true, false) => Vec2::new(0.0, -g.y / regularised(h.m22, metric)),
+        (false, true) => Vec2::new(-g.x / regularised(h.m11, metric), 0.0),
+        (true, true) => Vec2::zeros(),
+    }
+}
+
+/// Smallest curvature of the model accepted, relative to the metric scale.
+const MIN_CURVATURE_RATIO: f64 = 1e-9;
+/// Shift applied to an indefinite Hessian, relative to the metric scale.
+const INDEFINITE_SHIFT_RATIO: f64 = 1e-2;
+
+fn regularised(h: f64, metric: f64) -> f64 {
+    if h > MIN_CURVATURE_RATIO * metric {
+        h
+    } else {
+        h.abs() + INDEFINITE_SHIFT_RATIO * metric + f64::MIN_POSITIVE
+    }
+}
+
+fn solve_2x2(h: Mat2, g: Vec2, metric: f64) -> Vec2 {
+    let tr = h.m11 + h.m22;
+    let det = h.m11 * h.m22 - h.m12 * h.m21;
+    let disc = (0.25 * tr * tr - det).max(0.0).sqrt();
+    let lambda_min = 0.5 * tr - disc;
+    let shift = if lambda_min > MIN_CURVATURE_RATIO * metric {
+        0.0
+    } else {
+        -lambda_min + INDEFINITE_SHIFT_RATIO * metric + f64::MIN_POSITIVE
+    };
+    let hs = h + Mat2::identity() * shift;
+    let det_s = hs.m11 * hs.m22 - hs.m12 * hs.m21;
+    if det_s <= 0.0 || !det_s.is_finite() {
+        return Vec2::zeros();
+    }
+    Vec2::new(-(hs.m22 * g.x - hs.m12 * g.y) / det_s, -(hs.m11 * g.y - hs.m21 * g.x) / det_s)
+}

@@ -1,0 +1,1 @@
+//! Plane sections (placeholder while written).
