@@ -1,7 +1,21 @@
-//! placeholder
+//! `cmm example-workpieces --out DIR` (hidden): regenerates `workpieces/`.
+use std::path::PathBuf;
+
 use super::{CliError, Status};
+
 /// Arguments.
 #[derive(Debug, clap::Args)]
-pub struct ExamplesArgs {}
-/// Runs.
-pub fn run(_a: &ExamplesArgs) -> Result<Status, CliError> { Ok(Status::Pass) }
+pub struct ExamplesArgs {
+    /// Output folder.
+    #[arg(long, default_value = "workpieces")]
+    pub out: PathBuf,
+}
+
+/// Writes every example workpiece as `<stem>.json`.
+pub fn run(args: &ExamplesArgs) -> Result<Status, CliError> {
+    for (stem, wp) in crate::workpiece::examples::all() {
+        let text = crate::workpiece::examples::to_json(&wp);
+        crate::output::write_atomic(&args.out.join(format!("{stem}.json")), text.as_bytes())?;
+    }
+    Ok(Status::Pass)
+}

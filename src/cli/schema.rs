@@ -1,7 +1,28 @@
-//! placeholder
+//! `cmm schema workpiece|program`: JSON Schemas generated from the types.
 use super::{CliError, Status};
-/// Arguments.
+
+/// Which format.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum SchemaKind {
+    /// `cmm-workpiece/1`.
+    Workpiece,
+}
+
+/// Arguments of `cmm schema`.
 #[derive(Debug, clap::Args)]
-pub struct SchemaArgs {}
-/// Runs.
-pub fn run(_a: &SchemaArgs) -> Result<Status, CliError> { Ok(Status::Pass) }
+pub struct SchemaArgs {
+    /// The format.
+    pub kind: SchemaKind,
+}
+
+/// Runs `cmm schema`.
+pub fn run(args: &SchemaArgs) -> Result<Status, CliError> {
+    let schema = match args.kind {
+        SchemaKind::Workpiece => schemars::schema_for!(crate::workpiece::WorkpieceFile),
+    };
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&schema).unwrap_or_default()
+    );
+    Ok(Status::Pass)
+}

@@ -2,6 +2,7 @@
 //! plane sections and offsets. f64, millimetres.
 
 pub mod nurbs;
+pub mod plane;
 pub mod projection;
 pub mod section;
 
@@ -11,4 +12,6 @@ pub use nurbs::insert::InsertError;
 pub use nurbs::knots::{KnotError, KnotVector};
 pub use nurbs::surface::{Curvature, NurbsSurface, SurfaceDerivs};
 pub use nurbs::NurbsError;
-pub use projection::{Projection, ProjectionError, ProjectionOptions};
+pub use plane::{Plane, PlaneError};
+pub use projection::{Projection, ProjectionError, ProjectionIndex, ProjectionOptions};
+pub use section::{SectionCurve, SectionOptions, SectionPoint};

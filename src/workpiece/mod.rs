@@ -1,6 +1,171 @@
-//! Workpieces (placeholder).
+//! Workpieces: the part's nominal design data as named NURBS faces, read
+//! from `cmm-workpiece/1` files (DESIGN.md 6.1), and the global closest-point
+//! query over all faces.
+
+pub mod as_machined;
+pub mod examples;
 pub mod format;
-/// Workpiece error.
+mod validate;
+
+use std::path::{Path, PathBuf};
+
+use crate::geometry::{
+    NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions,
+};
+use crate::math::Point3;
+pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
+
+/// Why a workpiece could not be loaded.
 #[derive(Debug, thiserror::Error)]
-#[error("workpiece error")]
-pub struct WorkpieceError;
+pub enum WorkpieceError {
+    /// The file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// The file is not valid JSON or does not match the format's types.
+    #[error("{file}:{line}:{column}: {json_path}: {reason}")]
+    Syntax {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the offending value, e.g. `$.surfaces[0].degree`.
+        json_path: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The file parses but its content is invalid.
+    #[error("{file}: {json_path}: {reason}")]
+    Invalid {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the offending value.
+        json_path: String,
+        /// What is wrong.
+        reason: String,
+    },
+}
+
+/// One face of a workpiece: a named surface with its search hierarchy.
+#[derive(Debug, Clone)]
+pub struct Face {
+    /// Unique name.
+    pub name: String,
+    /// The geometry.
+    pub surface: NurbsSurface,
+    /// Cold-projection hierarchy of `surface`.
+    pub index: ProjectionIndex,
+}
+
+/// A validated workpiece.
+#[derive(Debug, Clone)]
+pub struct Workpiece {
+    /// Part name.
+    pub name: String,
+    /// Faces in file order.
+    pub faces: Vec<Face>,
+    /// Projection tolerances used for every query.
+    pub options: ProjectionOptions,
+}
+
+/// The global closest point over all faces.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FaceProjection {
+    /// Index of the face in [`Workpiece::faces`].
+    pub face: usize,
+    /// The projection onto that face.
+    pub projection: Projection,
+}
+
+impl Workpiece {
+    /// Reads and validates a workpiece file.
+    pub fn from_path(path: &Path) -> Result<Workpiece, WorkpieceError> {
+        let text = std::fs::read_to_string(path).map_err(|source| WorkpieceError::Io {
+            file: path.to_path_buf(),
+            source,
+        })?;
+        let file = validate::parse(&text, path)?;
+        Workpiece::from_file(&file, path)
+    }
+
+    /// Validates parsed file content; `path` is used in messages only.
+    pub fn from_file(file: &WorkpieceFile, path: &Path) -> Result<Workpiece, WorkpieceError> {
+        validate::check_header(file, path)?;
+        let options = ProjectionOptions::default();
+        let faces = file
+            .surfaces
+            .iter()
+            .enumerate()
+            .map(|(i, spec)| {
+                validate::surface(spec, i, path).map(|s| Face::new(spec.name.clone(), s, &options))
+            })
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(Workpiece {
+            name: file.name.clone(),
+            faces,
+            options,
+        })
+    }
+
+    /// Index of the face called `name`.
+    pub fn face_index(&self, name: &str) -> Option<usize> {
+        self.faces.iter().position(|f| f.name == name)
+    }
+
+    /// Global closest point over all faces (ties go to the earlier face).
+    pub fn closest_point(&self, p: Point3) -> Result<FaceProjection, ProjectionError> {
+        self.closest_point_among(p, 0..self.faces.len())
+    }
+
+    /// Global closest point over the faces listed in `faces`.
+    pub fn closest_point_among(
+        &self,
+        p: Point3,
+        faces: impl IntoIterator<Item = usize>,
+    ) -> Result<FaceProjection, ProjectionError> {
+        let mut order: Vec<(f64, usize)> = faces
+            .into_iter()
+            .filter_map(|i| self.faces.get(i).map(|f| (f.index.lower_bound(p), i)))
+            .collect();
+        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut best: Option<(usize, crate::geometry::projection::Foot)> = None;
+        let mut best_d2 = f64::INFINITY;
+        for (lb, i) in order {
+            if lb * lb > best_d2 {
+                break;
+            }
+            let face = &self.faces[i];
+            if let Some(foot) = face.index.project_within(&face.surface, p, best_d2)? {
+                best_d2 = foot.dist2;
+                best = Some((i, foot));
+            }
+        }
+        let (face, foot) = best.ok_or(ProjectionError::NotFinite {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        })?;
+        Ok(FaceProjection {
+            face,
+            projection: foot.into_projection(&self.faces[face].surface, p),
+        })
+    }
+}
+
+impl Face {
+    /// Wraps a surface and builds its hierarchy.
+    pub fn new(name: String, surface: NurbsSurface, options: &ProjectionOptions) -> Face {
+        let index = ProjectionIndex::new(&surface, options);
+        Face {
+            name,
+            surface,
+            index,
+        }
+    }
+}

@@ -20,7 +20,9 @@ impl BezierPatch {
     /// Euclidean control points (the patch lies in their convex hull since
     /// all weights are positive).
     pub fn points(&self) -> impl Iterator<Item = Point3> + '_ {
-        self.pw.iter().map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w))
+        self.pw
+            .iter()
+            .map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w))
     }
 
     /// Control point `[i][j]` (Euclidean).
@@ -96,7 +98,12 @@ pub fn decompose(surface: &NurbsSurface) -> Vec<BezierPatch> {
                 .flat_map(|i| (0..=q).map(move |j| (i, j)))
                 .map(|(i, j)| refined.homogeneous_point(ku - p + i, kv - q + j))
                 .collect();
-            patches.push(BezierPatch { u, v, degree: [p, q], pw });
+            patches.push(BezierPatch {
+                u,
+                v,
+                degree: [p, q],
+                pw,
+            });
         }
     }
     patches
@@ -104,7 +111,10 @@ pub fn decompose(surface: &NurbsSurface) -> Vec<BezierPatch> {
 
 /// Non-empty spans `(k, (knot[k], knot[k+1]))` of a refined knot vector.
 fn spans(knots: &[f64], p: usize, n: usize) -> Vec<(usize, (f64, f64))> {
-    (p..n).filter(|&k| knots[k] < knots[k + 1]).map(|k| (k, (knots[k], knots[k + 1]))).collect()
+    (p..n)
+        .filter(|&k| knots[k] < knots[k + 1])
+        .map(|k| (k, (knots[k], knots[k + 1])))
+        .collect()
 }
 
 /// Inserts every breakpoint (domain ends included) up to multiplicity p.

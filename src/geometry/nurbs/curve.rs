@@ -27,8 +27,8 @@ impl NurbsCurve {
         points: Vec<[f64; 3]>,
         weights: Option<Vec<f64>>,
     ) -> Result<Self, NurbsError> {
-        let knots =
-            KnotVector::try_new(knots, degree).map_err(|source| NurbsError::Knots { dir: "", source })?;
+        let knots = KnotVector::try_new(knots, degree)
+            .map_err(|source| NurbsError::Knots { dir: "", source })?;
         check_count(&knots, points.len())?;
         let weights = weights.unwrap_or_else(|| vec![1.0; points.len()]);
         check_count(&knots, weights.len())?;
@@ -108,7 +108,11 @@ pub(crate) fn rational_curve_derivs(aw: &[Vec4; 4], nd: usize) -> [Vec3; 4] {
 fn check_count(knots: &KnotVector, found: usize) -> Result<(), NurbsError> {
     let expected = knots.num_basis();
     if found != expected {
-        return Err(NurbsError::Count { dir: "points".into(), expected, found });
+        return Err(NurbsError::Count {
+            dir: "points".into(),
+            expected,
+            found,
+        });
     }
     Ok(())
 }
@@ -118,7 +122,10 @@ fn checked_point(i: usize, p: &[f64; 3], w: f64) -> Result<Vec4, NurbsError> {
         return Err(NurbsError::NotFinite { index: vec![i] });
     }
     if !(w.is_finite() && w > 0.0) {
-        return Err(NurbsError::Weight { index: vec![i], value: w });
+        return Err(NurbsError::Weight {
+            index: vec![i],
+            value: w,
+        });
     }
     Ok(homogeneous(*p, w))
 }

@@ -46,7 +46,12 @@ pub(crate) fn insert_homogeneous(
     let p = knots.degree();
     let s = knots.multiplicity(u);
     if s + times > p {
-        return Err(InsertError::Multiplicity { value: u, mult: s, times, degree: p });
+        return Err(InsertError::Multiplicity {
+            value: u,
+            mult: s,
+            times,
+            degree: p,
+        });
     }
     let old = knots.as_slice();
     // Last index with old[k] <= u (the span A5.1 expects).
@@ -65,7 +70,15 @@ pub(crate) fn insert_homogeneous(
     Ok((kv, pts))
 }
 
-fn insert_points(old: &[f64], pts: &[Vec4], p: usize, k: usize, s: usize, u: f64, r: usize) -> Vec<Vec4> {
+fn insert_points(
+    old: &[f64],
+    pts: &[Vec4],
+    p: usize,
+    k: usize,
+    s: usize,
+    u: f64,
+    r: usize,
+) -> Vec<Vec4> {
     let np = pts.len();
     let mut out = vec![Vec4::zeros(); np + r];
     out[..=k - p].copy_from_slice(&pts[..=k - p]);
@@ -111,8 +124,15 @@ impl NurbsSurface {
         }
         let ku = new_kv.unwrap_or_else(|| self.knots_u().clone());
         let nu2 = ku.num_basis();
-        let pw = (0..nu2).flat_map(|i| columns.iter().map(move |c| c[i])).collect();
-        Ok(NurbsSurface::from_parts(ku, self.knots_v().clone(), pw, self.is_reversed()))
+        let pw = (0..nu2)
+            .flat_map(|i| columns.iter().map(move |c| c[i]))
+            .collect();
+        Ok(NurbsSurface::from_parts(
+            ku,
+            self.knots_v().clone(),
+            pw,
+            self.is_reversed(),
+        ))
     }
 
     /// The same surface with `v` inserted `times` times in the v direction.
@@ -127,6 +147,11 @@ impl NurbsSurface {
             pw.extend(pts);
         }
         let kv = new_kv.unwrap_or_else(|| self.knots_v().clone());
-        Ok(NurbsSurface::from_parts(self.knots_u().clone(), kv, pw, self.is_reversed()))
+        Ok(NurbsSurface::from_parts(
+            self.knots_u().clone(),
+            kv,
+            pw,
+            self.is_reversed(),
+        ))
     }
 }

@@ -93,7 +93,11 @@ impl KnotVector {
         check_values(&knots)?;
         let need = 2 * (degree + 1);
         if knots.len() < need {
-            return Err(KnotError::TooFew { len: knots.len(), degree, need });
+            return Err(KnotError::TooFew {
+                len: knots.len(),
+                degree,
+                need,
+            });
         }
         check_multiplicities(&knots, degree)?;
         let kv = KnotVector { knots, degree };
@@ -197,7 +201,11 @@ fn check_values(knots: &[f64]) -> Result<(), KnotError> {
     }
     for (i, w) in knots.windows(2).enumerate() {
         if w[1] < w[0] {
-            return Err(KnotError::Decreasing { index: i + 1, prev: w[0], next: w[1] });
+            return Err(KnotError::Decreasing {
+                index: i + 1,
+                prev: w[0],
+                next: w[1],
+            });
         }
     }
     Ok(())
@@ -212,7 +220,12 @@ fn check_multiplicities(knots: &[f64], degree: usize) -> Result<(), KnotError> {
         let at_end = start == 0 || start + mult == n;
         let max = if at_end { degree + 1 } else { degree };
         if mult > max {
-            return Err(KnotError::Multiplicity { index: start, value, mult, max });
+            return Err(KnotError::Multiplicity {
+                index: start,
+                value,
+                mult,
+                max,
+            });
         }
         start += mult;
     }
@@ -253,7 +266,12 @@ fn basis_derivs<const N: usize>(
     ders
 }
 
-fn derivative_rows<const N: usize>(ndu: &[[f64; N]; N], p: usize, nd: usize, ders: &mut [[f64; N]; 4]) {
+fn derivative_rows<const N: usize>(
+    ndu: &[[f64; N]; N],
+    p: usize,
+    nd: usize,
+    ders: &mut [[f64; N]; 4],
+) {
     let mut a = [[0.0; N]; 2];
     for r in 0..=p {
         let (mut s1, mut s2) = (0usize, 1usize);
@@ -267,7 +285,11 @@ fn derivative_rows<const N: usize>(ndu: &[[f64; N]; N], p: usize, nd: usize, der
                 d = a[s2][0] * ndu[r - k][pk];
             }
             let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
-            let j2 = if (r as isize) - 1 <= pk as isize { k - 1 } else { p - r };
+            let j2 = if (r as isize) - 1 <= pk as isize {
+                k - 1
+            } else {
+                p - r
+            };
             for j in j1..=j2 {
                 let idx = (rk + j as isize) as usize;
                 a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];

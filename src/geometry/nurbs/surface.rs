@@ -70,6 +70,12 @@ pub struct Curvature {
     pub dir_max: Vec3,
 }
 
+/// Below this ratio of |Su| to |Sv| (or back) the normal is taken from the
+/// limit at a degenerate edge (pole) instead of the ill-conditioned `Su x Sv`.
+const NEAR_DEGENERATE_RATIO: f64 = 1e-8;
+/// Parameters within this fraction of the domain from an edge are "at" it.
+const EDGE_PROXIMITY: f64 = 1e-6;
+
 impl NurbsSurface {
     /// Builds a surface from degrees, knots, `control_points[i][j]` and
     /// optional weights of the same shape (default 1).
@@ -86,20 +92,44 @@ impl NurbsSurface {
         let kv = KnotVector::try_new(knots_v, degree[1])
             .map_err(|source| NurbsError::Knots { dir: "v", source })?;
         let (nu, nv) = (ku.num_basis(), kv.num_basis());
-        check_grid(control_points.iter().map(Vec::len), nu, nv, "control_points")?;
+        check_grid(
+            control_points.iter().map(Vec::len),
+            nu,
+            nv,
+            "control_points",
+        )?;
         if let Some(w) = weights {
             check_grid(w.iter().map(Vec::len), nu, nv, "weights")?;
         }
         let pw = build_homogeneous(control_points, weights)?;
         let rational = pw.iter().any(|p| p.w != 1.0);
-        Ok(NurbsSurface { ku, kv, pw, nv, rational, reversed })
+        Ok(NurbsSurface {
+            ku,
+            kv,
+            pw,
+            nv,
+            rational,
+            reversed,
+        })
     }
 
     /// Builds a surface from validated parts (used by knot insertion).
-    pub(crate) fn from_parts(ku: KnotVector, kv: KnotVector, pw: Vec<Vec4>, reversed: bool) -> Self {
+    pub(crate) fn from_parts(
+        ku: KnotVector,
+        kv: KnotVector,
+        pw: Vec<Vec4>,
+        reversed: bool,
+    ) -> Self {
         let nv = kv.num_basis();
         let rational = pw.iter().any(|p| p.w != 1.0);
-        NurbsSurface { ku, kv, pw, nv, rational, reversed }
+        NurbsSurface {
+            ku,
+            kv,
+            pw,
+            nv,
+            rational,
+            reversed,
+        }
     }
 
     /// Knot vector in u.
@@ -179,7 +209,9 @@ impl NurbsSurface {
                 aw[k][l] = (0..=q).fold(Vec4::zeros(), |acc, s| acc + temp[s] * nvb[l][s]);
             }
         }
-        SurfaceDerivs { d: self.rational_derivs(&aw, nd) }
+        SurfaceDerivs {
+            d: self.rational_derivs(&aw, nd),
+        }
     }
 
     fn rational_derivs(&self, aw: &[[Vec4; 4]; 4], nd: usize) -> [[Vec3; 4]; 4] {
@@ -212,18 +244,33 @@ impl NurbsSurface {
     pub fn normal_from(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
         let sign = if self.reversed { -1.0 } else { 1.0 };
         let n = d.su().cross(&d.sv());
-        let scale = d.su().norm_squared() + d.sv().norm_squared();
-        if n.norm_squared() > 1e-24 * scale * scale && scale > 0.0 {
+        let (lu, lv) = (d.su().norm(), d.sv().norm());
+        let near_degenerate = lu < NEAR_DEGENERATE_RATIO * lv || lv < NEAR_DEGENERATE_RATIO * lu;
+        if !near_degenerate && n.norm_squared() > 0.0 {
             return n.normalize() * sign;
         }
-        self.degenerate_normal(d, self.clamp(uv)) * sign
+        let uv = self.clamp(uv);
+        let limit = self.degenerate_normal(d, uv);
+        // Next to a collapsed edge the limit's own side is right; at a
+        // singular point inside the domain Su x Sv decides the side.
+        let side = if self.near_edge(uv) || limit.dot(&n) >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        limit * side * sign
+    }
+
+    fn near_edge(&self, uv: Vec2) -> bool {
+        let ((u0, u1), (v0, v1)) = self.domain();
+        let (eu, ev) = ((u1 - u0) * EDGE_PROXIMITY, (v1 - v0) * EDGE_PROXIMITY);
+        uv.x - u0 <= eu || u1 - uv.x <= eu || uv.y - v0 <= ev || v1 - uv.y <= ev
     }
 
     fn degenerate_normal(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
         let ((u0, u1), (v0, v1)) = self.domain();
-        let tiny = |x: Vec3, s: Vec3| x.norm() <= 1e-12 * (1.0 + s.norm());
         // Step inward from the degenerate edge: Su(u, v + h) ~ h Suv.
-        let candidate = if tiny(d.su(), d.sv()) {
+        let candidate = if d.su().norm() <= d.sv().norm() {
             let h = if uv.y - v0 <= v1 - uv.y { 1.0 } else { -1.0 };
             (d.suv() * h).cross(&d.sv())
         } else {
@@ -242,7 +289,10 @@ impl NurbsSurface {
         let t = 1e-7;
         let nudged = Vec2::new(uv.x + (cu - uv.x) * t, uv.y + (cv - uv.y) * t);
         let d = self.derivs(nudged.x, nudged.y, 1);
-        d.su().cross(&d.sv()).try_normalize(0.0).unwrap_or_else(Vec3::z)
+        d.su()
+            .cross(&d.sv())
+            .try_normalize(0.0)
+            .unwrap_or_else(Vec3::z)
     }
 
     /// Principal curvatures and directions at `(u, v)` (see [`Curvature`]).
@@ -275,22 +325,46 @@ pub fn principal_curvatures(d: &SurfaceDerivs, n: Vec3) -> Curvature {
     let (e, f, g) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
     let (l, m, nn) = (d.suu().dot(&n), d.suv().dot(&n), d.svv().dot(&n));
     let det = e * g - f * f;
-    let mean = (e * nn - 2.0 * f * m + g * l) / (2.0 * det);
-    let gauss = (l * nn - m * m) / det;
-    let disc = (mean * mean - gauss).max(0.0).sqrt();
+    // Shape operator W = I^-1 II; its eigenvalues are the principal
+    // curvatures. The discriminant ((a - d) / 2)^2 + b c stays accurate at
+    // umbilics, where H^2 - K would cancel.
+    let (a, b) = ((g * l - f * m) / det, (g * m - f * nn) / det);
+    let (c, dd) = ((e * m - f * l) / det, (e * nn - f * m) / det);
+    let mean = 0.5 * (a + dd);
+    let disc = (0.25 * (a - dd) * (a - dd) + b * c).max(0.0).sqrt();
     let (k_min, k_max) = (mean - disc, mean + disc);
     let dir = |k: f64| principal_direction(e, f, g, l, m, nn, k, su, sv);
-    Curvature { k_min, k_max, dir_min: dir(k_min), dir_max: dir(k_max) }
+    Curvature {
+        k_min,
+        k_max,
+        dir_min: dir(k_min),
+        dir_max: dir(k_max),
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
-fn principal_direction(e: f64, f: f64, g: f64, l: f64, m: f64, n: f64, k: f64, su: Vec3, sv: Vec3) -> Vec3 {
+fn principal_direction(
+    e: f64,
+    f: f64,
+    g: f64,
+    l: f64,
+    m: f64,
+    n: f64,
+    k: f64,
+    su: Vec3,
+    sv: Vec3,
+) -> Vec3 {
     // (L - kE) du + (M - kF) dv = 0 and (M - kF) du + (N - kG) dv = 0.
     let (a, b) = (l - k * e, m - k * f);
     let (c, dd) = (m - k * f, n - k * g);
-    let cand = if a.abs() + b.abs() >= c.abs() + dd.abs() { (-b, a) } else { (-dd, c) };
+    let cand = if a.abs() + b.abs() >= c.abs() + dd.abs() {
+        (-b, a)
+    } else {
+        (-dd, c)
+    };
     let t = su * cand.0 + sv * cand.1;
-    t.try_normalize(1e-300).unwrap_or_else(|| su.try_normalize(1e-300).unwrap_or_else(Vec3::x))
+    t.try_normalize(1e-300)
+        .unwrap_or_else(|| su.try_normalize(1e-300).unwrap_or_else(Vec3::x))
 }
 
 fn check_grid(
@@ -300,26 +374,42 @@ fn check_grid(
     what: &str,
 ) -> Result<(), NurbsError> {
     if rows.len() != nu {
-        return Err(NurbsError::Count { dir: what.to_string(), expected: nu, found: rows.len() });
+        return Err(NurbsError::Count {
+            dir: what.to_string(),
+            expected: nu,
+            found: rows.len(),
+        });
     }
     for (i, len) in rows.enumerate() {
         if len != nv {
-            return Err(NurbsError::Count { dir: format!("{what}[{i}]"), expected: nv, found: len });
+            return Err(NurbsError::Count {
+                dir: format!("{what}[{i}]"),
+                expected: nv,
+                found: len,
+            });
         }
     }
     Ok(())
 }
 
-fn build_homogeneous(cps: &[Vec<[f64; 3]>], weights: Option<&[Vec<f64>]>) -> Result<Vec<Vec4>, NurbsError> {
+fn build_homogeneous(
+    cps: &[Vec<[f64; 3]>],
+    weights: Option<&[Vec<f64>]>,
+) -> Result<Vec<Vec4>, NurbsError> {
     let mut out = Vec::with_capacity(cps.len() * cps.first().map_or(0, Vec::len));
     for (i, row) in cps.iter().enumerate() {
         for (j, p) in row.iter().enumerate() {
-            let w = weights.and_then(|w| w.get(i)?.get(j).copied()).unwrap_or(1.0);
+            let w = weights
+                .and_then(|w| w.get(i)?.get(j).copied())
+                .unwrap_or(1.0);
             if !p.iter().all(|c| c.is_finite()) {
                 return Err(NurbsError::NotFinite { index: vec![i, j] });
             }
             if !(w.is_finite() && w > 0.0) {
-                return Err(NurbsError::Weight { index: vec![i, j], value: w });
+                return Err(NurbsError::Weight {
+                    index: vec![i, j],
+                    value: w,
+                });
             }
             out.push(homogeneous(*p, w));
         }

@@ -57,7 +57,11 @@ impl ProjectionIndex {
         let mut nodes = Vec::with_capacity(2 * leaves.len());
         let mut ids: Vec<usize> = (0..leaves.len()).collect();
         build_tree(&boxes, &mut ids, &mut nodes);
-        ProjectionIndex { leaves, nodes, opts: *opts }
+        ProjectionIndex {
+            leaves,
+            nodes,
+            opts: *opts,
+        }
     }
 
     /// Number of leaves (near-flat pieces) in the hierarchy.
@@ -67,14 +71,24 @@ impl ProjectionIndex {
 
     /// Lower bound of the distance from `p` to the surface, mm.
     pub fn lower_bound(&self, p: Point3) -> f64 {
-        self.nodes.last().map_or(f64::INFINITY, |n| n.aabb.dist2(p).sqrt())
+        self.nodes
+            .last()
+            .map_or(f64::INFINITY, |n| n.aabb.dist2(p).sqrt())
     }
 
     /// Global closest point of `surface` (the one this index was built for).
-    pub fn project(&self, surface: &NurbsSurface, p: Point3) -> Result<Projection, ProjectionError> {
+    pub fn project(
+        &self,
+        surface: &NurbsSurface,
+        p: Point3,
+    ) -> Result<Projection, ProjectionError> {
         self.project_within(surface, p, f64::INFINITY)?
             .map(|f| f.into_projection(surface, p))
-            .ok_or(ProjectionError::NotFinite { x: p.x, y: p.y, z: p.z })
+            .ok_or(ProjectionError::NotFinite {
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
     }
 
     /// Best-first search; only points closer than `sqrt(best_dist2)` count.
@@ -87,8 +101,13 @@ impl ProjectionIndex {
         check_finite(p)?;
         let mut best: Option<Foot> = None;
         let mut heap = BinaryHeap::new();
-        let Some(root) = self.nodes.len().checked_sub(1) else { return Ok(None) };
-        heap.push(Entry { dist2: self.nodes[root].aabb.dist2(p), node: root });
+        let Some(root) = self.nodes.len().checked_sub(1) else {
+            return Ok(None);
+        };
+        heap.push(Entry {
+            dist2: self.nodes[root].aabb.dist2(p),
+            node: root,
+        });
         while let Some(Entry { dist2, node }) = heap.pop() {
             if dist2 >= best_dist2 {
                 break;
@@ -98,7 +117,10 @@ impl ProjectionIndex {
                     for child in [a, b] {
                         let d2 = self.nodes[child].aabb.dist2(p);
                         if d2 < best_dist2 {
-                            heap.push(Entry { dist2: d2, node: child });
+                            heap.push(Entry {
+                                dist2: d2,
+                                node: child,
+                            });
                         }
                     }
                 }
@@ -127,7 +149,11 @@ impl ProjectionIndex {
         let start = leaf
             .samples
             .iter()
-            .min_by(|a, b| (a.1 - p).norm_squared().total_cmp(&(b.1 - p).norm_squared()))
+            .min_by(|a, b| {
+                (a.1 - p)
+                    .norm_squared()
+                    .total_cmp(&(b.1 - p).norm_squared())
+            })
             .map_or(leaf.bounds.lo, |s| s.0);
         let foot = newton::minimise(surface, p, start, &leaf.bounds, &self.opts)?;
         Ok((foot.dist2 < best_dist2).then_some(foot))
@@ -156,33 +182,55 @@ impl Ord for Entry {
     }
 }
 
-fn split_until_flat(patch: BezierPatch, depth: usize, opts: &ProjectionOptions, out: &mut Vec<BezierPatch>) {
+fn split_until_flat(
+    patch: BezierPatch,
+    depth: usize,
+    opts: &ProjectionOptions,
+    out: &mut Vec<BezierPatch>,
+) {
     if depth >= opts.max_leaf_depth || is_flat(&patch, opts.leaf_flatness) {
         out.push(patch);
         return;
     }
-    let (a, b) = if u_extent(&patch) >= v_extent(&patch) { patch.split_u() } else { patch.split_v() };
+    let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
+        patch.split_u()
+    } else {
+        patch.split_v()
+    };
     split_until_flat(a, depth + 1, opts, out);
     split_until_flat(b, depth + 1, opts, out);
 }
 
 fn corners(patch: &BezierPatch) -> [Point3; 4] {
     let [p, q] = patch.degree;
-    [patch.point(0, 0), patch.point(p, 0), patch.point(0, q), patch.point(p, q)]
+    [
+        patch.point(0, 0),
+        patch.point(p, 0),
+        patch.point(0, q),
+        patch.point(p, q),
+    ]
 }
 
 /// Length of the control net along u (longest row polyline).
 fn u_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=q)
-        .map(|j| (1..=p).map(|i| (patch.point(i, j) - patch.point(i - 1, j)).norm()).sum::<f64>())
+        .map(|j| {
+            (1..=p)
+                .map(|i| (patch.point(i, j) - patch.point(i - 1, j)).norm())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max)
 }
 
 fn v_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=p)
-        .map(|i| (1..=q).map(|j| (patch.point(i, j) - patch.point(i, j - 1)).norm()).sum::<f64>())
+        .map(|i| {
+            (1..=q)
+                .map(|j| (patch.point(i, j) - patch.point(i, j - 1)).norm())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max)
 }
 
@@ -208,13 +256,20 @@ fn obb_of(patch: &BezierPatch) -> Obb {
         }
     }
     let mid: Vec3 = (0..3).map(|k| axes[k] * 0.5 * (lo[k] + hi[k])).sum();
-    Obb { center: Point3::from(mid), axes, half: [0, 1, 2].map(|k| 0.5 * (hi[k] - lo[k])) }
+    Obb {
+        center: Point3::from(mid),
+        axes,
+        half: [0, 1, 2].map(|k| 0.5 * (hi[k] - lo[k])),
+    }
 }
 
 /// Orthonormal frame with the first axis along `du` and the third along
 /// `du x dv`; falls back to the coordinate axes for degenerate nets.
 fn frame(du: Vec3, dv: Vec3) -> [Vec3; 3] {
-    let (Some(a), Some(n)) = (du.try_normalize(1e-300), du.cross(&dv).try_normalize(1e-300)) else {
+    let (Some(a), Some(n)) = (
+        du.try_normalize(1e-300),
+        du.cross(&dv).try_normalize(1e-300),
+    ) else {
         return [Vec3::x(), Vec3::y(), Vec3::z()];
     };
     [a, n.cross(&a), n]
@@ -223,32 +278,57 @@ fn frame(du: Vec3, dv: Vec3) -> [Vec3; 3] {
 impl Obb {
     fn dist2(&self, p: Point3) -> f64 {
         let r = p - self.center;
-        (0..3).map(|k| (r.dot(&self.axes[k]).abs() - self.half[k]).max(0.0).powi(2)).sum()
+        (0..3)
+            .map(|k| (r.dot(&self.axes[k]).abs() - self.half[k]).max(0.0).powi(2))
+            .sum()
     }
 }
 
 impl Aabb {
     fn dist2(&self, p: Point3) -> f64 {
-        (0..3).map(|k| (self.min[k] - p[k]).max(p[k] - self.max[k]).max(0.0).powi(2)).sum()
+        (0..3)
+            .map(|k| {
+                (self.min[k] - p[k])
+                    .max(p[k] - self.max[k])
+                    .max(0.0)
+                    .powi(2)
+            })
+            .sum()
     }
     fn union(&self, o: &Aabb) -> Aabb {
-        Aabb { min: self.min.inf(&o.min), max: self.max.sup(&o.max) }
+        Aabb {
+            min: self.min.inf(&o.min),
+            max: self.max.sup(&o.max),
+        }
     }
 }
 
 fn aabb_of(points: impl Iterator<Item = Point3>) -> Aabb {
-    let init = Aabb { min: Point3::from([f64::INFINITY; 3]), max: Point3::from([f64::NEG_INFINITY; 3]) };
-    points.fold(init, |b, p| Aabb { min: b.min.inf(&p), max: b.max.sup(&p) })
+    let init = Aabb {
+        min: Point3::from([f64::INFINITY; 3]),
+        max: Point3::from([f64::NEG_INFINITY; 3]),
+    };
+    points.fold(init, |b, p| Aabb {
+        min: b.min.inf(&p),
+        max: b.max.sup(&p),
+    })
 }
 
 fn make_leaf(surface: &NurbsSurface, patch: &BezierPatch) -> Leaf {
-    let bounds = Bounds { lo: Vec2::new(patch.u.0, patch.v.0), hi: Vec2::new(patch.u.1, patch.v.1) };
+    let bounds = Bounds {
+        lo: Vec2::new(patch.u.0, patch.v.0),
+        hi: Vec2::new(patch.u.1, patch.v.1),
+    };
     let samples = std::array::from_fn(|k| {
         let (a, b) = ((k % 3) as f64 * 0.5, (k / 3) as f64 * 0.5);
         let uv = bounds.lo + (bounds.hi - bounds.lo).component_mul(&Vec2::new(a, b));
         (uv, surface.point(uv.x, uv.y))
     });
-    Leaf { bounds, obb: obb_of(patch), samples }
+    Leaf {
+        bounds,
+        obb: obb_of(patch),
+        samples,
+    }
 }
 
 /// Builds the tree bottom-up by median splits; the root is the last node.
@@ -258,7 +338,10 @@ fn build_tree(boxes: &[Aabb], ids: &mut [usize], nodes: &mut Vec<Node>) -> usize
         return usize::MAX;
     };
     if let [only] = ids {
-        nodes.push(Node { aabb, kind: Ok(*only) });
+        nodes.push(Node {
+            aabb,
+            kind: Ok(*only),
+        });
         return nodes.len() - 1;
     }
     let centre = |i: usize| (boxes[i].min.coords + boxes[i].max.coords) * 0.5;
@@ -269,6 +352,9 @@ fn build_tree(boxes: &[Aabb], ids: &mut [usize], nodes: &mut Vec<Node>) -> usize
     let (left_ids, right_ids) = ids.split_at_mut(mid);
     let left = build_tree(boxes, left_ids, nodes);
     let right = build_tree(boxes, right_ids, nodes);
-    nodes.push(Node { aabb, kind: Err((left, right)) });
+    nodes.push(Node {
+        aabb,
+        kind: Err((left, right)),
+    });
     nodes.len() - 1
 }

@@ -16,6 +16,7 @@ mod index;
 mod newton;
 
 pub use index::ProjectionIndex;
+pub(crate) use newton::{minimise_with, Bounds, Foot};
 
 use crate::geometry::NurbsSurface;
 use crate::math::{Point3, Vec2, Vec3};
@@ -116,7 +117,10 @@ pub fn project_from(
 ) -> Result<Projection, ProjectionError> {
     check_finite(p)?;
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let bounds = newton::Bounds { lo: Vec2::new(u0, v0), hi: Vec2::new(u1, v1) };
+    let bounds = newton::Bounds {
+        lo: Vec2::new(u0, v0),
+        hi: Vec2::new(u1, v1),
+    };
     let foot = newton::minimise(surface, p, hint, &bounds, opts)?;
     Ok(foot.into_projection(surface, p))
 }
@@ -125,6 +129,10 @@ fn check_finite(p: Point3) -> Result<(), ProjectionError> {
     if p.iter().all(|c| c.is_finite()) {
         Ok(())
     } else {
-        Err(ProjectionError::NotFinite { x: p.x, y: p.y, z: p.z })
+        Err(ProjectionError::NotFinite {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        })
     }
 }

@@ -5,31 +5,45 @@ use super::{Projection, ProjectionError, ProjectionOptions};
 use crate::geometry::{NurbsSurface, SurfaceDerivs};
 use crate::math::{Mat2, Point3, Vec2};
 
-/// A parameter box.
+/// A parameter box (crate-internal).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Bounds {
+pub struct Bounds {
+    /// Lower corner.
     pub lo: Vec2,
+    /// Upper corner.
     pub hi: Vec2,
 }
 
 impl Bounds {
-    fn clamp(&self, x: Vec2) -> Vec2 {
-        Vec2::new(x.x.clamp(self.lo.x, self.hi.x), x.y.clamp(self.lo.y, self.hi.y))
+    pub(crate) fn clamp(&self, x: Vec2) -> Vec2 {
+        Vec2::new(
+            x.x.clamp(self.lo.x, self.hi.x),
+            x.y.clamp(self.lo.y, self.hi.y),
+        )
     }
 }
 
-/// A local minimum found by Newton.
+/// A local minimum found by Newton (crate-internal).
 #[derive(Debug, Clone, Copy)]
-pub(crate) struct Foot {
+pub struct Foot {
+    /// Parameters.
     pub uv: Vec2,
+    /// Derivatives there.
     pub d: SurfaceDerivs,
+    /// Squared distance, mm^2.
     pub dist2: f64,
+    /// Iterations used.
     pub iterations: usize,
 }
 
 impl Foot {
     fn new(uv: Vec2, d: SurfaceDerivs, p: Point3, iterations: usize) -> Foot {
-        Foot { uv, d, dist2: (d.point() - p).norm_squared(), iterations }
+        Foot {
+            uv,
+            d,
+            dist2: (d.point() - p).norm_squared(),
+            iterations,
+        }
     }
 
     /// Finishes the foot into a projection with the outward normal.
@@ -37,8 +51,19 @@ impl Foot {
         let normal = surface.normal_from(&self.d, self.uv);
         let point = self.d.point();
         let distance = self.dist2.sqrt();
-        let sign = if (p - point).dot(&normal) < 0.0 { -1.0 } else { 1.0 };
-        Projection { uv: self.uv, point, normal, distance, signed_distance: sign * distance, iterations: self.iterations }
+        let sign = if (p - point).dot(&normal) < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        Projection {
+            uv: self.uv,
+            point,
+            normal,
+            distance,
+            signed_distance: sign * distance,
+            iterations: self.iterations,
+        }
     }
 }
 
@@ -50,18 +75,43 @@ pub(crate) fn minimise(
     bounds: &Bounds,
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
+    minimise_with(|x| surface.derivs(x.x, x.y, 2), p, start, bounds, opts)
+}
+
+/// [`minimise`] for any parametric surface given by its second-order
+/// derivative table at a parameter.
+pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
+    eval: F,
+    p: Point3,
+    start: Vec2,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Result<Foot, ProjectionError> {
     let x0 = bounds.clamp(start);
-    let mut foot = Foot::new(x0, surface.derivs(x0.x, x0.y, 2), p, 0);
+    let mut foot = Foot::new(x0, eval(x0), p, 0);
     let mut last_step = f64::INFINITY;
     for it in 1..=opts.max_iterations {
         let delta = bounds.clamp(foot.uv + newton_step(&foot.d, p, foot.uv, bounds)) - foot.uv;
         last_step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
         if last_step <= opts.step_tol_mm {
-            return Ok(Foot { iterations: it, ..foot });
+            return Ok(Foot {
+                iterations: it,
+                ..foot
+            });
         }
-        match line_search(surface, p, &foot, delta, opts) {
-            Some(next) => foot = Foot { iterations: it, ..next },
-            None => return Ok(Foot { iterations: it, ..foot }),
+        match line_search(&eval, p, &foot, delta, opts) {
+            Some(next) => {
+                foot = Foot {
+                    iterations: it,
+                    ..next
+                }
+            }
+            None => {
+                return Ok(Foot {
+                    iterations: it,
+                    ..foot
+                })
+            }
         }
     }
     Err(ProjectionError::NoConvergence {
@@ -74,8 +124,8 @@ pub(crate) fn minimise(
 }
 
 /// Backtracking: the first of `delta, delta/2, ...` that lowers the distance.
-fn line_search(
-    surface: &NurbsSurface,
+fn line_search<F: Fn(Vec2) -> SurfaceDerivs>(
+    eval: &F,
     p: Point3,
     foot: &Foot,
     delta: Vec2,
@@ -84,7 +134,7 @@ fn line_search(
     let mut t = 1.0;
     for _ in 0..=opts.max_halvings {
         let x = foot.uv + delta * t;
-        let cand = Foot::new(x, surface.derivs(x.x, x.y, 2), p, foot.iterations);
+        let cand = Foot::new(x, eval(x), p, foot.iterations);
         if cand.dist2 < foot.dist2 {
             return Some(cand);
         }
@@ -106,9 +156,8 @@ fn newton_step(d: &SurfaceDerivs, p: Point3, x: Vec2, bounds: &Bounds) -> Vec2 {
         sv.dot(&sv) + d.svv().dot(&r),
     );
     let metric = su.norm_squared() + sv.norm_squared();
-    let pinned = |k: usize| {
-        (x[k] <= bounds.lo[k] && g[k] > 0.0) || (x[k] >= bounds.hi[k] && g[k] < 0.0)
-    };
+    let pinned =
+        |k: usize| (x[k] <= bounds.lo[k] && g[k] > 0.0) || (x[k] >= bounds.hi[k] && g[k] < 0.0);
     match (pinned(0), pinned(1)) {
         (false, false) => solve_2x2(h, g, metric),
         (true, false) => Vec2::new(0.0, -g.y / regularised(h.m22, metric)),
@@ -145,5 +194,8 @@ fn solve_2x2(h: Mat2, g: Vec2, metric: f64) -> Vec2 {
     if det_s <= 0.0 || !det_s.is_finite() {
         return Vec2::zeros();
     }
-    Vec2::new(-(hs.m22 * g.x - hs.m12 * g.y) / det_s, -(hs.m11 * g.y - hs.m21 * g.x) / det_s)
+    Vec2::new(
+        -(hs.m22 * g.x - hs.m12 * g.y) / det_s,
+        -(hs.m11 * g.y - hs.m21 * g.x) / det_s,
+    )
 }

@@ -1,1 +1,0 @@
-//! Plane sections (placeholder while written).

@@ -1,0 +1,378 @@
+//! The as-machined part (DESIGN.md 6.2), known only to the simulated world:
+//! for a nominal point `p` with outward normal `n`,
+//! `q(p) = T(p + h(p) n(p))` with `h` the sum of the form terms and `T` an
+//! affine transform. Distances to it are exact to the Newton tolerance
+//! (far below 0.1 um), using exact second derivatives of `q` (which need the
+//! third derivatives of the NURBS).
+
+pub mod form;
+mod normal_jet;
+pub mod spec;
+
+use crate::geometry::projection::{minimise_with, Bounds, Foot};
+use crate::geometry::{ProjectionError, SurfaceDerivs};
+use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec2, Vec3};
+use crate::workpiece::Workpiece;
+use form::Form;
+pub use spec::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
+
+/// Why an `as_machined` block is invalid; `json_path` is relative to it.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{json_path}: {reason}")]
+pub struct AsMachinedError {
+    /// Path inside the `as_machined` object, e.g. `form[1].radius_mm`.
+    pub json_path: String,
+    /// What is wrong.
+    pub reason: String,
+}
+
+/// The true (simulated) part.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AsMachined {
+    linear: Mat3,
+    offset: Vec3,
+    /// Form terms with the faces they act on (`None` = all).
+    terms: Vec<(Form, Option<Vec<usize>>)>,
+    /// Roughness standard deviation, mm.
+    pub roughness_mm: f64,
+}
+
+/// The closest point on the as-machined surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrueProjection {
+    /// Face index.
+    pub face: usize,
+    /// Nominal parameters of the face that map to the foot point.
+    pub uv: Vec2,
+    /// Foot point on the true surface.
+    pub point: Point3,
+    /// Unit outward normal of the true surface there.
+    pub normal: Vec3,
+    /// Distance from the query point, mm.
+    pub distance: f64,
+    /// Distance signed by `(query - foot) . normal`, mm.
+    pub signed_distance: f64,
+}
+
+impl AsMachined {
+    /// The nominal part itself (no transform, no form, no roughness).
+    pub fn nominal() -> AsMachined {
+        AsMachined {
+            linear: Mat3::identity(),
+            offset: Vec3::zeros(),
+            terms: Vec::new(),
+            roughness_mm: 0.0,
+        }
+    }
+
+    /// Validates a spec against the workpiece's surface names.
+    pub fn from_spec(spec: &AsMachinedSpec, wp: &Workpiece) -> Result<AsMachined, AsMachinedError> {
+        let (linear, offset) = match &spec.transform {
+            Some(t) => transform(t)?,
+            None => (Mat3::identity(), Vec3::zeros()),
+        };
+        let terms = spec
+            .form
+            .iter()
+            .enumerate()
+            .map(|(i, t)| Ok((form_of(t, i)?, faces_of(t, i, wp)?)))
+            .collect::<Result<Vec<_>, AsMachinedError>>()?;
+        let r = spec.roughness_um;
+        if !(r.is_finite() && r >= 0.0) {
+            return Err(err(
+                "roughness_um",
+                format!("{r} must be a finite non-negative number"),
+            ));
+        }
+        Ok(AsMachined {
+            linear,
+            offset,
+            terms,
+            roughness_mm: r * 1e-3,
+        })
+    }
+
+    /// The same part without roughness (`--ideal`).
+    pub fn without_roughness(mut self) -> AsMachined {
+        self.roughness_mm = 0.0;
+        self
+    }
+
+    /// Maps a nominal point to machine... to the true part: `T(x)`.
+    pub fn transform_point(&self, x: Point3) -> Point3 {
+        Point3::from(self.linear * x.coords + self.offset)
+    }
+
+    /// Sum of the form terms acting on `face` at the nominal point `p`, mm.
+    pub fn form_height(&self, face: usize, p: Point3) -> f64 {
+        self.face_terms(face).map(|f| f.value(p)).sum()
+    }
+
+    fn face_terms(&self, face: usize) -> impl Iterator<Item = &Form> + '_ {
+        self.terms
+            .iter()
+            .filter(move |(_, faces)| faces.as_ref().is_none_or(|fs| fs.contains(&face)))
+            .map(|(f, _)| f)
+    }
+
+    /// Upper bound of |h| on `face`, mm.
+    fn max_height(&self, face: usize) -> f64 {
+        self.face_terms(face).map(Form::amplitude).sum()
+    }
+
+    /// The true point for nominal parameters `uv` of `face`.
+    pub fn true_point(&self, wp: &Workpiece, face: usize, uv: Vec2) -> Point3 {
+        self.derivs(wp, face, uv, 0).point()
+    }
+
+    /// `q(u, v)` and its derivatives to order `nd` (0 or 2) on `face`.
+    pub fn derivs(&self, wp: &Workpiece, face: usize, uv: Vec2, nd: usize) -> SurfaceDerivs {
+        let Some(f) = wp.faces.get(face) else {
+            return SurfaceDerivs {
+                d: [[Vec3::zeros(); 4]; 4],
+            };
+        };
+        let terms: Vec<Form> = self.face_terms(face).copied().collect();
+        let g = if terms.is_empty() {
+            f.surface.derivs(uv.x, uv.y, nd)
+        } else {
+            normal_jet::displaced(&f.surface, &terms, uv, nd)
+        };
+        self.apply_linear(g)
+    }
+
+    fn apply_linear(&self, mut g: SurfaceDerivs) -> SurfaceDerivs {
+        for row in g.d.iter_mut() {
+            for v in row.iter_mut() {
+                *v = self.linear * *v;
+            }
+        }
+        g.d[0][0] += self.offset;
+        g
+    }
+
+    /// Warm closest point: Newton on `face` from `uv`; falls back to the cold
+    /// search when the foot ends on the face boundary.
+    pub fn closest_point_from(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        face: usize,
+        uv: Vec2,
+    ) -> Result<TrueProjection, ProjectionError> {
+        let foot = self.newton(wp, x, face, uv)?;
+        if on_boundary(wp, face, foot.uv) {
+            return self.closest_point(wp, x);
+        }
+        Ok(self.finish(wp, x, face, foot))
+    }
+
+    /// Cold closest point over all faces. Seeds come from the nominal
+    /// projection of `T^-1(x)` on every face that could hold the answer.
+    pub fn closest_point(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+    ) -> Result<TrueProjection, ProjectionError> {
+        let y = self.inverse_point(x);
+        let seeds = self.seeds(wp, y)?;
+        let mut best: Option<TrueProjection> = None;
+        for (face, uv) in seeds {
+            let foot = self.newton(wp, x, face, uv)?;
+            if best.is_none_or(|b| foot.dist2.sqrt() < b.distance) {
+                best = Some(self.finish(wp, x, face, foot));
+            }
+        }
+        best.ok_or(ProjectionError::NotFinite {
+            x: x.x,
+            y: x.y,
+            z: x.z,
+        })
+    }
+
+    fn seeds(&self, wp: &Workpiece, y: Point3) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
+        let mut found = Vec::new();
+        for (i, f) in wp.faces.iter().enumerate() {
+            if let Some(foot) = f.index.project_within(&f.surface, y, f64::INFINITY)? {
+                found.push((foot.dist2.sqrt(), i, foot.uv));
+            }
+        }
+        let best = found.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
+        let slack = |i: usize| 2.0 * self.max_height(i) * self.stretch() + 1e-6 * (1.0 + best);
+        Ok(found
+            .into_iter()
+            .filter(|s| s.0 <= best + slack(s.1))
+            .map(|s| (s.1, s.2))
+            .collect())
+    }
+
+    /// Largest factor by which `T` stretches lengths.
+    fn stretch(&self) -> f64 {
+        self.linear.singular_values().max().max(1.0)
+    }
+
+    fn inverse_point(&self, x: Point3) -> Point3 {
+        let inv = self.linear.try_inverse().unwrap_or_else(Mat3::identity);
+        Point3::from(inv * (x.coords - self.offset))
+    }
+
+    fn newton(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        face: usize,
+        uv: Vec2,
+    ) -> Result<Foot, ProjectionError> {
+        let Some(f) = wp.faces.get(face) else {
+            return Err(ProjectionError::NotFinite {
+                x: x.x,
+                y: x.y,
+                z: x.z,
+            });
+        };
+        let ((u0, u1), (v0, v1)) = f.surface.domain();
+        let bounds = Bounds {
+            lo: Vec2::new(u0, v0),
+            hi: Vec2::new(u1, v1),
+        };
+        minimise_with(|p| self.derivs(wp, face, p, 2), x, uv, &bounds, &wp.options)
+    }
+
+    fn finish(&self, wp: &Workpiece, x: Point3, face: usize, foot: Foot) -> TrueProjection {
+        let sign = wp
+            .faces
+            .get(face)
+            .map_or(1.0, |f| if f.surface.is_reversed() { -1.0 } else { 1.0 });
+        let n = foot.d.su().cross(&foot.d.sv()) * sign;
+        let normal = n.try_normalize(0.0).unwrap_or_else(|| {
+            wp.faces.get(face).map_or(Vec3::z(), |f| {
+                self.linear * f.surface.normal(foot.uv.x, foot.uv.y)
+            })
+        });
+        let point = foot.d.point();
+        let distance = foot.dist2.sqrt();
+        let signed = if (x - point).dot(&normal) < 0.0 {
+            -distance
+        } else {
+            distance
+        };
+        TrueProjection {
+            face,
+            uv: foot.uv,
+            point,
+            normal,
+            distance,
+            signed_distance: signed,
+        }
+    }
+
+    /// The true deviation belonging to a measured point `m`: the signed
+    /// nominal deviation of the true surface point nearest to `m`.
+    pub fn true_deviation(&self, wp: &Workpiece, m: Point3) -> Result<f64, ProjectionError> {
+        let q = self.closest_point(wp, m)?.point;
+        Ok(wp.closest_point(q)?.projection.signed_distance)
+    }
+}
+
+fn on_boundary(wp: &Workpiece, face: usize, uv: Vec2) -> bool {
+    wp.faces.get(face).is_none_or(|f| {
+        let ((u0, u1), (v0, v1)) = f.surface.domain();
+        uv.x <= u0 || uv.x >= u1 || uv.y <= v0 || uv.y >= v1
+    })
+}
+
+fn err(path: impl Into<String>, reason: impl Into<String>) -> AsMachinedError {
+    AsMachinedError {
+        json_path: path.into(),
+        reason: reason.into(),
+    }
+}
+
+fn finite3(v: [f64; 3], path: &str) -> Result<Vec3, AsMachinedError> {
+    if v.iter().all(|c| c.is_finite()) {
+        Ok(Vec3::from(v))
+    } else {
+        Err(err(path, format!("{v:?} must be finite")))
+    }
+}
+
+fn transform(t: &TransformSpec) -> Result<(Mat3, Vec3), AsMachinedError> {
+    let tr = finite3(t.translate_mm, "transform.translate_mm")?;
+    let rot = rotation_xyz_deg(finite3(t.rotate_deg, "transform.rotate_deg")?.into());
+    let c = finite3(t.about_mm, "transform.about_mm")?;
+    let s = t.scale.map_or([1.0; 3], Scale::factors);
+    if !s.iter().all(|k| k.is_finite() && *k > 0.0) {
+        return Err(err(
+            "transform.scale",
+            format!("{s:?}: scale factors must be finite and positive"),
+        ));
+    }
+    let linear = rot * Mat3::from_diagonal(&Vec3::from(s));
+    Ok((linear, c + tr - linear * c))
+}
+
+fn positive(v: f64, path: String) -> Result<f64, AsMachinedError> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(err(path, format!("{v} must be finite and positive")))
+    }
+}
+
+fn finite(v: f64, path: String) -> Result<f64, AsMachinedError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(err(path, format!("{v} must be finite")))
+    }
+}
+
+fn form_of(t: &FormTerm, i: usize) -> Result<Form, AsMachinedError> {
+    let at = |k: &str| format!("form[{i}].{k}");
+    Ok(match t {
+        FormTerm::Offset { mm, .. } => Form::Offset(finite(*mm, at("mm"))?),
+        FormTerm::Bump {
+            center_mm,
+            radius_mm,
+            height_mm,
+            ..
+        } => Form::Bump {
+            center: Point3::from(finite3(*center_mm, &at("center_mm"))?),
+            radius: positive(*radius_mm, at("radius_mm"))?,
+            height: finite(*height_mm, at("height_mm"))?,
+        },
+        FormTerm::Waviness {
+            amplitude_mm,
+            wavelength_mm,
+            direction,
+            phase_deg,
+            ..
+        } => Form::Waviness {
+            amplitude: finite(*amplitude_mm, at("amplitude_mm"))?,
+            wavenumber: std::f64::consts::TAU / positive(*wavelength_mm, at("wavelength_mm"))?,
+            direction: finite3(*direction, &at("direction"))?
+                .try_normalize(1e-12)
+                .ok_or_else(|| err(at("direction"), "direction must not be the zero vector"))?,
+            phase: finite(*phase_deg, at("phase_deg"))?.to_radians(),
+        },
+    })
+}
+
+fn faces_of(t: &FormTerm, i: usize, wp: &Workpiece) -> Result<Option<Vec<usize>>, AsMachinedError> {
+    let Some(names) = t.surfaces() else {
+        return Ok(None);
+    };
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            wp.face_index(n).ok_or_else(|| {
+                err(
+                    format!("form[{i}].surfaces[{k}]"),
+                    format!("no surface named '{n}' in the workpiece"),
+                )
+            })
+        })
+        .collect::<Result<Vec<_>, _>>()
+        .map(Some)
+}

@@ -1,0 +1,101 @@
+//! The displaced surface `G = S + h(S) n` and its derivatives to second
+//! order, from the NURBS derivatives to third order.
+use super::form::{sum_jets, Form, Jet};
+use crate::geometry::{NurbsSurface, SurfaceDerivs};
+use crate::math::{Vec2, Vec3};
+
+/// Unit normal with its first and second parameter derivatives:
+/// `[n, n_u, n_v, n_uu, n_uv, n_vv]`.
+type NormalJet = [Vec3; 6];
+
+/// `G(u, v)` and its derivatives to order `nd` (values 1..3 give order 2).
+pub(super) fn displaced(
+    surface: &NurbsSurface,
+    terms: &[Form],
+    uv: Vec2,
+    nd: usize,
+) -> SurfaceDerivs {
+    let s = surface.derivs(uv.x, uv.y, if nd == 0 { 1 } else { 3 });
+    let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
+    let jet = sum_jets(terms.iter(), s.point());
+    let Some(n) = normal_jet(&s, sign) else {
+        return displaced_degenerate(surface, terms, uv, nd);
+    };
+    let mut g = s;
+    g.d[0][0] += n[0] * jet.h;
+    if nd > 0 {
+        second_order(&mut g, &s, &n, &jet);
+    }
+    g
+}
+
+/// At a degenerate normal (pole) the displacement uses the limit normal and
+/// the derivatives of the point nudged slightly inside the domain.
+fn displaced_degenerate(
+    surface: &NurbsSurface,
+    terms: &[Form],
+    uv: Vec2,
+    nd: usize,
+) -> SurfaceDerivs {
+    let n = surface.normal(uv.x, uv.y);
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    let nudged = uv + (centre - uv) * 1e-9;
+    let s0 = surface.derivs(uv.x, uv.y, 0);
+    let inner = surface.derivs(nudged.x, nudged.y, 3);
+    let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
+    let mut g = match normal_jet(&inner, sign) {
+        Some(nj) if nd > 0 => {
+            let mut g = inner;
+            second_order(&mut g, &inner, &nj, &sum_jets(terms.iter(), inner.point()));
+            g
+        }
+        _ => inner,
+    };
+    g.d[0][0] = s0.d[0][0] + n * sum_jets(terms.iter(), s0.point()).h;
+    g
+}
+
+fn second_order(g: &mut SurfaceDerivs, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
+    let (su, sv) = (s.su(), s.sv());
+    let hu = jet.grad.dot(&su);
+    let hv = jet.grad.dot(&sv);
+    let huu = su.dot(&(jet.hess * su)) + jet.grad.dot(&s.suu());
+    let huv = su.dot(&(jet.hess * sv)) + jet.grad.dot(&s.suv());
+    let hvv = sv.dot(&(jet.hess * sv)) + jet.grad.dot(&s.svv());
+    let h = jet.h;
+    g.d[1][0] = su + n[0] * hu + n[1] * h;
+    g.d[0][1] = sv + n[0] * hv + n[2] * h;
+    g.d[2][0] = s.suu() + n[0] * huu + n[1] * (2.0 * hu) + n[3] * h;
+    g.d[1][1] = s.suv() + n[0] * huv + n[2] * hu + n[1] * hv + n[4] * h;
+    g.d[0][2] = s.svv() + n[0] * hvv + n[2] * (2.0 * hv) + n[5] * h;
+}
+
+/// Unit normal `sign * N / |N|`, `N = Su x Sv`, and its derivatives, or
+/// `None` where `N` vanishes.
+fn normal_jet(s: &SurfaceDerivs, sign: f64) -> Option<NormalJet> {
+    let d = &s.d;
+    let (su, sv) = (d[1][0], d[0][1]);
+    let big_n = su.cross(&sv);
+    let m = big_n.norm();
+    if m <= 1e-14 * (su.norm_squared() + sv.norm_squared()) || m == 0.0 {
+        return None;
+    }
+    let nu = d[2][0].cross(&sv) + su.cross(&d[1][1]);
+    let nv = d[1][1].cross(&sv) + su.cross(&d[0][2]);
+    let nuu = d[3][0].cross(&sv) + d[2][0].cross(&d[1][1]) * 2.0 + su.cross(&d[2][1]);
+    let nuv = d[2][1].cross(&sv) + d[2][0].cross(&d[0][2]) + su.cross(&d[1][2]);
+    let nvv = d[1][2].cross(&sv) + d[1][1].cross(&d[0][2]) * 2.0 + su.cross(&d[0][3]);
+    let n = big_n / m;
+    let (ma, mb) = (n.dot(&nu), n.dot(&nv));
+    let n_u = (nu - n * ma) / m;
+    let n_v = (nv - n * mb) / m;
+    let second = |nab: Vec3, n_b: Vec3, na: Vec3, n_a: Vec3, m_a: f64, m_b: f64| {
+        let m_ab = n_b.dot(&na) + n.dot(&nab);
+        (nab - n_b * m_a - n * m_ab) / m - n_a * (m_b / m)
+    };
+    let n_uu = second(nuu, n_u, nu, n_u, ma, ma);
+    let n_uv = second(nuv, n_v, nu, n_u, ma, mb);
+    let n_vv = second(nvv, n_v, nv, n_v, mb, mb);
+    Some([n, n_u, n_v, n_uu, n_uv, n_vv].map(|v| v * sign))
+}

@@ -1,0 +1,143 @@
+#![allow(dead_code)]
+//! Shared test helpers: seeded randomness, example workpieces and an
+//! independent NURBS evaluator written straight from the definition.
+use std::path::PathBuf;
+
+use cmm::workpiece::{Workpiece, WorkpieceFile};
+use rand::SeedableRng;
+
+pub type TestRng = rand::rngs::ChaCha8Rng;
+
+pub fn rng(seed: u64) -> TestRng {
+    TestRng::seed_from_u64(seed)
+}
+
+pub fn uniform(rng: &mut TestRng, lo: f64, hi: f64) -> f64 {
+    use rand::RngExt;
+    lo + (hi - lo) * rng.random::<f64>()
+}
+
+pub fn repo(rel: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
+}
+
+pub fn example(stem: &str) -> Workpiece {
+    let path = repo(&format!("workpieces/{stem}.json"));
+    Workpiece::from_path(&path).unwrap_or_else(|e| panic!("{e}"))
+}
+
+pub fn from_file(file: &WorkpieceFile) -> Workpiece {
+    Workpiece::from_file(file, "test.json".as_ref()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// B-spline basis N_{i,p}(u) by the Cox-de Boor recursion, straight from the
+/// definition (half-open spans; the domain end is taken from the left).
+pub fn basis(knots: &[f64], i: usize, p: usize, u: f64) -> f64 {
+    if p == 0 {
+        let end = knots[knots.len() - 1];
+        let last_nonempty = knots[i] < knots[i + 1] && knots[i + 1] == end && u == end;
+        return if (knots[i] <= u && u < knots[i + 1]) || last_nonempty {
+            1.0
+        } else {
+            0.0
+        };
+    }
+    let mut out = 0.0;
+    let d1 = knots[i + p] - knots[i];
+    if d1 > 0.0 {
+        out += (u - knots[i]) / d1 * basis(knots, i, p - 1, u);
+    }
+    let d2 = knots[i + p + 1] - knots[i + 1];
+    if d2 > 0.0 {
+        out += (knots[i + p + 1] - u) / d2 * basis(knots, i + 1, p - 1, u);
+    }
+    out
+}
+
+/// Surface point from a spec by the definition (rational sum).
+pub fn reference_point(s: &cmm::workpiece::SurfaceSpec, u: f64, v: f64) -> [f64; 3] {
+    let [p, q] = s.degree;
+    let mut num = [0.0; 3];
+    let mut den = 0.0;
+    for (i, row) in s.control_points.iter().enumerate() {
+        let bu = basis(&s.knots_u, i, p, u);
+        if bu == 0.0 {
+            continue;
+        }
+        for (j, cp) in row.iter().enumerate() {
+            let w = s.weights.as_ref().map_or(1.0, |w| w[i][j]);
+            let b = bu * basis(&s.knots_v, j, q, v) * w;
+            for k in 0..3 {
+                num[k] += b * cp[k];
+            }
+            den += b;
+        }
+    }
+    num.map(|c| c / den)
+}
+
+/// A random rational surface: degrees 1-4, random interior knots (some
+/// repeated), control points in a 100 mm box, weights in [0.5, 2].
+pub fn random_surface(rng: &mut TestRng, name: &str) -> cmm::workpiece::SurfaceSpec {
+    use rand::RngExt;
+    let p = rng.random_range(1..=4usize);
+    let q = rng.random_range(1..=4usize);
+    let (ku, nu) = random_knots(rng, p);
+    let (kv, nv) = random_knots(rng, q);
+    let cps = (0..nu)
+        .map(|i| {
+            (0..nv)
+                .map(|j| {
+                    [
+                        i as f64 * 10.0 + uniform(rng, -3.0, 3.0),
+                        j as f64 * 10.0 + uniform(rng, -3.0, 3.0),
+                        uniform(rng, -8.0, 8.0),
+                    ]
+                })
+                .collect()
+        })
+        .collect();
+    let weights = (0..nu)
+        .map(|_| (0..nv).map(|_| uniform(rng, 0.5, 2.0)).collect())
+        .collect();
+    cmm::workpiece::SurfaceSpec {
+        name: name.into(),
+        degree: [p, q],
+        knots_u: ku,
+        knots_v: kv,
+        control_points: cps,
+        weights: Some(weights),
+        reversed: false,
+        trim: None,
+    }
+}
+
+fn random_knots(rng: &mut TestRng, p: usize) -> (Vec<f64>, usize) {
+    use rand::RngExt;
+    let lo = uniform(rng, -2.0, 2.0);
+    let spans = rng.random_range(1..=4usize);
+    let mut k = vec![lo; p + 1];
+    let mut x = lo;
+    for _ in 1..spans {
+        x += uniform(rng, 0.3, 1.5);
+        let mult = if p > 1 && rng.random_range(0..4) == 0 {
+            2.min(p)
+        } else {
+            1
+        };
+        k.extend(std::iter::repeat_n(x, mult));
+    }
+    x += uniform(rng, 0.3, 1.5);
+    k.extend(std::iter::repeat_n(x, p + 1));
+    let n = k.len() - p - 1;
+    (k, n)
+}
+
+/// Random parameter strictly inside a random knot span (away from knots by
+/// `margin` of the span), for derivative checks that must not straddle knots.
+pub fn param_inside_span(rng: &mut TestRng, knots: &cmm::geometry::KnotVector, margin: f64) -> f64 {
+    use rand::RngExt;
+    let b = knots.breakpoints();
+    let s = rng.random_range(0..b.len() - 1);
+    b[s] + (b[s + 1] - b[s]) * uniform(rng, margin, 1.0 - margin)
+}
