@@ -17,5 +17,7 @@ pub fn run(args: &ExamplesArgs) -> Result<Status, CliError> {
         let text = crate::workpiece::examples::to_json(&wp);
         crate::output::write_atomic(&args.out.join(format!("{stem}.json")), text.as_bytes())?;
     }
+    let points = crate::workpiece::examples::blade_points_csv();
+    crate::output::write_atomic(&args.out.join("blade-points.csv"), points.as_bytes())?;
     Ok(Status::Pass)
 }

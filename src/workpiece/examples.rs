@@ -229,3 +229,28 @@ pub fn to_json(wp: &WorkpieceFile) -> String {
     s.push('\n');
     s
 }
+
+/// A small measured-looking point set on the blade (`blade-points.csv`):
+/// 36 points around the z = 60 section, each off the nominal surface along
+/// its normal by a known smooth deviation of up to 0.03 mm.
+pub fn blade_points_csv() -> String {
+    use crate::geometry::{section::section_faces, Plane, SectionOptions};
+    use crate::math::{Point3, Vec3};
+    let mut out = String::from("id,x,y,z\n");
+    let Ok(wp) = super::Workpiece::from_file(&blade(), "blade.json".as_ref()) else {
+        return out;
+    };
+    let Ok(plane) = Plane::try_new(Point3::new(0.0, 0.0, 60.0), Vec3::z()) else {
+        return out;
+    };
+    let faces: Vec<usize> = (0..wp.faces.len()).collect();
+    let curves = section_faces(&wp, &faces, &plane, &SectionOptions::default());
+    let Some(curve) = curves.first() else { return out };
+    let step = (curve.points.len() / 36).max(1);
+    for (k, sp) in curve.points.iter().step_by(step).take(36).enumerate() {
+        let dev = 0.03 * (k as f64 * 0.7).sin();
+        let p = sp.point + sp.normal * dev;
+        out.push_str(&format!("{},{:.6},{:.6},{:.6}\n", k + 1, p.x, p.y, p.z));
+    }
+    out
+}

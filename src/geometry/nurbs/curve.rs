@@ -83,10 +83,12 @@ impl NurbsCurve {
         let (lo, hi) = self.domain();
         let basis = self.knots.basis_derivs::<N>(span, t.clamp(lo, hi), nd);
         let mut aw = [Vec4::zeros(); 4];
-        for (k, a) in aw.iter_mut().enumerate().take(nd + 1) {
-            for r in 0..=p {
-                *a += self.points[span - p + r] * basis[k][r];
-            }
+        let pts = &self.points[span - p..=span];
+        for (a, nk) in aw.iter_mut().zip(&basis).take(nd + 1) {
+            *a = pts
+                .iter()
+                .zip(nk)
+                .fold(Vec4::zeros(), |acc, (cp, &b)| acc + cp * b);
         }
         rational_curve_derivs(&aw, nd)
     }

@@ -82,9 +82,7 @@ fn insert_points(
     let np = pts.len();
     let mut out = vec![Vec4::zeros(); np + r];
     out[..=k - p].copy_from_slice(&pts[..=k - p]);
-    for i in (k - s)..np {
-        out[i + r] = pts[i];
-    }
+    out[k - s + r..np + r].copy_from_slice(&pts[k - s..np]);
     let mut rw: Vec<Vec4> = pts[k - p..=k - s].to_vec();
     let mut l = 0;
     for j in 1..=r {
@@ -96,8 +94,8 @@ fn insert_points(
         out[l] = rw[0];
         out[k + r - j - s] = rw[p - j - s];
     }
-    for i in (l + 1)..(k - s) {
-        out[i] = rw[i - l];
+    if l + 1 < k - s {
+        out[l + 1..k - s].copy_from_slice(&rw[1..k - s - l]);
     }
     out
 }

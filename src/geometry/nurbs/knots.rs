@@ -304,8 +304,8 @@ fn derivative_rows<const N: usize>(
         }
     }
     let mut factor = p as f64;
-    for k in 1..=nd.min(p) {
-        for v in ders[k].iter_mut().take(p + 1) {
+    for (k, row) in ders.iter_mut().enumerate().take(nd.min(p) + 1).skip(1) {
+        for v in row.iter_mut().take(p + 1) {
             *v *= factor;
         }
         factor *= (p - k) as f64;

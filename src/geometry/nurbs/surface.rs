@@ -196,17 +196,20 @@ impl NurbsSurface {
         let nu = self.ku.basis_derivs::<N>(su, uv.x, nd);
         let nvb = self.kv.basis_derivs::<N>(sv, uv.y, nd);
         let mut aw = [[Vec4::zeros(); 4]; 4];
-        for k in 0..=nd.min(p) {
+        for (k, nuk) in nu.iter().enumerate().take(nd.min(p) + 1) {
             let mut temp = [Vec4::zeros(); N];
-            for r in 0..=p {
+            for (r, &coef) in nuk.iter().enumerate().take(p + 1) {
                 let row = (su - p + r) * self.nv + sv - q;
-                let coef = nu[k][r];
                 for (t, cp) in temp.iter_mut().zip(&self.pw[row..=row + q]) {
                     *t += cp * coef;
                 }
             }
-            for l in 0..=(nd - k).min(q) {
-                aw[k][l] = (0..=q).fold(Vec4::zeros(), |acc, s| acc + temp[s] * nvb[l][s]);
+            for (l, nvl) in nvb.iter().enumerate().take((nd - k).min(q) + 1) {
+                aw[k][l] = temp
+                    .iter()
+                    .zip(nvl)
+                    .take(q + 1)
+                    .fold(Vec4::zeros(), |acc, (t, &b)| acc + t * b);
             }
         }
         SurfaceDerivs {

@@ -99,6 +99,9 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
                 ..foot
             });
         }
+        if last_step <= opts.final_step_mm {
+            return Ok(final_step(&eval, p, foot, delta, it));
+        }
         match line_search(&eval, p, &foot, delta, opts) {
             Some(next) => {
                 foot = Foot {
@@ -121,6 +124,29 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
         iterations: opts.max_iterations,
         last_step_mm: last_step,
     })
+}
+
+/// Inside the region of quadratic convergence the last Newton step is
+/// taken without a line search (rounding makes the decrease unmeasurable);
+/// it is kept unless it makes the distance visibly worse.
+fn final_step<F: Fn(Vec2) -> SurfaceDerivs>(
+    eval: &F,
+    p: Point3,
+    foot: Foot,
+    delta: Vec2,
+    it: usize,
+) -> Foot {
+    let x = foot.uv + delta;
+    let cand = Foot::new(x, eval(x), p, it);
+    let slack = 1e-12 * foot.dist2 + 1e-24;
+    if cand.dist2 <= foot.dist2 + slack {
+        cand
+    } else {
+        Foot {
+            iterations: it,
+            ..foot
+        }
+    }
 }
 
 /// Backtracking: the first of `delta, delta/2, ...` that lowers the distance.

@@ -80,7 +80,7 @@ pub(super) fn branches(
     let found = trace(&grid, opts);
     // A section lying exactly along a parameter boundary (g = 0 there) shows
     // up only when zeros count as the other side.
-    if found.is_empty() && grid.g.iter().any(|&g| g == 0.0) {
+    if found.is_empty() && grid.g.contains(&0.0) {
         return trace(
             &Grid {
                 zero_is_positive: false,

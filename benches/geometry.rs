@@ -1,0 +1,78 @@
+//! Geometry kernel benchmarks: evaluation, warm and cold projection.
+//!
+//! `cargo bench --bench geometry`
+use std::hint::black_box;
+use std::path::Path;
+
+use cmm::geometry::projection::project_from;
+use cmm::math::{Point3, Vec2};
+use cmm::workpiece::Workpiece;
+use criterion::{criterion_group, criterion_main, Criterion};
+
+fn load(stem: &str) -> Workpiece {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("workpieces/{stem}.json"));
+    match Workpiece::from_path(&path) {
+        Ok(wp) => wp,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// Query points 1.2 mm off the surface along a path, 0.05 mm apart, with
+/// the parameters of the previous foot as the warm hint.
+fn path(wp: &Workpiece, n: usize) -> Vec<(Point3, Vec2)> {
+    let s = &wp.faces[0].surface;
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let v = 0.5 * (v0 + v1);
+    let mut out = Vec::with_capacity(n);
+    let mut t = u0 + 0.1 * (u1 - u0);
+    let mut prev = Vec2::new(t, v);
+    while out.len() < n {
+        let d = s.derivs(t, v, 1);
+        let p = d.point() + s.normal(t, v) * 1.2;
+        out.push((p, prev));
+        prev = Vec2::new(t, v);
+        t += 0.05 / d.su().norm().max(1e-9);
+        if t > u0 + 0.9 * (u1 - u0) {
+            t = u0 + 0.1 * (u1 - u0);
+        }
+    }
+    out
+}
+
+fn bench(c: &mut Criterion) {
+    for stem in ["panel", "blade", "sphere"] {
+        let wp = load(stem);
+        let face = &wp.faces[0];
+        let queries = path(&wp, 1000);
+        c.bench_function(&format!("derivs2/{stem}"), |b| {
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) % queries.len();
+                let uv = queries[k].1;
+                black_box(face.surface.derivs(uv.x, uv.y, 2))
+            })
+        });
+        c.bench_function(&format!("project_warm/{stem}"), |b| {
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) % queries.len();
+                let (p, hint) = queries[k];
+                black_box(project_from(&face.surface, p, hint, &wp.options).ok())
+            })
+        });
+        c.bench_function(&format!("project_cold/{stem}"), |b| {
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) % queries.len();
+                black_box(face.index.project(&face.surface, queries[k].0).ok())
+            })
+        });
+    }
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(30).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
+    targets = bench
+}
+criterion_main!(benches);
