@@ -245,7 +245,9 @@ pub fn blade_points_csv() -> String {
     };
     let faces: Vec<usize> = (0..wp.faces.len()).collect();
     let curves = section_faces(&wp, &faces, &plane, &SectionOptions::default());
-    let Some(curve) = curves.first() else { return out };
+    let Some(curve) = curves.first() else {
+        return out;
+    };
     let step = (curve.points.len() / 36).max(1);
     for (k, sp) in curve.points.iter().step_by(step).take(36).enumerate() {
         let dev = 0.03 * (k as f64 * 0.7).sin();

@@ -232,7 +232,11 @@ fn check_multiplicities(knots: &[f64], degree: usize) -> Result<(), KnotError> {
     Ok(())
 }
 
-/// A2.3 of The NURBS Book with fixed-size stack tables of capacity `N`.
+/// Basis values and derivatives (The NURBS Book A2.2 for the values; the
+/// derivatives by repeatedly raising lower-degree values with
+/// `N'_{i,d+1} = (d+1) (N_{i,d} / (u_{i+d+1} - u_i) - N_{i+1,d} / (u_{i+d+2} - u_{i+1}))`,
+/// reusing the reciprocal knot differences of A2.2). Fixed-size stack tables
+/// of capacity `N >= p + 1`.
 fn basis_derivs<const N: usize>(
     knots: &[f64],
     p: usize,
@@ -240,74 +244,56 @@ fn basis_derivs<const N: usize>(
     u: f64,
     nd: usize,
 ) -> [[f64; N]; 4] {
-    let mut ndu = [[0.0; N]; N];
+    let nd = nd.min(p);
+    let mut inv = [[0.0; N]; N];
+    let mut levels = [[0.0; N]; 4];
+    let mut n = [0.0; N];
+    n[0] = 1.0;
+    if nd >= p {
+        levels[p] = n;
+    }
     let mut left = [0.0; N];
     let mut right = [0.0; N];
-    ndu[0][0] = 1.0;
     for j in 1..=p {
         left[j] = u - knots[span + 1 - j];
         right[j] = knots[span + j] - u;
         let mut saved = 0.0;
         for r in 0..j {
-            ndu[j][r] = right[r + 1] + left[j - r];
-            let temp = ndu[r][j - 1] / ndu[j][r];
-            ndu[r][j] = saved + right[r + 1] * temp;
+            let den = right[r + 1] + left[j - r];
+            let iv = if den != 0.0 { 1.0 / den } else { 0.0 };
+            inv[j][r] = iv;
+            let temp = n[r] * iv;
+            n[r] = saved + right[r + 1] * temp;
             saved = left[j - r] * temp;
         }
-        ndu[j][j] = saved;
+        n[j] = saved;
+        if j + nd >= p {
+            levels[p - j] = n;
+        }
     }
-    let mut ders = [[0.0; N]; 4];
-    for j in 0..=p {
-        ders[0][j] = ndu[j][p];
+    let mut out = [[0.0; N]; 4];
+    out[0] = levels[0];
+    for k in 1..=nd {
+        let mut v = levels[k];
+        for d in (p - k)..p {
+            v = raise(&v, &inv[d + 1], d);
+        }
+        out[k] = v;
     }
-    if nd > 0 {
-        derivative_rows(&ndu, p, nd, &mut ders);
-    }
-    ders
+    out
 }
 
-fn derivative_rows<const N: usize>(
-    ndu: &[[f64; N]; N],
-    p: usize,
-    nd: usize,
-    ders: &mut [[f64; N]; 4],
-) {
-    let mut a = [[0.0; N]; 2];
-    for r in 0..=p {
-        let (mut s1, mut s2) = (0usize, 1usize);
-        a[0][0] = 1.0;
-        for k in 1..=nd.min(p) {
-            let mut d = 0.0;
-            let rk = r as isize - k as isize;
-            let pk = p - k;
-            if r >= k {
-                a[s2][0] = a[s1][0] / ndu[pk + 1][r - k];
-                d = a[s2][0] * ndu[r - k][pk];
-            }
-            let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
-            let j2 = if (r as isize) - 1 <= pk as isize {
-                k - 1
-            } else {
-                p - r
-            };
-            for j in j1..=j2 {
-                let idx = (rk + j as isize) as usize;
-                a[s2][j] = (a[s1][j] - a[s1][j - 1]) / ndu[pk + 1][idx];
-                d += a[s2][j] * ndu[idx][pk];
-            }
-            if r <= pk {
-                a[s2][k] = -a[s1][k - 1] / ndu[pk + 1][r];
-                d += a[s2][k] * ndu[r][pk];
-            }
-            ders[k][r] = d;
-            std::mem::swap(&mut s1, &mut s2);
-        }
+/// Derivative coefficients of degree `d + 1` from the `d + 1` values of
+/// degree `d`; `inv[j]` is `1 / (u_{span+j+1} - u_{span+j-d})`.
+fn raise<const N: usize>(v: &[f64; N], inv: &[f64; N], d: usize) -> [f64; N] {
+    let mut w = [0.0; N];
+    let scale = (d + 1) as f64;
+    let mut prev = 0.0;
+    for r in 0..=d {
+        let cur = v[r] * inv[r];
+        w[r] = scale * (prev - cur);
+        prev = cur;
     }
-    let mut factor = p as f64;
-    for (k, row) in ders.iter_mut().enumerate().take(nd.min(p) + 1).skip(1) {
-        for v in row.iter_mut().take(p + 1) {
-            *v *= factor;
-        }
-        factor *= (p - k) as f64;
-    }
+    w[d + 1] = scale * prev;
+    w
 }
