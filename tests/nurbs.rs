@@ -222,3 +222,26 @@ fn knot_vectors_check_their_invariants() {
     let k = KnotVector::try_new(vec![-3., -2., -1., 0., 1., 2.], 2).unwrap();
     assert_eq!(k.domain(), (-1.0, 0.0));
 }
+
+#[test]
+fn power_basis_fast_path_agrees_with_the_basis_recursion() {
+    let mut r = rng(16);
+    for _ in 0..40 {
+        let s = build(&random_surface(&mut r, "s"));
+        let ((u0, u1), (v0, v1)) = s.domain();
+        for _ in 0..20 {
+            let (u, v) = (uniform(&mut r, u0, u1), uniform(&mut r, v0, v1));
+            let (a, b) = (s.derivs(u, v, 3), s.derivs_de_boor(u, v, 3));
+            let scale = 1.0 + b.d[0][0].norm() + b.d[1][0].norm() + b.d[0][1].norm();
+            for k in 0..4 {
+                for l in 0..4 - k {
+                    assert!(
+                        (a.d[k][l] - b.d[k][l]).norm() <= 1e-10 * scale * (1.0 + b.d[k][l].norm()),
+                        "d[{k}][{l}]"
+                    );
+                }
+            }
+            assert!((a.d[0][0] - b.d[0][0]).norm() <= 1e-12 * scale);
+        }
+    }
+}

@@ -8,6 +8,7 @@ pub mod bezier;
 pub mod curve;
 pub mod insert;
 pub mod knots;
+mod power;
 pub mod surface;
 
 use crate::math::{Vec3, Vec4};

@@ -2,13 +2,16 @@
 //! curvature.
 use super::knots::{KnotVector, MAX_DEGREE};
 use super::{binomial, homogeneous, xyz, NurbsError};
+use std::sync::OnceLock;
+
+use super::power::PowerPatches;
 use crate::math::{Point3, Vec2, Vec3, Vec4};
 
 /// A NURBS surface `S(u, v)` with an outward side, mm.
 ///
 /// Control points `[i][j]` run along u (i) and v (j). The outward normal is
 /// `Su x Sv` normalised, or its negation when the surface is `reversed`.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone)]
 pub struct NurbsSurface {
     ku: KnotVector,
     kv: KnotVector,
@@ -17,6 +20,14 @@ pub struct NurbsSurface {
     nv: usize,
     rational: bool,
     reversed: bool,
+    /// Power-basis patches for fast evaluation, built on first use.
+    fast: OnceLock<Option<PowerPatches>>,
+}
+
+impl PartialEq for NurbsSurface {
+    fn eq(&self, o: &Self) -> bool {
+        self.ku == o.ku && self.kv == o.kv && self.pw == o.pw && self.reversed == o.reversed
+    }
 }
 
 /// Partial derivatives of a surface at one parameter: `d[k][l]` is
@@ -110,6 +121,7 @@ impl NurbsSurface {
             nv,
             rational,
             reversed,
+            fast: OnceLock::new(),
         })
     }
 
@@ -129,6 +141,7 @@ impl NurbsSurface {
             nv,
             rational,
             reversed,
+            fast: OnceLock::new(),
         }
     }
 
@@ -178,6 +191,26 @@ impl NurbsSurface {
     /// `S` and its partial derivatives up to total order `nd` (at most 3).
     /// Parameters outside the domain are clamped.
     pub fn derivs(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
+        let nd = nd.min(3);
+        if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
+            let uv = self.clamp(Vec2::new(u, v));
+            let mut out = SurfaceDerivs {
+                d: [[Vec3::zeros(); 4]; 4],
+            };
+            if fast.derivs_polynomial(uv.x, uv.y, nd, &mut out.d) {
+                return out;
+            }
+            let aw = fast.derivs(uv.x, uv.y, nd);
+            return SurfaceDerivs {
+                d: self.rational_derivs(&aw, nd),
+            };
+        }
+        self.derivs_de_boor(u, v, nd)
+    }
+
+    /// [`Self::derivs`] by the B-spline basis recursion (any degree); the
+    /// reference for the power-basis fast path.
+    pub fn derivs_de_boor(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
         let nd = nd.min(3);
         let p = self.ku.degree().max(self.kv.degree());
         if p <= 3 {

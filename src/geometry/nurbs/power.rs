@@ -1,0 +1,316 @@
+//! Fast evaluation of low-degree surfaces: every rational Bezier patch is
+//! converted once to power-basis coefficients in its local parameters
+//! `s, t` in [0, 1], so a point with derivatives costs one span lookup and a
+//! few dozen vector multiply-adds instead of the basis-function recursion.
+//! Local parameters keep the power basis well conditioned for the degrees
+//! it is used for (up to [`FAST_MAX_DEGREE`]).
+use super::bezier::{decompose, BezierPatch};
+use super::binomial;
+use super::surface::NurbsSurface;
+use crate::math::{Vec3, Vec4};
+
+/// Highest degree (in either direction) evaluated in the power basis.
+pub const FAST_MAX_DEGREE: usize = 5;
+const CAP: usize = FAST_MAX_DEGREE + 1;
+
+/// Power-basis coefficients of all patches of a surface.
+#[derive(Debug, Clone)]
+pub(crate) struct PowerPatches {
+    breaks_u: Vec<f64>,
+    breaks_v: Vec<f64>,
+    degree: [usize; 2],
+    /// Patch `(a, b)` starts at `(a * nb + b) * stride`; entry `i * (q + 1) + j`
+    /// multiplies `s^i t^j`.
+    coef: Vec<Vec4>,
+    /// The same coefficients without weights, for non-rational surfaces
+    /// (empty for rational ones).
+    coef3: Vec<Vec3>,
+}
+
+impl PowerPatches {
+    /// Converts a surface of degree at most [`FAST_MAX_DEGREE`].
+    pub fn new(surface: &NurbsSurface) -> Option<PowerPatches> {
+        let degree = [surface.knots_u().degree(), surface.knots_v().degree()];
+        if degree[0] > FAST_MAX_DEGREE || degree[1] > FAST_MAX_DEGREE {
+            return None;
+        }
+        let (mu, mv) = (bezier_to_power(degree[0]), bezier_to_power(degree[1]));
+        let coef: Vec<Vec4> = decompose(surface)
+            .iter()
+            .flat_map(|patch| convert(patch, &mu, &mv))
+            .collect();
+        let coef3 = if surface.is_rational() {
+            Vec::new()
+        } else {
+            coef.iter().map(|c| c.xyz()).collect()
+        };
+        Some(PowerPatches {
+            breaks_u: surface.knots_u().breakpoints(),
+            breaks_v: surface.knots_v().breakpoints(),
+            degree,
+            coef,
+            coef3,
+        })
+    }
+
+    /// Euclidean derivatives of a non-rational surface into `out`
+    /// (`d[k][l]` for `k + l <= nd` at a clamped parameter); `false` for
+    /// rational surfaces, which need the homogeneous path.
+    #[inline]
+    pub fn derivs_polynomial(&self, u: f64, v: f64, nd: usize, out: &mut [[Vec3; 4]; 4]) -> bool {
+        if self.coef3.is_empty() {
+            return false;
+        }
+        let [p, q] = self.degree;
+        let (a, s, hu) = span_of(&self.breaks_u, u);
+        let (b, t, hv) = span_of(&self.breaks_v, v);
+        let stride = (p + 1) * (q + 1);
+        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
+        let Some(patch) = self.coef3.get(start..start + stride) else {
+            return false;
+        };
+        match (p + 1, q + 1) {
+            (4, 4) => poly_kernel::<4, 4>(patch, (s, hu), (t, hv), nd, out),
+            (3, 3) => poly_kernel::<3, 3>(patch, (s, hu), (t, hv), nd, out),
+            (2, 2) => poly_kernel::<2, 2>(patch, (s, hu), (t, hv), nd, out),
+            _ => {
+                let (_, su) = local(&self.breaks_u, u, p, nd);
+                let (_, tv) = local(&self.breaks_v, v, q, nd);
+                *out = kernel_any(patch, &su, &tv, nd, p + 1, q + 1);
+            }
+        }
+        true
+    }
+
+    /// Homogeneous derivatives `aw[k][l]` for `k + l <= nd` (nd <= 3) at a
+    /// parameter already clamped into the domain.
+    pub fn derivs(&self, u: f64, v: f64, nd: usize) -> [[Vec4; 4]; 4] {
+        let [p, q] = self.degree;
+        let (a, su) = local(&self.breaks_u, u, p, nd);
+        let (b, tv) = local(&self.breaks_v, v, q, nd);
+        let stride = (p + 1) * (q + 1);
+        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
+        let patch = &self.coef[start..start + stride];
+        match (p + 1, q + 1) {
+            (4, 4) => kernel::<Vec4, 4, 4>(patch, &su, &tv, nd),
+            (3, 3) => kernel::<Vec4, 3, 3>(patch, &su, &tv, nd),
+            (2, 2) => kernel::<Vec4, 2, 2>(patch, &su, &tv, nd),
+            (3, 2) => kernel::<Vec4, 3, 2>(patch, &su, &tv, nd),
+            (2, 3) => kernel::<Vec4, 2, 3>(patch, &su, &tv, nd),
+            _ => kernel_any(patch, &su, &tv, nd, p + 1, q + 1),
+        }
+    }
+}
+
+/// Sums `s^i t^j` terms for compile-time patch sizes (loops unroll).
+#[inline(always)]
+fn kernel<V: Coef, const NP: usize, const NQ: usize>(
+    patch: &[V],
+    su: &[[f64; CAP]; 4],
+    tv: &[[f64; CAP]; 4],
+    nd: usize,
+) -> [[V; 4]; 4] {
+    let mut rows = [[V::zero(); 4]; NP];
+    for (row, c) in rows.iter_mut().zip(patch.chunks_exact(NQ)) {
+        for (l, out) in row.iter_mut().enumerate().take(nd + 1) {
+            let mut acc = V::zero();
+            for j in 0..NQ {
+                acc += c[j] * tv[l][j];
+            }
+            *out = acc;
+        }
+    }
+    combine(&rows, su, nd)
+}
+
+fn kernel_any<V: Coef>(
+    patch: &[V],
+    su: &[[f64; CAP]; 4],
+    tv: &[[f64; CAP]; 4],
+    nd: usize,
+    np: usize,
+    nq: usize,
+) -> [[V; 4]; 4] {
+    let mut rows = [[V::zero(); 4]; CAP];
+    for (row, c) in rows.iter_mut().zip(patch.chunks_exact(nq)).take(np) {
+        for (l, out) in row.iter_mut().enumerate().take(nd + 1) {
+            *out = c
+                .iter()
+                .zip(&tv[l])
+                .fold(V::zero(), |acc, (&cij, &t)| acc + cij * t);
+        }
+    }
+    combine(&rows[..np], su, nd)
+}
+
+/// Vectors the kernels sum: homogeneous `Vec4` or Euclidean `Vec3`.
+trait Coef:
+    Copy + std::ops::Add<Output = Self> + std::ops::Mul<f64, Output = Self> + std::ops::AddAssign
+{
+    fn zero() -> Self;
+}
+impl Coef for Vec4 {
+    fn zero() -> Self {
+        Vec4::zeros()
+    }
+}
+impl Coef for Vec3 {
+    fn zero() -> Self {
+        Vec3::zeros()
+    }
+}
+
+#[inline(always)]
+fn combine<V: Coef>(rows: &[[V; 4]], su: &[[f64; CAP]; 4], nd: usize) -> [[V; 4]; 4] {
+    let mut aw = [[V::zero(); 4]; 4];
+    for (k, awk) in aw.iter_mut().enumerate().take(nd + 1) {
+        for (l, out) in awk.iter_mut().enumerate().take(nd - k + 1) {
+            let mut acc = V::zero();
+            for (r, &s) in rows.iter().zip(&su[k]) {
+                acc += r[l] * s;
+            }
+            *out = acc;
+        }
+    }
+    aw
+}
+
+/// `FALLING[k][i] = i! / (i - k)!` (zero for i < k).
+const FALLING: [[f64; CAP]; 4] = {
+    let mut t = [[0.0; CAP]; 4];
+    let mut i = 0;
+    while i < CAP {
+        let mut k = 0;
+        while k < 4 && k <= i {
+            let mut f = 1.0;
+            let mut m = i + 1 - k;
+            while m <= i {
+                f *= m as f64;
+                m += 1;
+            }
+            t[k][i] = f;
+            k += 1;
+        }
+        i += 1;
+    }
+    t
+};
+
+/// Span index, local parameter in [0, 1] and `1 / span length`.
+#[inline(always)]
+fn span_of(breaks: &[f64], x: f64) -> (usize, f64, f64) {
+    let last = breaks.len().saturating_sub(2);
+    let span = breaks
+        .partition_point(|&b| b <= x)
+        .saturating_sub(1)
+        .min(last);
+    let (x0, x1) = (breaks[span], breaks[span + 1]);
+    let h = 1.0 / (x1 - x0);
+    (span, (x - x0) * h, h)
+}
+
+/// Derivatives (order `0..=nd`, chain rule included) of `s^i`, `i < NP`.
+#[inline(always)]
+fn monomials<const NP: usize>(s: f64, h: f64, nd: usize) -> [[f64; NP]; 4] {
+    let mut powers = [1.0; NP];
+    for i in 1..NP {
+        powers[i] = powers[i - 1] * s;
+    }
+    let mut out = [[0.0; NP]; 4];
+    let mut scale = 1.0;
+    for (k, row) in out.iter_mut().enumerate().take(nd + 1) {
+        for i in k..NP {
+            row[i] = FALLING[k][i] * powers[i - k] * scale;
+        }
+        scale *= h;
+    }
+    out
+}
+
+/// Non-rational patch evaluation for compile-time sizes, into `out`.
+#[inline(always)]
+fn poly_kernel<const NP: usize, const NQ: usize>(
+    patch: &[Vec3],
+    (s, hu): (f64, f64),
+    (t, hv): (f64, f64),
+    nd: usize,
+    out: &mut [[Vec3; 4]; 4],
+) {
+    let su = monomials::<NP>(s, hu, nd);
+    let tv = monomials::<NQ>(t, hv, nd);
+    let mut rows = [[Vec3::zeros(); 4]; NP];
+    for (row, c) in rows.iter_mut().zip(patch.chunks_exact(NQ)) {
+        for (l, r) in row.iter_mut().enumerate().take(nd + 1) {
+            let mut acc = Vec3::zeros();
+            for j in 0..NQ {
+                acc += c[j] * tv[l][j];
+            }
+            *r = acc;
+        }
+    }
+    for (k, outk) in out.iter_mut().enumerate().take(nd + 1) {
+        for (l, o) in outk.iter_mut().enumerate().take(nd - k + 1) {
+            let mut acc = Vec3::zeros();
+            for i in 0..NP {
+                acc += rows[i][l] * su[k][i];
+            }
+            *o = acc;
+        }
+    }
+}
+
+/// Span index of `x` among the breakpoints and the derivatives (order
+/// `0..=nd`) of the local power basis `s^i`, chain rule included.
+fn local(breaks: &[f64], x: f64, p: usize, nd: usize) -> (usize, [[f64; CAP]; 4]) {
+    let last = breaks.len().saturating_sub(2);
+    let span = breaks
+        .partition_point(|&b| b <= x)
+        .saturating_sub(1)
+        .min(last);
+    let (x0, x1) = (breaks[span], breaks[span + 1]);
+    let h = 1.0 / (x1 - x0);
+    let s = (x - x0) * h;
+    let mut out = [[0.0; CAP]; 4];
+    let mut powers = [0.0; CAP];
+    powers[0] = 1.0;
+    for i in 1..=p {
+        powers[i] = powers[i - 1] * s;
+    }
+    let mut scale = 1.0;
+    for (k, row) in out.iter_mut().enumerate().take(nd + 1) {
+        for i in k..=p {
+            row[i] = FALLING[k][i] * powers[i - k] * scale;
+        }
+        scale *= h;
+    }
+    (span, out)
+}
+
+/// Matrix taking Bezier coefficients to power-basis ones for degree `p`.
+fn bezier_to_power(p: usize) -> [[f64; CAP]; CAP] {
+    let mut m = [[0.0; CAP]; CAP];
+    for (i, row) in m.iter_mut().enumerate().take(p + 1) {
+        for (k, entry) in row.iter_mut().enumerate().take(i + 1) {
+            let sign = if (i - k) % 2 == 0 { 1.0 } else { -1.0 };
+            *entry = binomial(p, i) * binomial(i, k) * sign;
+        }
+    }
+    m
+}
+
+/// `A = M_u B M_v^T` for one patch.
+fn convert(patch: &BezierPatch, mu: &[[f64; CAP]; CAP], mv: &[[f64; CAP]; CAP]) -> Vec<Vec4> {
+    let [p, q] = patch.degree;
+    let grid = move |n: usize, m: usize| (0..n).flat_map(move |i| (0..m).map(move |j| (i, j)));
+    let b = |k: usize, m: usize| patch.pw[k * (q + 1) + m];
+    let half: Vec<Vec4> = grid(p + 1, q + 1)
+        .map(|(k, j)| (0..=j).fold(Vec4::zeros(), |acc, m| acc + b(k, m) * mv[j][m]))
+        .collect();
+    grid(p + 1, q + 1)
+        .map(|(i, j)| {
+            (0..=i).fold(Vec4::zeros(), |acc, k| {
+                acc + half[k * (q + 1) + j] * mu[i][k]
+            })
+        })
+        .collect()
+}
