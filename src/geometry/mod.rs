@@ -5,6 +5,7 @@ pub mod nurbs;
 pub mod plane;
 pub mod projection;
 pub mod section;
+pub mod trim;
 
 pub use nurbs::bezier::BezierPatch;
 pub use nurbs::curve::NurbsCurve;
@@ -15,3 +16,4 @@ pub use nurbs::NurbsError;
 pub use plane::{Plane, PlaneError};
 pub use projection::{Projection, ProjectionError, ProjectionIndex, ProjectionOptions};
 pub use section::{SectionCurve, SectionOptions, SectionPoint};
+pub use trim::Trim;

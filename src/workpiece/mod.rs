@@ -10,7 +10,7 @@ mod validate;
 use std::path::{Path, PathBuf};
 
 use crate::geometry::{
-    NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions,
+    NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions, Trim,
 };
 use crate::math::Point3;
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
@@ -61,6 +61,8 @@ pub struct Face {
     pub surface: NurbsSurface,
     /// Cold-projection hierarchy of `surface`.
     pub index: ProjectionIndex,
+    /// The face's trim region, when the surface is trimmed.
+    pub trim: Option<Trim>,
 }
 
 /// A validated workpiece.
@@ -103,7 +105,10 @@ impl Workpiece {
             .iter()
             .enumerate()
             .map(|(i, spec)| {
-                validate::surface(spec, i, path).map(|s| Face::new(spec.name.clone(), s, &options))
+                validate::surface(spec, i, path).map(|s| {
+                    let trim = spec.trim.as_ref().map(|t| Trim::new(&t.outer, &t.holes));
+                    Face::new(spec.name.clone(), s, &options).with_trim(trim)
+                })
             })
             .collect::<Result<Vec<_>, _>>()?;
         Ok(Workpiece {
@@ -141,7 +146,7 @@ impl Workpiece {
                 break;
             }
             let face = &self.faces[i];
-            if let Some(foot) = face.index.project_within(&face.surface, p, best_d2)? {
+            if let Some(foot) = face.project_within(p, best_d2)? {
                 best_d2 = foot.dist2;
                 best = Some((i, foot));
             }
@@ -166,6 +171,29 @@ impl Face {
             name,
             surface,
             index,
+            trim: None,
         }
+    }
+
+    /// The same face restricted to a trim region.
+    pub fn with_trim(mut self, trim: Option<Trim>) -> Face {
+        self.trim = trim;
+        self
+    }
+
+    /// Whether `uv` lies on the face (inside its trim, if any).
+    pub fn contains(&self, uv: crate::math::Vec2) -> bool {
+        self.trim.as_ref().is_none_or(|t| t.contains(uv))
+    }
+
+    /// Closest point of the face (trim respected) closer than
+    /// `sqrt(best_dist2)`, if any.
+    pub(crate) fn project_within(
+        &self,
+        p: Point3,
+        best_dist2: f64,
+    ) -> Result<Option<crate::geometry::projection::Foot>, ProjectionError> {
+        self.index
+            .project_within(&self.surface, self.trim.as_ref(), p, best_dist2)
     }
 }

@@ -4,9 +4,9 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
 use super::newton::{self, Bounds, Foot};
-use super::{check_finite, Projection, ProjectionError, ProjectionOptions};
+use super::{check_finite, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
 use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
-use crate::geometry::NurbsSurface;
+use crate::geometry::{NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
 
 /// Search structure for global closest-point queries on one surface.
@@ -82,7 +82,7 @@ impl ProjectionIndex {
         surface: &NurbsSurface,
         p: Point3,
     ) -> Result<Projection, ProjectionError> {
-        self.project_within(surface, p, f64::INFINITY)?
+        self.project_within(surface, None, p, f64::INFINITY)?
             .map(|f| f.into_projection(surface, p))
             .ok_or(ProjectionError::NotFinite {
                 x: p.x,
@@ -92,9 +92,12 @@ impl ProjectionIndex {
     }
 
     /// Best-first search; only points closer than `sqrt(best_dist2)` count.
+    /// With a trim, only points on the face count, and its boundary is
+    /// searched too.
     pub(crate) fn project_within(
         &self,
         surface: &NurbsSurface,
+        trim: Option<&Trim>,
         p: Point3,
         mut best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
@@ -125,11 +128,16 @@ impl ProjectionIndex {
                     }
                 }
                 Ok(leaf) => {
-                    if let Some(foot) = self.search_leaf(surface, leaf, p, best_dist2)? {
+                    if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
                         best_dist2 = foot.dist2;
                         best = Some(foot);
                     }
                 }
+            }
+        }
+        if let Some(t) = trim {
+            if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
+                best = Some(foot);
             }
         }
         Ok(best)
@@ -138,12 +146,16 @@ impl ProjectionIndex {
     fn search_leaf(
         &self,
         surface: &NurbsSurface,
+        trim: Option<&Trim>,
         leaf: usize,
         p: Point3,
         best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
         let leaf = &self.leaves[leaf];
         if leaf.obb.dist2(p) >= best_dist2 {
+            return Ok(None);
+        }
+        if trim.is_some_and(|t| !t.may_touch(leaf.bounds.lo, leaf.bounds.hi)) {
             return Ok(None);
         }
         let start = leaf
@@ -156,7 +168,8 @@ impl ProjectionIndex {
             })
             .map_or(leaf.bounds.lo, |s| s.0);
         let foot = newton::minimise(surface, p, start, &leaf.bounds, &self.opts)?;
-        Ok((foot.dist2 < best_dist2).then_some(foot))
+        let on_face = trim.is_none_or(|t| t.contains(foot.uv));
+        Ok((on_face && foot.dist2 < best_dist2).then_some(foot))
     }
 }
 

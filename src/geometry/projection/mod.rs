@@ -14,9 +14,11 @@
 
 mod index;
 mod newton;
+mod trimmed;
 
 pub use index::ProjectionIndex;
 pub(crate) use newton::{minimise_with, Bounds, Foot};
+pub(crate) use trimmed::closest_on_boundary;
 
 use crate::geometry::NurbsSurface;
 use crate::math::{Point3, Vec2, Vec3};

@@ -9,13 +9,14 @@
 //! point Newton-projected onto `g = 0`) until the curve lies within the chord
 //! tolerance of the polyline.
 
+mod clip;
 mod march;
 mod refine;
 mod stitch;
 
 use crate::geometry::{NurbsSurface, Plane};
 use crate::math::{Point3, Vec2, Vec3};
-use crate::workpiece::Workpiece;
+use crate::workpiece::{Face, Workpiece};
 
 /// Tolerances of section computation (lengths in mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -118,12 +119,25 @@ pub fn section_faces(
 ) -> Vec<SectionCurve> {
     let branches: Vec<SectionCurve> = faces
         .iter()
-        .filter_map(|&i| {
-            wp.faces
-                .get(i)
-                .map(|f| section_surface(&f.surface, i, plane, opts))
-        })
+        .filter_map(|&i| wp.faces.get(i).map(|f| section_face(f, i, plane, opts)))
         .flatten()
         .collect();
     stitch::stitch(branches, opts.join_tol_mm)
+}
+
+/// Section of one face: its surface's branches clipped to its trim.
+pub fn section_face(
+    face: &Face,
+    id: usize,
+    plane: &Plane,
+    opts: &SectionOptions,
+) -> Vec<SectionCurve> {
+    let branches = section_surface(&face.surface, id, plane, opts);
+    match &face.trim {
+        None => branches,
+        Some(trim) => branches
+            .into_iter()
+            .flat_map(|c| clip::clip(c, &face.surface, trim, plane, opts))
+            .collect(),
+    }
 }

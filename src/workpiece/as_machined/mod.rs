@@ -193,7 +193,7 @@ impl AsMachined {
     fn seeds(&self, wp: &Workpiece, y: Point3) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
         let mut found = Vec::new();
         for (i, f) in wp.faces.iter().enumerate() {
-            if let Some(foot) = f.index.project_within(&f.surface, y, f64::INFINITY)? {
+            if let Some(foot) = f.project_within(y, f64::INFINITY)? {
                 found.push((foot.dist2.sqrt(), i, foot.uv));
             }
         }
