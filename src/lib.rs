@@ -24,4 +24,5 @@ pub mod geometry;
 pub mod math;
 pub mod output;
 pub mod pointfile;
+pub mod program;
 pub mod workpiece;

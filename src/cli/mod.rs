@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use crate::output::WriteError;
 use crate::pointfile::PointsError;
 
+mod check;
 mod evaluate;
 mod examples;
 mod fit;
@@ -23,6 +24,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Validate part programs and their workpieces without measuring.
+    Check(check::CheckArgs),
     /// Deviation of measured points from the nominal CAD surfaces.
     Evaluate(evaluate::EvaluateArgs),
     /// Fit a geometric element (line, plane, circle, sphere, cylinder, cone) to points.
@@ -63,6 +66,9 @@ pub enum CliError {
     /// A workpiece file is invalid.
     #[error(transparent)]
     Workpiece(#[from] crate::workpiece::WorkpieceError),
+    /// A part program is invalid.
+    #[error(transparent)]
+    Program(#[from] crate::program::ProgramError),
     /// A point file is invalid.
     #[error(transparent)]
     Points(#[from] PointsError),
@@ -87,6 +93,7 @@ impl CliError {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<Status, CliError> {
     match cli.command {
+        Command::Check(args) => check::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::Fit(args) => fit::run(&args),
         Command::Schema(args) => schema::run(&args),

@@ -6,6 +6,8 @@ use super::{CliError, Status};
 pub enum SchemaKind {
     /// `cmm-workpiece/1`.
     Workpiece,
+    /// `cmm-program/1`.
+    Program,
 }
 
 /// Arguments of `cmm schema`.
@@ -19,6 +21,7 @@ pub struct SchemaArgs {
 pub fn run(args: &SchemaArgs) -> Result<Status, CliError> {
     let schema = match args.kind {
         SchemaKind::Workpiece => schemars::schema_for!(crate::workpiece::WorkpieceFile),
+        SchemaKind::Program => schemars::schema_for!(crate::program::ProgramFile),
     };
     println!(
         "{}",

@@ -6,6 +6,7 @@ pub mod as_machined;
 pub mod examples;
 pub mod format;
 mod validate;
+pub(crate) use validate::{json_path, strip_position};
 
 use std::path::{Path, PathBuf};
 

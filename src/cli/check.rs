@@ -1,0 +1,54 @@
+//! `cmm check PROGRAM.json...`: validates programs and their workpieces
+//! without measuring.
+use std::path::PathBuf;
+
+use super::{CliError, Status};
+use crate::program::{load, Feature};
+
+/// Arguments of `cmm check`.
+#[derive(Debug, clap::Args)]
+pub struct CheckArgs {
+    /// Part program files.
+    #[arg(required = true)]
+    pub programs: Vec<PathBuf>,
+}
+
+/// Runs `cmm check`.
+pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
+    for path in &args.programs {
+        let program = load(path)?;
+        println!(
+            "{}: ok: program '{}', workpiece '{}' ({} surfaces), {} features",
+            path.display(),
+            program.name,
+            program.workpiece.name,
+            program.workpiece.faces.len(),
+            program.features.len()
+        );
+        for f in &program.features {
+            println!("  {}", describe(f));
+        }
+    }
+    Ok(Status::Pass)
+}
+
+fn describe(f: &Feature) -> String {
+    match f {
+        Feature::Section {
+            name,
+            curves,
+            settings,
+            ..
+        } => {
+            let closed = curves.iter().filter(|c| c.closed).count();
+            let length: f64 = curves.iter().map(|c| c.length()).sum();
+            format!(
+                "{name}: section scan, {} curve(s) ({closed} closed), {length:.1} mm, mode {:?}, {} mm/s",
+                curves.len(),
+                settings.mode,
+                settings.speed_mm_s
+            )
+        }
+        Feature::Touch { name, points, .. } => format!("{name}: {} touch points", points.len()),
+    }
+}

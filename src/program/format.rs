@@ -1,0 +1,211 @@
+//! The `cmm-program/1` part-program format (DESIGN.md 6.4): serde types,
+//! from which `cmm schema program` is generated. Unknown keys are rejected.
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+use crate::workpiece::as_machined::AsMachinedSpec;
+
+/// The format tag every part program carries.
+pub const PROGRAM_FORMAT: &str = "cmm-program/1";
+
+/// A part program.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProgramFile {
+    /// Always `"cmm-program/1"`.
+    pub format: String,
+    /// Program name (used in reports).
+    pub name: String,
+    /// Workpiece file, relative to the program file.
+    pub workpiece: String,
+    /// Machine description (URDF), relative to the program; the embedded
+    /// bridge CMM when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine: Option<String>,
+    /// Nominal pose of the part on the machine table.
+    #[serde(default)]
+    pub placement: Placement,
+    /// The probe.
+    #[serde(default)]
+    pub probe: ProbeSpec,
+    /// Defaults for every feature.
+    #[serde(default)]
+    pub defaults: Defaults,
+    /// How the simulated part differs from its design.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub as_machined: Option<AsMachinedSpec>,
+    /// What to measure, in order.
+    pub features: Vec<FeatureSpec>,
+}
+
+/// `x_machine = R x_part + t`, `R = Rz(rz) Ry(ry) Rx(rx)`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Placement {
+    /// Translation `t`, mm.
+    #[serde(default)]
+    pub translate_mm: [f64; 3],
+    /// Rotation `[rx, ry, rz]` about the fixed axes, degrees.
+    #[serde(default)]
+    pub rotate_deg: [f64; 3],
+}
+
+/// Probe geometry.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeSpec {
+    /// Stylus tip (ball) diameter, mm.
+    #[serde(default = "default_tip")]
+    pub tip_diameter_mm: f64,
+    /// Stylus length from the probe mount to the ball centre, mm.
+    #[serde(default = "default_stylus")]
+    pub stylus_length_mm: f64,
+    /// Probe calibration file (`cmm-probe-cal/1`), relative to the program.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<String>,
+}
+
+fn default_tip() -> f64 {
+    3.0
+}
+fn default_stylus() -> f64 {
+    50.0
+}
+
+impl Default for ProbeSpec {
+    fn default() -> Self {
+        ProbeSpec {
+            tip_diameter_mm: default_tip(),
+            stylus_length_mm: default_stylus(),
+            calibration: None,
+        }
+    }
+}
+
+/// Measuring mode of a section scan.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// Error-correcting design-value scanning with automatic fallbacks.
+    Auto,
+    /// Active design-value scanning only.
+    Active,
+    /// Passive design-value scanning only.
+    Passive,
+    /// Autonomous scanning (no design data for the path).
+    Autonomous,
+}
+
+/// Program-wide defaults; each feature may override them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Defaults {
+    /// Measuring mode of section scans.
+    #[serde(default = "default_mode")]
+    pub mode: Mode,
+    /// Design-value scanning speed, mm/s.
+    #[serde(default = "default_speed")]
+    pub speed_mm_s: f64,
+    /// Wanted stylus deflection while scanning, mm.
+    #[serde(default = "default_deflection")]
+    pub deflection_mm: f64,
+    /// Spacing of reported points along a scan, mm.
+    #[serde(default = "default_pitch")]
+    pub pitch_mm: f64,
+    /// Largest trajectory error before a correction, mm.
+    #[serde(default = "default_trajectory_tolerance")]
+    pub trajectory_tolerance_mm: f64,
+}
+
+fn default_mode() -> Mode {
+    Mode::Auto
+}
+fn default_speed() -> f64 {
+    80.0
+}
+fn default_deflection() -> f64 {
+    0.3
+}
+fn default_pitch() -> f64 {
+    0.5
+}
+fn default_trajectory_tolerance() -> f64 {
+    1.5
+}
+
+impl Default for Defaults {
+    fn default() -> Self {
+        Defaults {
+            mode: default_mode(),
+            speed_mm_s: default_speed(),
+            deflection_mm: default_deflection(),
+            pitch_mm: default_pitch(),
+            trajectory_tolerance_mm: default_trajectory_tolerance(),
+        }
+    }
+}
+
+/// A plane in part coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PlaneSpec {
+    /// A point of the plane, mm.
+    pub origin_mm: [f64; 3],
+    /// Its normal (normalised on use).
+    pub normal: [f64; 3],
+}
+
+/// One feature to measure.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum FeatureSpec {
+    /// Scan where a plane cuts the named surfaces (all when omitted).
+    SectionScan {
+        /// Unique feature name.
+        name: String,
+        /// The section plane.
+        plane: PlaneSpec,
+        /// Surfaces to scan (all when absent).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        surfaces: Option<Vec<String>>,
+        /// Measuring mode (program default when absent).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        mode: Option<Mode>,
+        /// Allowed deviation `[lower, upper]`, mm.
+        tolerance_mm: [f64; 2],
+        /// Scanning speed override, mm/s.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        speed_mm_s: Option<f64>,
+        /// Deflection override, mm.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        deflection_mm: Option<f64>,
+        /// Point pitch override, mm.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        pitch_mm: Option<f64>,
+        /// Trajectory tolerance override, mm.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        trajectory_tolerance_mm: Option<f64>,
+    },
+    /// Touch points near the given nominal positions (projected onto the
+    /// design data for their exact nominal point and normal).
+    TouchPoints {
+        /// Unique feature name.
+        name: String,
+        /// Approximate nominal positions, mm (part coordinates).
+        points_mm: Vec<[f64; 3]>,
+        /// Surfaces the points lie on (all when absent).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        surfaces: Option<Vec<String>>,
+        /// Allowed deviation `[lower, upper]`, mm.
+        tolerance_mm: [f64; 2],
+    },
+}
+
+impl FeatureSpec {
+    /// The feature's name.
+    pub fn name(&self) -> &str {
+        match self {
+            FeatureSpec::SectionScan { name, .. } | FeatureSpec::TouchPoints { name, .. } => name,
+        }
+    }
+}

@@ -1,0 +1,177 @@
+//! Part programs (`cmm-program/1`, DESIGN.md 6.4): reading, validation
+//! against the workpiece and the machine, and the resolved [`Program`] the
+//! inspection runs. Everything is checked before anything is measured; every
+//! error names the file, the JSON path and the reason.
+
+pub mod format;
+mod resolve;
+
+use std::path::PathBuf;
+
+pub use format::{Defaults, FeatureSpec, Mode, PlaneSpec, ProgramFile, PROGRAM_FORMAT};
+pub use resolve::load;
+
+use crate::geometry::{Plane, SectionCurve};
+use crate::math::{Mat3, Point3, Vec2, Vec3};
+use crate::workpiece::as_machined::AsMachined;
+use crate::workpiece::{Workpiece, WorkpieceError};
+
+/// Why a part program is invalid.
+#[derive(Debug, thiserror::Error)]
+pub enum ProgramError {
+    /// The program file could not be read.
+    #[error("{file}: cannot read: {source}")]
+    Io {
+        /// The file.
+        file: PathBuf,
+        /// The operating-system error.
+        source: std::io::Error,
+    },
+    /// Not valid JSON, or a value of the wrong type or an unknown key.
+    #[error("{file}:{line}:{column}: {json_path}: {reason}")]
+    Syntax {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the offending value.
+        json_path: String,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The content is invalid.
+    #[error("{file}: {json_path}: {reason}")]
+    Invalid {
+        /// The file.
+        file: PathBuf,
+        /// JSON path of the offending value.
+        json_path: String,
+        /// What is wrong.
+        reason: String,
+    },
+    /// The referenced workpiece file is invalid.
+    #[error(transparent)]
+    Workpiece(#[from] WorkpieceError),
+}
+
+/// The nominal pose of the part on the machine: `x_machine = R x_part + t`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Rotation.
+    pub rotation: Mat3,
+    /// Translation, mm.
+    pub translation: Vec3,
+}
+
+impl Pose {
+    /// Part to machine coordinates.
+    pub fn to_machine(&self, p: Point3) -> Point3 {
+        Point3::from(self.rotation * p.coords + self.translation)
+    }
+    /// A part direction in machine coordinates.
+    pub fn dir_to_machine(&self, v: Vec3) -> Vec3 {
+        self.rotation * v
+    }
+    /// Machine to part coordinates.
+    pub fn to_part(&self, p: Point3) -> Point3 {
+        Point3::from(self.rotation.transpose() * (p.coords - self.translation))
+    }
+}
+
+/// The probe as the program describes it (nominal values).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProbeSetup {
+    /// Nominal tip radius, mm.
+    pub tip_radius_mm: f64,
+    /// Stylus length, mm.
+    pub stylus_length_mm: f64,
+    /// Calibration file, resolved against the program's folder.
+    pub calibration: Option<PathBuf>,
+}
+
+/// Measuring parameters of a section scan, defaults applied.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ScanSettings {
+    /// Measuring mode.
+    pub mode: Mode,
+    /// Scanning speed, mm/s.
+    pub speed_mm_s: f64,
+    /// Wanted deflection, mm.
+    pub deflection_mm: f64,
+    /// Reported point spacing, mm.
+    pub pitch_mm: f64,
+    /// Trajectory tolerance, mm.
+    pub trajectory_tolerance_mm: f64,
+}
+
+/// A nominal touch point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct NominalPoint {
+    /// Face index.
+    pub face: usize,
+    /// Surface parameters.
+    pub uv: Vec2,
+    /// Nominal point, part coordinates.
+    pub point: Point3,
+    /// Outward unit normal.
+    pub normal: Vec3,
+}
+
+/// A validated feature.
+#[derive(Debug, Clone)]
+pub enum Feature {
+    /// A section scan with its nominal section curves.
+    Section {
+        /// Name.
+        name: String,
+        /// Plane in part coordinates.
+        plane: Plane,
+        /// Faces scanned.
+        faces: Vec<usize>,
+        /// Nominal section curves (at least one).
+        curves: Vec<SectionCurve>,
+        /// Measuring parameters.
+        settings: ScanSettings,
+        /// Allowed deviation `(lower, upper)`, mm.
+        tolerance: (f64, f64),
+    },
+    /// Touch points.
+    Touch {
+        /// Name.
+        name: String,
+        /// Nominal points (projected onto the design data).
+        points: Vec<NominalPoint>,
+        /// Allowed deviation `(lower, upper)`, mm.
+        tolerance: (f64, f64),
+    },
+}
+
+impl Feature {
+    /// The feature's name.
+    pub fn name(&self) -> &str {
+        match self {
+            Feature::Section { name, .. } | Feature::Touch { name, .. } => name,
+        }
+    }
+}
+
+/// A validated program with everything it refers to loaded.
+#[derive(Debug, Clone)]
+pub struct Program {
+    /// Program name.
+    pub name: String,
+    /// The program file.
+    pub file: PathBuf,
+    /// The nominal design data.
+    pub workpiece: Workpiece,
+    /// Nominal part pose on the machine.
+    pub placement: Pose,
+    /// Probe geometry.
+    pub probe: ProbeSetup,
+    /// The simulated true part (world side only).
+    pub as_machined: AsMachined,
+    /// Features in program order.
+    pub features: Vec<Feature>,
+}

@@ -1,0 +1,415 @@
+//! From a program file to a validated [`Program`].
+use std::path::{Path, PathBuf};
+
+use super::format::{FeatureSpec, ProgramFile, PROGRAM_FORMAT};
+use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, ScanSettings};
+use crate::geometry::section::section_faces;
+use crate::geometry::{Plane, SectionOptions};
+use crate::math::{rotation_xyz_deg, Point3, Vec3};
+use crate::workpiece::as_machined::AsMachined;
+use crate::workpiece::{json_path, strip_position, Workpiece};
+
+/// Machine travel used to check that the part can be reached, mm
+/// (the embedded bridge CMM).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Travel {
+    /// Lower corner of the ball-centre working volume.
+    pub lo: [f64; 3],
+    /// Upper corner.
+    pub hi: [f64; 3],
+}
+
+impl Default for Travel {
+    fn default() -> Self {
+        Travel {
+            lo: [0.0, 0.0, 0.0],
+            hi: [700.0, 1000.0, 600.0],
+        }
+    }
+}
+
+/// Largest distance from a touch point's given position to the design data, mm.
+const TOUCH_POINT_REACH_MM: f64 = 1.0;
+/// Largest deflection any probe mode may ask for, mm.
+const MAX_DEFLECTION_MM: f64 = 1.0;
+/// Largest scanning speed accepted, mm/s.
+const MAX_SPEED_MM_S: f64 = 500.0;
+
+struct Ctx<'a> {
+    file: &'a Path,
+}
+
+impl Ctx<'_> {
+    fn err(&self, path: impl Into<String>, reason: impl Into<String>) -> ProgramError {
+        ProgramError::Invalid {
+            file: self.file.to_path_buf(),
+            json_path: path.into(),
+            reason: reason.into(),
+        }
+    }
+
+    fn positive(&self, v: f64, max: f64, path: String) -> Result<f64, ProgramError> {
+        if v.is_finite() && v > 0.0 && v <= max {
+            Ok(v)
+        } else {
+            Err(self.err(path, format!("{v} must be a finite number in (0, {max}]")))
+        }
+    }
+
+    fn finite3(&self, v: [f64; 3], path: String) -> Result<Vec3, ProgramError> {
+        if v.iter().all(|c| c.is_finite()) {
+            Ok(Vec3::from(v))
+        } else {
+            Err(self.err(path, format!("{v:?} must be finite")))
+        }
+    }
+}
+
+/// Reads and validates a part program and everything it refers to.
+pub fn load(file: &Path) -> Result<Program, ProgramError> {
+    let text = std::fs::read_to_string(file).map_err(|source| ProgramError::Io {
+        file: file.to_path_buf(),
+        source,
+    })?;
+    let spec = parse(&text, file)?;
+    resolve(&spec, file, &Travel::default())
+}
+
+fn parse(text: &str, file: &Path) -> Result<ProgramFile, ProgramError> {
+    let de = &mut serde_json::Deserializer::from_str(text);
+    serde_path_to_error::deserialize(de).map_err(|err| {
+        let path = json_path(&err.path().to_string());
+        let inner = err.into_inner();
+        ProgramError::Syntax {
+            file: file.to_path_buf(),
+            json_path: path,
+            line: inner.line(),
+            column: inner.column(),
+            reason: strip_position(&inner.to_string()),
+        }
+    })
+}
+
+/// Validates a parsed program; `file` locates relative paths and messages.
+pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Program, ProgramError> {
+    let cx = Ctx { file };
+    check_header(&cx, spec)?;
+    let workpiece = load_workpiece(&cx, spec)?;
+    let placement = placement(&cx, spec)?;
+    let probe = probe(&cx, spec)?;
+    let as_machined = match &spec.as_machined {
+        Some(a) => AsMachined::from_spec(a, &workpiece)
+            .map_err(|e| cx.err(format!("$.as_machined.{}", e.json_path), e.reason))?,
+        None => AsMachined::nominal(),
+    };
+    let features = spec
+        .features
+        .iter()
+        .enumerate()
+        .map(|(i, f)| feature(&cx, spec, &workpiece, &probe, f, i))
+        .collect::<Result<Vec<_>, _>>()?;
+    let program = Program {
+        name: spec.name.clone(),
+        file: file.to_path_buf(),
+        workpiece,
+        placement,
+        probe,
+        as_machined,
+        features,
+    };
+    check_reach(&cx, &program, travel)?;
+    Ok(program)
+}
+
+fn check_header(cx: &Ctx, spec: &ProgramFile) -> Result<(), ProgramError> {
+    if spec.format != PROGRAM_FORMAT {
+        return Err(cx.err(
+            "$.format",
+            format!(
+                "unknown format '{}', expected '{PROGRAM_FORMAT}'",
+                spec.format
+            ),
+        ));
+    }
+    if spec.name.trim().is_empty() {
+        return Err(cx.err("$.name", "program name is empty"));
+    }
+    if spec.features.is_empty() {
+        return Err(cx.err("$.features", "no features: at least one is required"));
+    }
+    for (i, f) in spec.features.iter().enumerate() {
+        if f.name().trim().is_empty() {
+            return Err(cx.err(format!("$.features[{i}].name"), "feature name is empty"));
+        }
+        if let Some(first) = spec.features[..i].iter().position(|o| o.name() == f.name()) {
+            return Err(cx.err(
+                format!("$.features[{i}].name"),
+                format!(
+                    "duplicate feature name '{}' (also features[{first}])",
+                    f.name()
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// A path in the program, relative to the program's folder.
+pub fn relative_to(file: &Path, rel: &str) -> PathBuf {
+    file.parent()
+        .map_or_else(|| PathBuf::from(rel), |dir| dir.join(rel))
+}
+
+fn load_workpiece(cx: &Ctx, spec: &ProgramFile) -> Result<Workpiece, ProgramError> {
+    let path = relative_to(cx.file, &spec.workpiece);
+    if !path.is_file() {
+        return Err(cx.err(
+            "$.workpiece",
+            format!("workpiece file {} does not exist", path.display()),
+        ));
+    }
+    Ok(Workpiece::from_path(&path)?)
+}
+
+fn placement(cx: &Ctx, spec: &ProgramFile) -> Result<Pose, ProgramError> {
+    let t = cx.finite3(
+        spec.placement.translate_mm,
+        "$.placement.translate_mm".into(),
+    )?;
+    let r = cx.finite3(spec.placement.rotate_deg, "$.placement.rotate_deg".into())?;
+    Ok(Pose {
+        rotation: rotation_xyz_deg(r.into()),
+        translation: t,
+    })
+}
+
+fn probe(cx: &Ctx, spec: &ProgramFile) -> Result<ProbeSetup, ProgramError> {
+    let d = cx.positive(
+        spec.probe.tip_diameter_mm,
+        50.0,
+        "$.probe.tip_diameter_mm".into(),
+    )?;
+    let l = cx.positive(
+        spec.probe.stylus_length_mm,
+        1000.0,
+        "$.probe.stylus_length_mm".into(),
+    )?;
+    let calibration = match &spec.probe.calibration {
+        Some(rel) => {
+            let path = relative_to(cx.file, rel);
+            if !path.is_file() {
+                return Err(cx.err(
+                    "$.probe.calibration",
+                    format!("calibration file {} does not exist", path.display()),
+                ));
+            }
+            Some(path)
+        }
+        None => None,
+    };
+    Ok(ProbeSetup {
+        tip_radius_mm: 0.5 * d,
+        stylus_length_mm: l,
+        calibration,
+    })
+}
+
+fn faces_of(
+    cx: &Ctx,
+    wp: &Workpiece,
+    names: Option<&[String]>,
+    base: &str,
+) -> Result<Vec<usize>, ProgramError> {
+    let Some(names) = names else {
+        return Ok((0..wp.faces.len()).collect());
+    };
+    if names.is_empty() {
+        return Err(cx.err(
+            format!("{base}.surfaces"),
+            "empty surface list (omit it to use every surface)",
+        ));
+    }
+    names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| {
+            wp.face_index(n).ok_or_else(|| {
+                cx.err(
+                    format!("{base}.surfaces[{k}]"),
+                    format!("no surface named '{n}' in the workpiece"),
+                )
+            })
+        })
+        .collect()
+}
+
+fn tolerance(cx: &Ctx, t: [f64; 2], base: &str) -> Result<(f64, f64), ProgramError> {
+    if !(t[0].is_finite() && t[1].is_finite()) || t[0] > t[1] {
+        return Err(cx.err(
+            format!("{base}.tolerance_mm"),
+            format!("{t:?} must be finite with lower <= upper"),
+        ));
+    }
+    Ok((t[0], t[1]))
+}
+
+fn feature(
+    cx: &Ctx,
+    spec: &ProgramFile,
+    wp: &Workpiece,
+    probe: &ProbeSetup,
+    f: &FeatureSpec,
+    i: usize,
+) -> Result<Feature, ProgramError> {
+    let base = format!("$.features[{i}]");
+    match f {
+        FeatureSpec::SectionScan {
+            name,
+            plane,
+            surfaces,
+            tolerance_mm,
+            ..
+        } => {
+            let faces = faces_of(cx, wp, surfaces.as_deref(), &base)?;
+            let origin = cx.finite3(plane.origin_mm, format!("{base}.plane.origin_mm"))?;
+            let normal = cx.finite3(plane.normal, format!("{base}.plane.normal"))?;
+            let plane = Plane::try_new(Point3::from(origin), normal)
+                .map_err(|e| cx.err(format!("{base}.plane.normal"), e.to_string()))?;
+            let curves = section_faces(wp, &faces, &plane, &SectionOptions::default());
+            if curves.is_empty() {
+                return Err(cx.err(
+                    format!("{base}.plane"),
+                    "the plane does not cut the selected surfaces: nothing to scan",
+                ));
+            }
+            let settings = settings(cx, spec, probe, f, &base)?;
+            Ok(Feature::Section {
+                name: name.clone(),
+                plane,
+                faces,
+                curves,
+                settings,
+                tolerance: tolerance(cx, *tolerance_mm, &base)?,
+            })
+        }
+        FeatureSpec::TouchPoints {
+            name,
+            points_mm,
+            surfaces,
+            tolerance_mm,
+        } => {
+            let faces = faces_of(cx, wp, surfaces.as_deref(), &base)?;
+            if points_mm.is_empty() {
+                return Err(cx.err(format!("{base}.points_mm"), "no points"));
+            }
+            let points = points_mm
+                .iter()
+                .enumerate()
+                .map(|(k, p)| nominal_point(cx, wp, &faces, *p, &format!("{base}.points_mm[{k}]")))
+                .collect::<Result<Vec<_>, _>>()?;
+            Ok(Feature::Touch {
+                name: name.clone(),
+                points,
+                tolerance: tolerance(cx, *tolerance_mm, &base)?,
+            })
+        }
+    }
+}
+
+fn nominal_point(
+    cx: &Ctx,
+    wp: &Workpiece,
+    faces: &[usize],
+    p: [f64; 3],
+    path: &str,
+) -> Result<NominalPoint, ProgramError> {
+    let p = Point3::from(cx.finite3(p, path.to_string())?);
+    let fp = wp
+        .closest_point_among(p, faces.iter().copied())
+        .map_err(|e| cx.err(path, e.to_string()))?;
+    let pr = fp.projection;
+    if pr.distance > TOUCH_POINT_REACH_MM {
+        return Err(cx.err(
+            path,
+            format!(
+                "point lies {:.3} mm from the surfaces (at most {TOUCH_POINT_REACH_MM} mm allowed)",
+                pr.distance
+            ),
+        ));
+    }
+    Ok(NominalPoint {
+        face: fp.face,
+        uv: pr.uv,
+        point: pr.point,
+        normal: pr.normal,
+    })
+}
+
+fn settings(
+    cx: &Ctx,
+    spec: &ProgramFile,
+    probe: &ProbeSetup,
+    f: &FeatureSpec,
+    base: &str,
+) -> Result<ScanSettings, ProgramError> {
+    let FeatureSpec::SectionScan {
+        mode,
+        speed_mm_s,
+        deflection_mm,
+        pitch_mm,
+        trajectory_tolerance_mm,
+        ..
+    } = f
+    else {
+        return Err(cx.err(base, "not a scan"));
+    };
+    let d = &spec.defaults;
+    let pick = |o: &Option<f64>, dflt: f64, key: &str| match o {
+        Some(v) => (*v, format!("{base}.{key}")),
+        None => (dflt, format!("$.defaults.{key}")),
+    };
+    let (speed, sp) = pick(speed_mm_s, d.speed_mm_s, "speed_mm_s");
+    let (defl, dp) = pick(deflection_mm, d.deflection_mm, "deflection_mm");
+    let (pitch, pp) = pick(pitch_mm, d.pitch_mm, "pitch_mm");
+    let (tol, tp) = pick(
+        trajectory_tolerance_mm,
+        d.trajectory_tolerance_mm,
+        "trajectory_tolerance_mm",
+    );
+    Ok(ScanSettings {
+        mode: mode.unwrap_or(d.mode),
+        speed_mm_s: cx.positive(speed, MAX_SPEED_MM_S, sp)?,
+        deflection_mm: cx.positive(defl, MAX_DEFLECTION_MM.min(0.9 * probe.tip_radius_mm), dp)?,
+        pitch_mm: cx.positive(pitch, 100.0, pp)?,
+        trajectory_tolerance_mm: cx.positive(tol, 100.0, tp)?,
+    })
+}
+
+/// Every nominal point must be reachable: ball centre and stylus top
+/// inside the machine's travel.
+fn check_reach(cx: &Ctx, program: &Program, travel: &Travel) -> Result<(), ProgramError> {
+    for f in &program.features {
+        let pts: Vec<(Point3, Vec3)> = match f {
+            Feature::Section { curves, .. } => curves
+                .iter()
+                .flat_map(|c| c.points.iter().map(|p| (p.point, p.normal)))
+                .collect(),
+            Feature::Touch { points, .. } => points.iter().map(|p| (p.point, p.normal)).collect(),
+        };
+        for (p, n) in pts {
+            let ball = program
+                .placement
+                .to_machine(p + n * program.probe.tip_radius_mm);
+            let top = ball + Vec3::z() * program.probe.stylus_length_mm;
+            let inside = |q: Point3| (0..3).all(|k| q[k] >= travel.lo[k] && q[k] <= travel.hi[k]);
+            if !inside(ball) || !inside(top) {
+                let reason = format!(
+                    "feature '{}': the probe at machine position ({:.1}, {:.1}, {:.1}) mm would leave the machine's travel [{:?} .. {:?}] mm",
+                    f.name(), ball.x, ball.y, ball.z, travel.lo, travel.hi
+                );
+                return Err(cx.err("$.placement", reason));
+            }
+        }
+    }
+    Ok(())
+}
