@@ -22,12 +22,21 @@ fn circle(centre: Point3, rot: &Mat3, r: f64, spacing: f64) -> Vec<(Point3, Vec3
 }
 
 fn tilted() -> (Point3, Mat3) {
-    (Point3::new(5.0, -3.0, 7.0), rotation_xyz_deg([30.0, 20.0, 10.0]))
+    (
+        Point3::new(5.0, -3.0, 7.0),
+        rotation_xyz_deg([30.0, 20.0, 10.0]),
+    )
 }
 
 fn circle_path() -> BallPath {
     let (c, rot) = tilted();
-    BallPath::from_section(&circle(c, &rot, R, 0.5), true, OFFSET, PathOptions::default()).unwrap()
+    BallPath::from_section(
+        &circle(c, &rot, R, 0.5),
+        true,
+        OFFSET,
+        PathOptions::default(),
+    )
+    .unwrap()
 }
 
 /// Evenly spaced arc lengths over `[0, len]` (`n + 1` of them).
@@ -56,7 +65,11 @@ fn circle_offset_path_lies_on_the_offset_circle() {
 fn circle_arc_length_is_two_pi_r() {
     let path = circle_path();
     let exact = 2.0 * std::f64::consts::PI * (R + OFFSET);
-    assert!((path.length() - exact).abs() < 1e-5, "{} vs {exact}", path.length());
+    assert!(
+        (path.length() - exact).abs() < 1e-5,
+        "{} vs {exact}",
+        path.length()
+    );
     assert!(path.is_closed());
 }
 
@@ -108,14 +121,27 @@ fn straight_line_stays_straight() {
     let (p0, n) = pts[0];
     let dir = (pts[1].0 - p0).normalize();
     for end in [EndCondition::Natural, EndCondition::NotAKnot] {
-        let opts = PathOptions { end, ..PathOptions::default() };
+        let opts = PathOptions {
+            end,
+            ..PathOptions::default()
+        };
         let path = BallPath::from_section(&pts, false, 2.0, opts).unwrap();
         let base = p0 + n * 2.0;
         for s in stations(path.length(), 5000) {
             let d = path.position(s) - base;
-            assert!((d - dir * d.dot(&dir)).norm() < 1e-9, "off the line at s = {s}");
-            assert!(path.curvature(s) < 1e-9, "curvature {} at s = {s}", path.curvature(s));
-            assert!((d.dot(&dir) - s).abs() < 1e-9, "arc length is not distance at s = {s}");
+            assert!(
+                (d - dir * d.dot(&dir)).norm() < 1e-9,
+                "off the line at s = {s}"
+            );
+            assert!(
+                path.curvature(s) < 1e-9,
+                "curvature {} at s = {s}",
+                path.curvature(s)
+            );
+            assert!(
+                (d.dot(&dir) - s).abs() < 1e-9,
+                "arc length is not distance at s = {s}"
+            );
         }
     }
 }
@@ -153,14 +179,23 @@ fn joints_are_c2_by_coefficients_and_finite_differences() {
     let segs = path.segments();
     for (i, pair) in segs.windows(2).enumerate() {
         let h = pair[0].param_len();
-        assert!((pair[0].position(h) - pair[1].position(0.0)).norm() < 1e-12, "C0 at {i}");
-        assert!((pair[0].d1(h) - pair[1].d1(0.0)).norm() < 1e-10, "C1 at {i}");
+        assert!(
+            (pair[0].position(h) - pair[1].position(0.0)).norm() < 1e-12,
+            "C0 at {i}"
+        );
+        assert!(
+            (pair[0].d1(h) - pair[1].d1(0.0)).norm() < 1e-10,
+            "C1 at {i}"
+        );
         assert!((pair[0].d2(h) - pair[1].d2(0.0)).norm() < 1e-9, "C2 at {i}");
     }
     for j in 1..segs.len() {
         let s = path.segment_start(j).unwrap();
         let (d1, d2) = fd_jumps(|x| path.position(x).coords, s, 1e-3);
-        assert!(d1 < FD_TOL && d2 < FD_TOL, "joint {j}: jumps {d1:e}, {d2:e}");
+        assert!(
+            d1 < FD_TOL && d2 < FD_TOL,
+            "joint {j}: jumps {d1:e}, {d2:e}"
+        );
     }
 }
 
@@ -201,7 +236,9 @@ fn closest_s_recovers_s_warm_and_cold() {
         let s0 = len * (k as f64 + 0.37) / 200.0;
         let p = path.position(s0);
         let q = p + (p - c).normalize() * (0.3 - 0.006 * k as f64);
-        let warm = path.closest_s(&q, Some((s0 + 0.8).rem_euclid(len))).unwrap();
+        let warm = path
+            .closest_s(&q, Some((s0 + 0.8).rem_euclid(len)))
+            .unwrap();
         let cold = path.closest_s(&q, None).unwrap();
         for got in [warm, cold] {
             let err = (got - s0 + 0.5 * len).rem_euclid(len) - 0.5 * len;
@@ -237,13 +274,41 @@ fn degenerate_input_is_rejected_with_typed_errors() {
     let o = PathOptions::default();
     let p = |x: f64| (Point3::new(x, 0.0, 0.0), Vec3::y());
     let err = BallPath::from_section(&[p(0.0)], false, 1.0, o).unwrap_err();
-    assert!(matches!(err, PathError::TooFewPoints { count: 1, min: 2, .. }));
+    assert!(matches!(
+        err,
+        PathError::TooFewPoints {
+            count: 1,
+            min: 2,
+            ..
+        }
+    ));
     let err = BallPath::from_section(&[p(0.0), p(1.0)], true, 1.0, o).unwrap_err();
-    assert!(matches!(err, PathError::TooFewPoints { count: 2, min: 3, .. }));
+    assert!(matches!(
+        err,
+        PathError::TooFewPoints {
+            count: 2,
+            min: 3,
+            ..
+        }
+    ));
     let err = BallPath::from_section(&[p(0.0), p(1.0), p(1.0)], false, 1.0, o).unwrap_err();
-    assert!(matches!(err, PathError::CoincidentPoints { index: 1, next: 2, .. }));
+    assert!(matches!(
+        err,
+        PathError::CoincidentPoints {
+            index: 1,
+            next: 2,
+            ..
+        }
+    ));
     let err = BallPath::from_section(&[p(0.0), p(1.0), p(0.0)], true, 1.0, o).unwrap_err();
-    assert!(matches!(err, PathError::CoincidentPoints { index: 2, next: 0, .. }));
+    assert!(matches!(
+        err,
+        PathError::CoincidentPoints {
+            index: 2,
+            next: 0,
+            ..
+        }
+    ));
     let err = BallPath::from_section(&[p(0.0), p(f64::NAN)], false, 1.0, o).unwrap_err();
     assert_eq!(err, PathError::NonFinite { index: 1 });
     let zero = (Point3::new(2.0, 0.0, 0.0), Vec3::zeros());
@@ -252,5 +317,8 @@ fn degenerate_input_is_rejected_with_typed_errors() {
     let err = BallPath::from_section(&[p(0.0), p(1.0)], false, f64::INFINITY, o).unwrap_err();
     assert!(matches!(err, PathError::NonFiniteOffset { .. }));
     let path = BallPath::from_section(&[p(0.0), p(1.0)], false, 1.0, o).unwrap();
-    assert_eq!(path.closest_s(&Point3::new(f64::NAN, 0.0, 0.0), None), Err(PathError::NonFiniteQuery));
+    assert_eq!(
+        path.closest_s(&Point3::new(f64::NAN, 0.0, 0.0), None),
+        Err(PathError::NonFiniteQuery)
+    );
 }

@@ -49,7 +49,13 @@ impl BallPath {
         let segments = spline::segments(&centres, closed, opts.end, opts.quad_panels);
         let starts = cumulative(&segments);
         let samples = offset.iter().zip(&starts).map(sample).collect();
-        Ok(BallPath { samples, segments, starts, closed, opts })
+        Ok(BallPath {
+            samples,
+            segments,
+            starts,
+            closed,
+            opts,
+        })
     }
 
     /// Whether the path closes on itself.
@@ -140,7 +146,11 @@ impl BallPath {
         let s = self.wrap(s);
         let i = self.segment_index(s);
         let seg = &self.segments[i];
-        let u = seg.param_at_arc(s - self.starts[i], self.opts.arc_tol_mm, self.opts.arc_max_iters);
+        let u = seg.param_at_arc(
+            s - self.starts[i],
+            self.opts.arc_tol_mm,
+            self.opts.arc_max_iters,
+        );
         (i, u)
     }
 
@@ -163,5 +173,10 @@ fn cumulative(segments: &[CubicSegment]) -> Vec<f64> {
 }
 
 fn sample((p, s): (&OffsetPoint, &f64)) -> PathSample {
-    PathSample { nominal: p.nominal, normal: p.normal, centre: p.centre, s: *s }
+    PathSample {
+        nominal: p.nominal,
+        normal: p.normal,
+        centre: p.centre,
+        s: *s,
+    }
 }

@@ -66,8 +66,16 @@ impl BallPath {
             let next = self.neighbour(i, exit);
             match next {
                 Some(j) if exit != came_from => {
-                    u = if exit == Exit::Before { self.segments()[j].param_len() } else { 0.0 };
-                    came_from = if exit == Exit::Before { Exit::After } else { Exit::Before };
+                    u = if exit == Exit::Before {
+                        self.segments()[j].param_len()
+                    } else {
+                        0.0
+                    };
+                    came_from = if exit == Exit::Before {
+                        Exit::After
+                    } else {
+                        Exit::Before
+                    };
                     i = j;
                 }
                 _ => return (i, u_new),
@@ -99,7 +107,14 @@ fn newton(seg: &CubicSegment, q: &Point3, mut u: f64, opts: &ClosestOptions) -> 
         if next < 0.0 || next > h {
             let edge = if next < 0.0 { 0.0 } else { h };
             if u == edge {
-                return (u, if edge == 0.0 { Exit::Before } else { Exit::After });
+                return (
+                    u,
+                    if edge == 0.0 {
+                        Exit::Before
+                    } else {
+                        Exit::After
+                    },
+                );
             }
             u = edge;
             continue;

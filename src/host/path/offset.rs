@@ -52,10 +52,18 @@ fn offset_one(
     }
     let norm = n.norm();
     if norm < min_norm {
-        return Err(PathError::ZeroNormal { index, norm, min: min_norm });
+        return Err(PathError::ZeroNormal {
+            index,
+            norm,
+            min: min_norm,
+        });
     }
     let normal = n / norm;
-    Ok(OffsetPoint { nominal: *p, normal, centre: p + normal * offset_mm })
+    Ok(OffsetPoint {
+        nominal: *p,
+        normal,
+        centre: p + normal * offset_mm,
+    })
 }
 
 /// Rejects consecutive offset points closer than `min_mm` (the closing
@@ -67,7 +75,12 @@ fn check_chords(points: &[OffsetPoint], closed: bool, min_mm: f64) -> Result<(),
         let next = (index + 1) % n;
         let distance_mm = (points[next].centre - points[index].centre).norm();
         if distance_mm < min_mm || !distance_mm.is_finite() {
-            return Err(PathError::CoincidentPoints { index, next, distance_mm, min_mm });
+            return Err(PathError::CoincidentPoints {
+                index,
+                next,
+                distance_mm,
+                min_mm,
+            });
         }
     }
     Ok(())

@@ -126,9 +126,17 @@ impl CubicSegment {
             if f.abs() <= tol_mm {
                 break;
             }
-            if f > 0.0 { hi = u } else { lo = u }
+            if f > 0.0 {
+                hi = u
+            } else {
+                lo = u
+            }
             let next = u - f / self.d1(u).norm();
-            u = if next > lo && next < hi { next } else { 0.5 * (lo + hi) };
+            u = if next > lo && next < hi {
+                next
+            } else {
+                0.5 * (lo + hi)
+            };
         }
         u.clamp(0.0, self.param_len)
     }

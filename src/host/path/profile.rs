@@ -53,8 +53,15 @@ pub(crate) struct Limits {
 
 impl Limits {
     /// Limits from per-segment `v_max` and joint speeds.
-    pub(crate) fn new(path: &BallPath, v_max: Vec<f64>, joints_v: Vec<f64>, opts: &SpeedOptions) -> Self {
-        let joints_s = (0..=v_max.len()).filter_map(|i| path.segment_start(i)).collect();
+    pub(crate) fn new(
+        path: &BallPath,
+        v_max: Vec<f64>,
+        joints_v: Vec<f64>,
+        opts: &SpeedOptions,
+    ) -> Self {
+        let joints_s = (0..=v_max.len())
+            .filter_map(|i| path.segment_start(i))
+            .collect();
         Limits {
             joints_s,
             joints_v,
@@ -97,9 +104,11 @@ impl Limits {
     /// Speed limit at `s`: segment `v_max` and braking to the next joint.
     fn speed_limit(&self, s: f64) -> f64 {
         let i = self.segment_at(s);
-        let (Some(&cap), Some(&s_next), Some(&v_next)) =
-            (self.v_max.get(i), self.joints_s.get(i + 1), self.joints_v.get(i + 1))
-        else {
+        let (Some(&cap), Some(&s_next), Some(&v_next)) = (
+            self.v_max.get(i),
+            self.joints_s.get(i + 1),
+            self.joints_v.get(i + 1),
+        ) else {
             return 0.0;
         };
         let brake = (v_next * v_next + 2.0 * self.a_tan * (s_next - s).max(0.0)).sqrt();
@@ -109,7 +118,10 @@ impl Limits {
     /// Speed at every interior joint crossed in `(s, s1]` within its limit.
     fn joints_ok(&self, s: f64, v: f64, acc: f64, s1: f64) -> bool {
         let first = self.joints_s.partition_point(|&x| x <= s).max(1);
-        let last = self.joints_s.partition_point(|&x| x <= s1).min(self.joints_s.len() - 1);
+        let last = self
+            .joints_s
+            .partition_point(|&x| x <= s1)
+            .min(self.joints_s.len() - 1);
         (first..last).all(|j| {
             let v2 = v * v + 2.0 * acc * (self.joints_s[j] - s);
             let w = self.joints_v[j] + self.tol;
@@ -120,7 +132,9 @@ impl Limits {
     /// Segment index at arc length `s`.
     fn segment_at(&self, s: f64) -> usize {
         let above = self.joints_s.partition_point(|&x| x <= s);
-        above.saturating_sub(1).min(self.v_max.len().saturating_sub(1))
+        above
+            .saturating_sub(1)
+            .min(self.v_max.len().saturating_sub(1))
     }
 
     /// Largest feasible acceleration for the cycle from `(s, v)` (full
@@ -136,7 +150,11 @@ impl Limits {
         let (mut lo, mut hi) = (lo, self.a_tan);
         for _ in 0..iters {
             let mid = 0.5 * (lo + hi);
-            if self.feasible(s, v, mid) { lo = mid } else { hi = mid }
+            if self.feasible(s, v, mid) {
+                lo = mid
+            } else {
+                hi = mid
+            }
         }
         lo
     }
@@ -151,15 +169,32 @@ impl MotionProfile {
         let (mut s, mut v) = (0.0, 0.0);
         for k in 0..opts.max_cycles {
             if v == 0.0 && length - s <= opts.end_tol_mm {
-                samples.push(MotionSample { t: k as f64 * dt, s: length, v: 0.0, a: 0.0 });
-                return Ok(MotionProfile { samples, cycle_s: dt });
+                samples.push(MotionSample {
+                    t: k as f64 * dt,
+                    s: length,
+                    v: 0.0,
+                    a: 0.0,
+                });
+                return Ok(MotionProfile {
+                    samples,
+                    cycle_s: dt,
+                });
             }
             let a = limits.best_accel(s, v, opts.accel_search_iters);
-            samples.push(MotionSample { t: k as f64 * dt, s, v, a });
+            samples.push(MotionSample {
+                t: k as f64 * dt,
+                s,
+                v,
+                a,
+            });
             (s, v) = limits.step(s, v, a);
         }
         let cycles = opts.max_cycles;
-        Err(SpeedError::NotConverged { cycles, s_mm: s, length_mm: length })
+        Err(SpeedError::NotConverged {
+            cycles,
+            s_mm: s,
+            length_mm: length,
+        })
     }
 
     /// Samples at the cycle boundaries, from `t = 0` to `duration()`.
@@ -195,6 +230,11 @@ impl MotionProfile {
         let base = self.samples.get(k)?;
         let tau = t - base.t;
         let s = base.s + base.v * tau + 0.5 * base.a * tau * tau;
-        Some(MotionSample { t, s, v: base.v + base.a * tau, a: base.a })
+        Some(MotionSample {
+            t,
+            s,
+            v: base.v + base.a * tau,
+            a: base.a,
+        })
     }
 }

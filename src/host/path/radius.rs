@@ -36,9 +36,13 @@ pub(crate) fn max_curvature(seg: &CubicSegment, samples: usize, refine_iters: us
     let n = samples.max(1);
     let h = seg.param_len();
     let at = |j: usize| h * j as f64 / n as f64;
-    let (best_j, best_k) = (0..=n)
-        .map(|j| (j, seg.curvature(at(j))))
-        .fold((0, f64::NEG_INFINITY), |acc, x| if x.1 > acc.1 { x } else { acc });
+    let (best_j, best_k) =
+        (0..=n)
+            .map(|j| (j, seg.curvature(at(j))))
+            .fold(
+                (0, f64::NEG_INFINITY),
+                |acc, x| if x.1 > acc.1 { x } else { acc },
+            );
     let lo = at(best_j.saturating_sub(1));
     let hi = at((best_j + 1).min(n));
     best_k.max(golden_max(|u| seg.curvature(u), lo, hi, refine_iters))

@@ -167,7 +167,10 @@ fn validate(opts: &SpeedOptions) -> Result<(), SpeedError> {
 /// `(R_curv, R_angle, R_eff)` per segment, mm.
 fn radii(path: &BallPath, opts: &SpeedOptions) -> Vec<(f64, f64, f64)> {
     let segs = path.segments();
-    let chords: Vec<_> = segs.iter().map(|s| s.position(s.param_len()) - s.position(0.0)).collect();
+    let chords: Vec<_> = segs
+        .iter()
+        .map(|s| s.position(s.param_len()) - s.position(0.0))
+        .collect();
     let n = segs.len();
     segs.iter()
         .enumerate()
@@ -175,9 +178,9 @@ fn radii(path: &BallPath, opts: &SpeedOptions) -> Vec<(f64, f64, f64)> {
             let k = max_curvature(seg, opts.curvature_samples, opts.curvature_refine_iters);
             let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
             let next = if path.is_closed() { (i + 1) % n } else { i + 1 };
-            let r_angle = chords
-                .get(next)
-                .map_or(f64::INFINITY, |c| chord_angle_radius(&chords[i], c, opts.min_chord_angle_rad));
+            let r_angle = chords.get(next).map_or(f64::INFINITY, |c| {
+                chord_angle_radius(&chords[i], c, opts.min_chord_angle_rad)
+            });
             (r_curv, r_angle, r_curv.min(r_angle))
         })
         .collect()

@@ -170,7 +170,11 @@ fn thomas(sub: &[f64], diag: &[f64], sup: &[f64], rhs: &[Vec3]) -> Vec<Vec3> {
     let mut c = vec![0.0; n];
     let mut r = vec![Vec3::zeros(); n];
     for i in 0..n {
-        let (c_prev, r_prev) = if i == 0 { (0.0, Vec3::zeros()) } else { (c[i - 1], r[i - 1]) };
+        let (c_prev, r_prev) = if i == 0 {
+            (0.0, Vec3::zeros())
+        } else {
+            (c[i - 1], r[i - 1])
+        };
         let a = if i == 0 { 0.0 } else { sub[i] };
         let denom = diag[i] - a * c_prev;
         c[i] = sup[i] / denom;
