@@ -18,6 +18,17 @@ enum Exit {
     After,
 }
 
+impl Exit {
+    /// The end of the next segment a walk enters by, seen from it.
+    fn opposite(self) -> Exit {
+        match self {
+            Exit::Before => Exit::After,
+            Exit::After => Exit::Before,
+            Exit::Inside => Exit::Inside,
+        }
+    }
+}
+
 impl BallPath {
     /// Arc length `s` of the path point closest to `point`.
     ///
@@ -66,22 +77,22 @@ impl BallPath {
             let next = self.neighbour(i, exit);
             match next {
                 Some(j) if exit != came_from => {
-                    u = if exit == Exit::Before {
-                        self.segments()[j].param_len()
-                    } else {
-                        0.0
-                    };
-                    came_from = if exit == Exit::Before {
-                        Exit::After
-                    } else {
-                        Exit::Before
-                    };
+                    u = self.entry_param(j, exit);
+                    came_from = exit.opposite();
                     i = j;
                 }
                 _ => return (i, u_new),
             }
         }
         (i, u)
+    }
+
+    /// Where a walk leaving through `exit` enters segment `j`.
+    fn entry_param(&self, j: usize, exit: Exit) -> f64 {
+        match exit {
+            Exit::Before => self.segments()[j].param_len(),
+            _ => 0.0,
+        }
     }
 
     /// The segment beyond the end `exit` of segment `i`, if any.
@@ -97,27 +108,17 @@ impl BallPath {
     }
 }
 
-/// Bounded Newton on `g(u) = (P(u) - q) . P'(u) = 0` over `[0, h]`.
+/// Bounded Newton on `g(u) = (P(u) - q) . P'(u) = 0` over `[0, h]`;
+/// steps leaving the segment stop at its end, and a step pushing out from
+/// an end reports that end.
 fn newton(seg: &CubicSegment, q: &Point3, mut u: f64, opts: &ClosestOptions) -> (f64, Exit) {
     let h = seg.param_len();
     let max_step = opts.max_step_rel * h;
     for _ in 0..opts.max_iters {
         let step = newton_step(seg, q, u).clamp(-max_step, max_step);
-        let next = u + step;
-        if next < 0.0 || next > h {
-            let edge = if next < 0.0 { 0.0 } else { h };
-            if u == edge {
-                return (
-                    u,
-                    if edge == 0.0 {
-                        Exit::Before
-                    } else {
-                        Exit::After
-                    },
-                );
-            }
-            u = edge;
-            continue;
+        let next = (u + step).clamp(0.0, h);
+        if next == u && next != u + step {
+            return (u, if u == 0.0 { Exit::Before } else { Exit::After });
         }
         u = next;
         if step.abs() <= opts.step_tol_rel * h {

@@ -10,6 +10,26 @@
 //! sampled on the control cycle ([`SpeedPlan`], [`MotionProfile`]).
 //!
 //! All lengths are mm, times s, speeds mm/s, accelerations mm/s^2.
+//!
+//! ```
+//! use cmm::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+//! use cmm::math::{Point3, Vec3};
+//!
+//! // A quarter circle of radius 10 mm, outward normals, ball r = 1, Ep = 0.2.
+//! let points: Vec<(Point3, Vec3)> = (0..=40)
+//!     .map(|k| {
+//!         let phi = std::f64::consts::FRAC_PI_2 * k as f64 / 40.0;
+//!         let n = Vec3::new(phi.cos(), phi.sin(), 0.0);
+//!         (Point3::origin() + n * 10.0, n)
+//!     })
+//!     .collect();
+//! let path = BallPath::from_section(&points, false, 1.0 - 0.2, PathOptions::default())?;
+//! assert!((path.position(path.length() / 2.0).coords.norm() - 10.8).abs() < 1e-5);
+//! let plan = SpeedPlan::new(&path, &SpeedOptions::default())?;
+//! let last = plan.samples().last().map(|x| (x.s, x.v));
+//! assert_eq!(last, Some((path.length(), 0.0)));
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 mod ball_path;
 mod closest;

@@ -168,25 +168,17 @@ impl MotionProfile {
         let mut samples = Vec::new();
         let (mut s, mut v) = (0.0, 0.0);
         for k in 0..opts.max_cycles {
+            let t = k as f64 * dt;
             if v == 0.0 && length - s <= opts.end_tol_mm {
-                samples.push(MotionSample {
-                    t: k as f64 * dt,
-                    s: length,
-                    v: 0.0,
-                    a: 0.0,
-                });
+                let a = 0.0;
+                samples.push(MotionSample { t, s: length, v, a });
                 return Ok(MotionProfile {
                     samples,
                     cycle_s: dt,
                 });
             }
             let a = limits.best_accel(s, v, opts.accel_search_iters);
-            samples.push(MotionSample {
-                t: k as f64 * dt,
-                s,
-                v,
-                a,
-            });
+            samples.push(MotionSample { t, s, v, a });
             (s, v) = limits.step(s, v, a);
         }
         let cycles = opts.max_cycles;
