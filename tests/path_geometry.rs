@@ -322,3 +322,28 @@ fn degenerate_input_is_rejected_with_typed_errors() {
         Err(PathError::NonFiniteQuery)
     );
 }
+
+#[test]
+fn open_arc_with_not_a_knot_ends_stays_on_the_circle() {
+    let (c, rot) = tilted();
+    let mut pts = circle(c, &rot, R, 0.5);
+    pts.truncate(pts.len() / 3);
+    let opts = PathOptions {
+        end: EndCondition::NotAKnot,
+        ..PathOptions::default()
+    };
+    let path = BallPath::from_section(&pts, false, OFFSET, opts).unwrap();
+    assert!(!path.is_closed());
+    let worst = stations(path.length(), 5000)
+        .map(|s| ((path.position(s) - c).norm() - (R + OFFSET)).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "radial error {worst:e} mm");
+    // Natural ends force zero curvature at the ends: visibly off the circle.
+    let opts = PathOptions {
+        end: EndCondition::Natural,
+        ..opts
+    };
+    let natural = BallPath::from_section(&pts, false, OFFSET, opts).unwrap();
+    assert!(natural.curvature(0.0) < 1e-9);
+    assert!((path.curvature(0.0) * (R + OFFSET) - 1.0).abs() < 1e-2);
+}
