@@ -21,6 +21,7 @@ pub mod cli;
 pub mod evaluate;
 pub mod fit;
 pub mod geometry;
+pub mod host;
 pub mod math;
 pub mod output;
 pub mod pointfile;

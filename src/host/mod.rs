@@ -1,0 +1,13 @@
+//! The host: the measuring software.
+//!
+//! The host plans and drives measurements the way a real CMM's software
+//! would. It sees only the design data, the part program and what the
+//! machine reports every control cycle (scale readings, probe deflection
+//! readings, status); it never reads the simulated truth (the as-machined
+//! part, the machine's true kinematics, the probe's true physics).
+//!
+//! - [`path`]: ball-centre paths from nominal section points (offset by
+//!   `r - Ep`, parametric cubic curve segments) and speed planning on the
+//!   control cycle (seeds 000, 001, 004).
+
+pub mod path;

@@ -1,0 +1,232 @@
+//! The motion profile on the control cycle: the arc length, speed and
+//! tangential acceleration at every cycle boundary.
+//!
+//! Every cycle has one constant acceleration, so speed changes happen on
+//! cycle boundaries only (seed 001). Each cycle takes the largest
+//! acceleration in `[-a_tan, a_tan]` (found by bisection) that keeps the
+//! state under the speed limits: the segment's `v_max`, the joint speeds
+//! (at every joint crossed during the cycle), the braking parabola to the
+//! next joint, and the shortest stop on whole cycles before the path end.
+//! Full braking always satisfies these, so the profile never gets stuck
+//! and ends at rest on a cycle boundary exactly at the path end.
+
+use super::ball_path::BallPath;
+use super::speed::{SpeedError, SpeedOptions};
+
+/// The state at one control cycle boundary.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MotionSample {
+    /// Time since the scan start, s.
+    pub t: f64,
+    /// Arc length along the path, mm.
+    pub s: f64,
+    /// Path speed, mm/s.
+    pub v: f64,
+    /// Tangential acceleration during the following cycle, mm/s^2 (0 at the
+    /// last sample).
+    pub a: f64,
+}
+
+/// Motion profile along a path: one sample per control cycle boundary,
+/// from rest at `s = 0` to rest at `s = length`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MotionProfile {
+    samples: Vec<MotionSample>,
+    cycle_s: f64,
+}
+
+/// Speed limits along the path, in the form the profile needs.
+pub(crate) struct Limits {
+    /// Arc length at the segment joints (segments + 1), mm.
+    joints_s: Vec<f64>,
+    /// Joint speeds after the forward and backward passes, mm/s.
+    joints_v: Vec<f64>,
+    /// Largest speed per segment, mm/s.
+    v_max: Vec<f64>,
+    /// Tangential acceleration limit, mm/s^2.
+    a_tan: f64,
+    /// Control cycle, s.
+    dt: f64,
+    /// Slack on the speed limits, mm/s.
+    tol: f64,
+}
+
+impl Limits {
+    /// Limits from per-segment `v_max` and joint speeds.
+    pub(crate) fn new(
+        path: &BallPath,
+        v_max: Vec<f64>,
+        joints_v: Vec<f64>,
+        opts: &SpeedOptions,
+    ) -> Self {
+        let joints_s = (0..=v_max.len())
+            .filter_map(|i| path.segment_start(i))
+            .collect();
+        Limits {
+            joints_s,
+            joints_v,
+            v_max,
+            a_tan: opts.a_tan_mm_s2,
+            dt: opts.cycle_s,
+            tol: opts.speed_tol_mm_s,
+        }
+    }
+
+    fn length(&self) -> f64 {
+        self.joints_s.last().copied().unwrap_or(0.0)
+    }
+
+    /// State after one cycle at acceleration `acc` from `(s, v)`.
+    fn step(&self, s: f64, v: f64, acc: f64) -> (f64, f64) {
+        let dt = self.dt;
+        let v1 = v + acc * dt;
+        let v1 = if v1 < self.tol { 0.0 } else { v1 };
+        (s + v * dt + 0.5 * acc * dt * dt, v1)
+    }
+
+    /// Whether a cycle at `acc` from `(s, v)` respects every limit.
+    fn feasible(&self, s: f64, v: f64, acc: f64) -> bool {
+        let (s1, v1) = self.step(s, v, acc);
+        self.length() - s1 >= self.stop_distance(v1) - self.tol * self.dt
+            && v1 <= self.speed_limit(s1) + self.tol
+            && self.joints_ok(s, v, acc, s1)
+    }
+
+    /// Shortest distance to rest on whole cycles of braking at most
+    /// `a_tan`: full cycles at `-a_tan`, then one weaker cycle, mm.
+    fn stop_distance(&self, v: f64) -> f64 {
+        let q = self.a_tan * self.dt;
+        let full = (v / q).floor();
+        let rest = v - full * q;
+        self.dt * (full * v - 0.5 * q * full * full + 0.5 * rest)
+    }
+
+    /// Speed limit at `s`: segment `v_max` and braking to the next joint.
+    fn speed_limit(&self, s: f64) -> f64 {
+        let i = self.segment_at(s);
+        let (Some(&cap), Some(&s_next), Some(&v_next)) = (
+            self.v_max.get(i),
+            self.joints_s.get(i + 1),
+            self.joints_v.get(i + 1),
+        ) else {
+            return 0.0;
+        };
+        let brake = (v_next * v_next + 2.0 * self.a_tan * (s_next - s).max(0.0)).sqrt();
+        cap.min(brake)
+    }
+
+    /// Speed at every interior joint crossed in `(s, s1]` within its limit.
+    fn joints_ok(&self, s: f64, v: f64, acc: f64, s1: f64) -> bool {
+        let first = self.joints_s.partition_point(|&x| x <= s).max(1);
+        let last = self
+            .joints_s
+            .partition_point(|&x| x <= s1)
+            .min(self.joints_s.len() - 1);
+        (first..last).all(|j| {
+            let v2 = v * v + 2.0 * acc * (self.joints_s[j] - s);
+            let w = self.joints_v[j] + self.tol;
+            v2 <= w * w
+        })
+    }
+
+    /// Segment index at arc length `s`.
+    fn segment_at(&self, s: f64) -> usize {
+        let above = self.joints_s.partition_point(|&x| x <= s);
+        above
+            .saturating_sub(1)
+            .min(self.v_max.len().saturating_sub(1))
+    }
+
+    /// Largest feasible acceleration for the cycle from `(s, v)` (full
+    /// braking, or the weaker braking that just stops, if none is).
+    fn best_accel(&self, s: f64, v: f64, iters: usize) -> f64 {
+        let lo = (-self.a_tan).max(-v / self.dt);
+        if self.feasible(s, v, self.a_tan) {
+            return self.a_tan;
+        }
+        if !self.feasible(s, v, lo) {
+            return lo;
+        }
+        let (mut lo, mut hi) = (lo, self.a_tan);
+        for _ in 0..iters {
+            let mid = 0.5 * (lo + hi);
+            if self.feasible(s, v, mid) {
+                lo = mid
+            } else {
+                hi = mid
+            }
+        }
+        lo
+    }
+}
+
+impl MotionProfile {
+    /// Plans the profile cycle by cycle from rest at `s = 0`.
+    pub(crate) fn plan(limits: &Limits, opts: &SpeedOptions) -> Result<MotionProfile, SpeedError> {
+        let length = limits.length();
+        let dt = opts.cycle_s;
+        let mut samples = Vec::new();
+        let (mut s, mut v) = (0.0, 0.0);
+        for k in 0..opts.max_cycles {
+            let t = k as f64 * dt;
+            if v == 0.0 && length - s <= opts.end_tol_mm {
+                let a = 0.0;
+                samples.push(MotionSample { t, s: length, v, a });
+                return Ok(MotionProfile {
+                    samples,
+                    cycle_s: dt,
+                });
+            }
+            let a = limits.best_accel(s, v, opts.accel_search_iters);
+            samples.push(MotionSample { t, s, v, a });
+            (s, v) = limits.step(s, v, a);
+        }
+        let cycles = opts.max_cycles;
+        Err(SpeedError::NotConverged {
+            cycles,
+            s_mm: s,
+            length_mm: length,
+        })
+    }
+
+    /// Samples at the cycle boundaries, from `t = 0` to `duration()`.
+    pub fn samples(&self) -> &[MotionSample] {
+        &self.samples
+    }
+
+    /// Control cycle, s.
+    pub fn cycle_s(&self) -> f64 {
+        self.cycle_s
+    }
+
+    /// Number of control cycles from start to rest at the end.
+    pub fn cycles(&self) -> usize {
+        self.samples.len().saturating_sub(1)
+    }
+
+    /// Total time, s.
+    pub fn duration(&self) -> f64 {
+        self.cycles() as f64 * self.cycle_s
+    }
+
+    /// State at cycle boundary `k` (`None` beyond the end).
+    pub fn state_at_cycle(&self, k: usize) -> Option<MotionSample> {
+        self.samples.get(k).copied()
+    }
+
+    /// State at time `t` (constant acceleration within a cycle), clamped to
+    /// `[0, duration()]`.
+    pub fn state_at_time(&self, t: f64) -> Option<MotionSample> {
+        let t = t.clamp(0.0, self.duration());
+        let k = ((t / self.cycle_s).floor() as usize).min(self.cycles());
+        let base = self.samples.get(k)?;
+        let tau = t - base.t;
+        let s = base.s + base.v * tau + 0.5 * base.a * tau * tau;
+        Some(MotionSample {
+            t,
+            s,
+            v: base.v + base.a * tau,
+            a: base.a,
+        })
+    }
+}

@@ -1,0 +1,233 @@
+//! Speed planning per segment (seed 001) and its motion profile on the
+//! control cycle (seeds 001, 004).
+//!
+//! Per segment `i`: `R_eff = min(R_curv, R_angle)` with `R_curv` the
+//! smallest curvature radius over the segment and `R_angle` the chord-angle
+//! radius between chord `i` and chord `i + 1` (see
+//! [`chord_angle_radius`]); `v_max = min(v_cmd, sqrt(a_lat R_eff))`. Speeds
+//! at the segment joints start as the smaller neighbouring `v_max`, zero at
+//! both ends, then a forward pass `v_{j+1}^2 <= v_j^2 + 2 a_tan ds_j` and a
+//! backward pass `v_j^2 <= v_{j+1}^2 + 2 a_tan ds_j` bound them; segment `i`
+//! starts at joint speed `i` and ends at joint speed `i + 1`, so a
+//! segment's end speed is the next segment's start speed.
+
+use super::ball_path::BallPath;
+use super::profile::{Limits, MotionProfile, MotionSample};
+use super::radius::{chord_angle_radius, max_curvature};
+
+/// Limits and tolerances of speed planning.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpeedOptions {
+    /// Commanded scanning speed, mm/s.
+    pub speed_mm_s: f64,
+    /// Largest lateral (centripetal) acceleration `v^2 / R`, mm/s^2.
+    pub a_lat_mm_s2: f64,
+    /// Largest tangential acceleration, mm/s^2.
+    pub a_tan_mm_s2: f64,
+    /// Control cycle, s.
+    pub cycle_s: f64,
+    /// Chords turning by no more than this give an infinite chord-angle
+    /// radius, rad.
+    pub min_chord_angle_rad: f64,
+    /// Evenly spaced curvature evaluations per segment.
+    pub curvature_samples: usize,
+    /// Golden-section steps refining the largest curvature of a segment.
+    pub curvature_refine_iters: usize,
+    /// Bisection steps choosing each cycle's acceleration.
+    pub accel_search_iters: usize,
+    /// The profile has ended when at rest within this of the path end, mm.
+    pub end_tol_mm: f64,
+    /// Slack on the speed limits in the per-cycle feasibility test, mm/s.
+    pub speed_tol_mm_s: f64,
+    /// Planning fails beyond this many control cycles.
+    pub max_cycles: usize,
+}
+
+impl Default for SpeedOptions {
+    fn default() -> Self {
+        SpeedOptions {
+            speed_mm_s: 80.0,
+            a_lat_mm_s2: 1000.0,
+            a_tan_mm_s2: 500.0,
+            cycle_s: 0.001,
+            min_chord_angle_rad: 1e-9,
+            curvature_samples: 8,
+            curvature_refine_iters: 40,
+            accel_search_iters: 60,
+            end_tol_mm: 1e-9,
+            speed_tol_mm_s: 1e-9,
+            max_cycles: 10_000_000,
+        }
+    }
+}
+
+/// Why speeds could not be planned.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SpeedError {
+    /// An option is not a positive finite number.
+    #[error("speed option {name} = {value} must be positive and finite")]
+    InvalidOption {
+        /// Field name in [`SpeedOptions`].
+        name: &'static str,
+        /// The value given.
+        value: f64,
+    },
+    /// The profile did not reach the path end within the cycle budget.
+    #[error("profile stopped at s = {s_mm} mm of {length_mm} mm after {cycles} cycles")]
+    NotConverged {
+        /// Control cycles planned.
+        cycles: usize,
+        /// Arc length reached, mm.
+        s_mm: f64,
+        /// Path length, mm.
+        length_mm: f64,
+    },
+}
+
+/// The planned speeds of one path segment.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SegmentSpeed {
+    /// Arc length at the segment start, mm.
+    pub s_start: f64,
+    /// Arc length at the segment end, mm.
+    pub s_end: f64,
+    /// Smallest curvature radius over the segment, mm.
+    pub r_curv_mm: f64,
+    /// Chord-angle radius with the next segment, mm (infinite for the last
+    /// segment of an open path).
+    pub r_angle_mm: f64,
+    /// Effective radius `min(r_curv_mm, r_angle_mm)`, mm.
+    pub r_eff_mm: f64,
+    /// Largest speed on the segment, mm/s.
+    pub v_max_mm_s: f64,
+    /// Speed at the segment start after both passes, mm/s.
+    pub v_start_mm_s: f64,
+    /// Speed at the segment end after both passes, mm/s.
+    pub v_end_mm_s: f64,
+}
+
+/// Speeds planned along a [`BallPath`] and the motion profile sampled on
+/// the control cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeedPlan {
+    segments: Vec<SegmentSpeed>,
+    profile: MotionProfile,
+}
+
+impl SpeedPlan {
+    /// Plans speeds along `path`, starting and ending at rest.
+    pub fn new(path: &BallPath, opts: &SpeedOptions) -> Result<SpeedPlan, SpeedError> {
+        validate(opts)?;
+        let radii = radii(path, opts);
+        let v_max: Vec<f64> = radii.iter().map(|r| segment_v_max(r.2, opts)).collect();
+        let joints = joint_speeds(path, &v_max, opts.a_tan_mm_s2);
+        let segments = (0..v_max.len())
+            .map(|i| segment_speed(path, i, radii[i], v_max[i], &joints))
+            .collect();
+        let limits = Limits::new(path, v_max, joints, opts);
+        let profile = MotionProfile::plan(&limits, opts)?;
+        Ok(SpeedPlan { segments, profile })
+    }
+
+    /// Planned speeds per segment, in path order.
+    pub fn segments(&self) -> &[SegmentSpeed] {
+        &self.segments
+    }
+
+    /// The motion profile on the control cycle.
+    pub fn profile(&self) -> &MotionProfile {
+        &self.profile
+    }
+
+    /// The motion profile's samples, one per control cycle boundary.
+    pub fn samples(&self) -> impl Iterator<Item = MotionSample> + '_ {
+        self.profile.samples().iter().copied()
+    }
+
+    /// Total planned time, s.
+    pub fn duration(&self) -> f64 {
+        self.profile.duration()
+    }
+}
+
+/// Rejects options that are not positive and finite.
+fn validate(opts: &SpeedOptions) -> Result<(), SpeedError> {
+    let fields = [
+        ("speed_mm_s", opts.speed_mm_s),
+        ("a_lat_mm_s2", opts.a_lat_mm_s2),
+        ("a_tan_mm_s2", opts.a_tan_mm_s2),
+        ("cycle_s", opts.cycle_s),
+    ];
+    match fields.iter().find(|(_, v)| !(v.is_finite() && *v > 0.0)) {
+        Some(&(name, value)) => Err(SpeedError::InvalidOption { name, value }),
+        None => Ok(()),
+    }
+}
+
+/// `(R_curv, R_angle, R_eff)` per segment, mm.
+fn radii(path: &BallPath, opts: &SpeedOptions) -> Vec<(f64, f64, f64)> {
+    let segs = path.segments();
+    let chords: Vec<_> = segs
+        .iter()
+        .map(|s| s.position(s.param_len()) - s.position(0.0))
+        .collect();
+    let n = segs.len();
+    segs.iter()
+        .enumerate()
+        .map(|(i, seg)| {
+            let k = max_curvature(seg, opts.curvature_samples, opts.curvature_refine_iters);
+            let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
+            let next = if path.is_closed() { (i + 1) % n } else { i + 1 };
+            let r_angle = chords.get(next).map_or(f64::INFINITY, |c| {
+                chord_angle_radius(&chords[i], c, opts.min_chord_angle_rad)
+            });
+            (r_curv, r_angle, r_curv.min(r_angle))
+        })
+        .collect()
+}
+
+/// `min(v_cmd, sqrt(a_lat R_eff))`, mm/s.
+fn segment_v_max(r_eff: f64, opts: &SpeedOptions) -> f64 {
+    opts.speed_mm_s.min((opts.a_lat_mm_s2 * r_eff).sqrt())
+}
+
+/// Speeds at the segment joints (one more than segments): smaller
+/// neighbouring `v_max`, zero at both ends, then forward and backward
+/// tangential-acceleration passes.
+fn joint_speeds(path: &BallPath, v_max: &[f64], a_tan: f64) -> Vec<f64> {
+    let n = v_max.len();
+    let mut w: Vec<f64> = (0..=n)
+        .map(|j| match j {
+            0 => 0.0,
+            j if j == n => 0.0,
+            j => v_max[j - 1].min(v_max[j]),
+        })
+        .collect();
+    let ds: Vec<f64> = path.segments().iter().map(|s| s.arc_len()).collect();
+    for j in 0..n {
+        w[j + 1] = w[j + 1].min((w[j] * w[j] + 2.0 * a_tan * ds[j]).sqrt());
+    }
+    for j in (0..n).rev() {
+        w[j] = w[j].min((w[j + 1] * w[j + 1] + 2.0 * a_tan * ds[j]).sqrt());
+    }
+    w
+}
+
+fn segment_speed(
+    path: &BallPath,
+    i: usize,
+    (r_curv_mm, r_angle_mm, r_eff_mm): (f64, f64, f64),
+    v_max_mm_s: f64,
+    joints: &[f64],
+) -> SegmentSpeed {
+    SegmentSpeed {
+        s_start: path.segment_start(i).unwrap_or(0.0),
+        s_end: path.segment_start(i + 1).unwrap_or(0.0),
+        r_curv_mm,
+        r_angle_mm,
+        r_eff_mm,
+        v_max_mm_s,
+        v_start_mm_s: joints[i],
+        v_end_mm_s: joints[i + 1],
+    }
+}
