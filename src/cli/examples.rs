@@ -4,4 +4,6 @@ use super::{CliError, Status};
 #[derive(Debug, clap::Args)]
 pub struct ExamplesArgs {}
 /// Runs.
-pub fn run(_a: &ExamplesArgs) -> Result<Status, CliError> { Ok(Status::Pass) }
+pub fn run(_a: &ExamplesArgs) -> Result<Status, CliError> {
+    Ok(Status::Pass)
+}

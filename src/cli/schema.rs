@@ -4,4 +4,6 @@ use super::{CliError, Status};
 #[derive(Debug, clap::Args)]
 pub struct SchemaArgs {}
 /// Runs.
-pub fn run(_a: &SchemaArgs) -> Result<Status, CliError> { Ok(Status::Pass) }
+pub fn run(_a: &SchemaArgs) -> Result<Status, CliError> {
+    Ok(Status::Pass)
+}

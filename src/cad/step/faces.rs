@@ -1,0 +1,147 @@
+//! Conversion of one B-rep face to a trimmed NURBS surface.
+use super::access::{type_name, Ctx};
+use super::pcurves::pcurve_trim;
+use super::surfaces::{curve_to_nurbs, surface, SurfaceKind};
+use super::topology::{EdgeSampler, FaceData};
+use crate::cad::convert::arc::Arc;
+use crate::cad::convert::revolve::{extrude, revolve, Profile};
+use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
+use crate::cad::geom::{Curve, Frame};
+use crate::cad::options::ImportOptions;
+use crate::math::{Point3, Vec3};
+use crate::workpiece::format::SurfaceSpec;
+use std::f64::consts::TAU;
+
+/// A converted face.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Converted {
+    /// The surface (name still empty).
+    pub spec: SurfaceSpec,
+    /// The STEP surface entity type.
+    pub surface_type: String,
+    /// Why no trim could be given, when `spec.trim` is `None`.
+    pub untrimmed: Option<String>,
+}
+
+/// Converts `face`; `Err(reason)` when it cannot be converted.
+pub fn convert_face(
+    ctx: &Ctx,
+    sampler: &mut EdgeSampler,
+    face: &FaceData,
+    opts: &ImportOptions,
+) -> Result<Converted, String> {
+    let surface_type = ctx
+        .inst(face.surface)
+        .map(type_name)
+        .map_err(|e| e.to_string())?;
+    let kind = surface(ctx, face.surface).map_err(|e| e.to_string())?;
+    let mut loops = || face_loops(sampler, face);
+    let ext = Extent {
+        margin_mm: opts.extent_margin_mm,
+        axis_tol_mm: opts.point_tolerance_mm,
+    };
+    let (spec, untrimmed) = match kind {
+        SurfaceKind::Analytic(a) => (analytic_face(&a, &loops()?, face.same_sense, ext)?, None),
+        SurfaceKind::Spline(mut s) => {
+            s.reversed = !face.same_sense;
+            let trim = pcurve_trim(ctx, sampler, face, &s, opts);
+            let note = trim.as_ref().err().cloned();
+            s.trim = trim.ok();
+            (s, note)
+        }
+        SurfaceKind::Revolution(c, o, axis) => (
+            revolution(&c, o, axis, &loops()?, face.same_sense)?,
+            Some(NO_SWEPT_TRIM.into()),
+        ),
+        SurfaceKind::Extrusion(c, d) => (
+            extrusion(&c, d, &loops()?, face.same_sense, opts)?,
+            Some(NO_SWEPT_TRIM.into()),
+        ),
+    };
+    Ok(Converted {
+        spec,
+        surface_type,
+        untrimmed,
+    })
+}
+
+const NO_SWEPT_TRIM: &str =
+    "trims of swept surfaces are not computed yet (projection-based trim pending)";
+
+fn face_loops(sampler: &mut EdgeSampler, face: &FaceData) -> Result<Vec<LoopPoints>, String> {
+    face.bounds
+        .iter()
+        .map(|b| {
+            sampler
+                .bound_points(b)
+                .map(|points| LoopPoints {
+                    points,
+                    outer: b.outer,
+                })
+                .map_err(|e| e.to_string())
+        })
+        .collect()
+}
+
+fn all_points(loops: &[LoopPoints]) -> impl Iterator<Item = &Point3> {
+    loops.iter().flat_map(|l| l.points.iter())
+}
+
+/// Range of `(p - o) . d` over the loops, with `margin`.
+fn projected_range(
+    loops: &[LoopPoints],
+    o: Point3,
+    d: Vec3,
+    margin: f64,
+) -> Result<(f64, f64), String> {
+    let vals = all_points(loops).map(|p| (p - o).dot(&d));
+    let (lo, hi) = vals.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+        (a.min(x), b.max(x))
+    });
+    if lo > hi {
+        return Err("face has no boundary points to bound the surface".into());
+    }
+    Ok((lo - margin, hi + margin))
+}
+
+fn revolution(
+    c: &Curve,
+    o: Point3,
+    axis: Vec3,
+    loops: &[LoopPoints],
+    same_sense: bool,
+) -> Result<SurfaceSpec, String> {
+    let frame = Frame::new(o, axis, None).ok_or("degenerate revolution axis")?;
+    let range = match c {
+        Curve::Line { origin, dir } => projected_range(loops, *origin, *dir, 0.0)?,
+        _ => (0.0, 0.0),
+    };
+    let profile = Profile::from_curve(&frame, &curve_to_nurbs(c, range));
+    let mut spec = revolve(&frame, &Arc::new(0.0, TAU), &profile);
+    spec.reversed = !same_sense;
+    Ok(spec)
+}
+
+fn extrusion(
+    c: &Curve,
+    d: Vec3,
+    loops: &[LoopPoints],
+    same_sense: bool,
+    opts: &ImportOptions,
+) -> Result<SurfaceSpec, String> {
+    let base = match c {
+        Curve::Line { origin, dir } => curve_to_nurbs(
+            c,
+            projected_range(loops, *origin, *dir, opts.extent_margin_mm)?,
+        ),
+        _ => curve_to_nurbs(c, (0.0, 0.0)),
+    };
+    let start = base.points.first().copied().unwrap_or_else(Point3::origin);
+    let (lo, hi) = projected_range(loops, start, d, opts.extent_margin_mm)?;
+    let along = base.points.iter().map(|p| (p - start).dot(&d));
+    let (c_lo, c_hi) = along.fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
+    let (v0, v1) = (lo - c_hi, hi - c_lo);
+    let mut spec = extrude(&base, d, [v0, v1]);
+    spec.reversed = !same_sense;
+    Ok(spec)
+}

@@ -1,0 +1,251 @@
+//! Faces, bounds, loops and edges: sampled to 3-D polylines.
+use super::access::{has_record, Ctx};
+use super::curves::{curve, point, Space};
+use crate::cad::error::CadResult;
+use crate::cad::geom::Curve;
+use crate::cad::options::ImportOptions;
+use crate::cad::sample::adaptive;
+use crate::math::Point3;
+use std::collections::HashMap;
+use std::f64::consts::{FRAC_PI_8, TAU};
+
+/// One face bound: the loop's edges as (EDGE_CURVE id, traversed forward).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Bound {
+    /// The loop entity.
+    pub loop_id: u64,
+    /// True for FACE_OUTER_BOUND.
+    pub outer: bool,
+    /// Oriented edges in traversal order (bound orientation applied).
+    pub edges: Vec<(u64, bool)>,
+    /// Vertex of a VERTEX_LOOP, or polygon of a POLY_LOOP.
+    pub points: Vec<Point3>,
+}
+
+/// An ADVANCED_FACE or FACE_SURFACE.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FaceData {
+    /// Entity id.
+    pub id: u64,
+    /// Name string.
+    pub name: String,
+    /// Surface entity.
+    pub surface: u64,
+    /// Face normal agrees with the surface normal.
+    pub same_sense: bool,
+    /// Bounds.
+    pub bounds: Vec<Bound>,
+}
+
+/// Reads a face and its bounds.
+pub fn face(ctx: &Ctx, id: u64, type_name: &str) -> CadResult<FaceData> {
+    let args = ctx.args(id, type_name)?;
+    let bounds = args
+        .refs(1)?
+        .into_iter()
+        .map(|b| bound(ctx, b))
+        .collect::<CadResult<Vec<_>>>()?;
+    Ok(FaceData {
+        id,
+        name: args.string(0)?.to_string(),
+        surface: args.reference(2)?,
+        same_sense: args.boolean(3)?,
+        bounds,
+    })
+}
+
+fn bound(ctx: &Ctx, id: u64) -> CadResult<Bound> {
+    let inst = ctx.inst(id)?;
+    let outer = has_record(inst, "FACE_OUTER_BOUND");
+    let args = ctx.args(
+        id,
+        if outer {
+            "FACE_OUTER_BOUND"
+        } else {
+            "FACE_BOUND"
+        },
+    )?;
+    let loop_id = args.reference(1)?;
+    let forward = args.boolean(2)?;
+    let mut b = Bound {
+        loop_id,
+        outer,
+        edges: Vec::new(),
+        points: Vec::new(),
+    };
+    let lp = ctx.first(loop_id)?;
+    let kind = lp
+        .inst
+        .records
+        .first()
+        .map(|r| r.name.as_str())
+        .unwrap_or("");
+    match kind {
+        "EDGE_LOOP" => {
+            b.edges = lp
+                .refs(1)?
+                .into_iter()
+                .map(|e| oriented_edge(ctx, e))
+                .collect::<CadResult<_>>()?
+        }
+        "VERTEX_LOOP" => b.points = vec![vertex(ctx, lp.reference(1)?)?],
+        "POLY_LOOP" => {
+            b.points = lp
+                .refs(1)?
+                .into_iter()
+                .map(|p| point(ctx, p, Space::Model))
+                .collect::<CadResult<_>>()?
+        }
+        other => return Err(lp.err(format!("unsupported loop type {other}"))),
+    }
+    if !forward {
+        b.edges.reverse();
+        b.edges.iter_mut().for_each(|e| e.1 = !e.1);
+        b.points.reverse();
+    }
+    Ok(b)
+}
+
+fn oriented_edge(ctx: &Ctx, id: u64) -> CadResult<(u64, bool)> {
+    let args = ctx.args(id, "ORIENTED_EDGE")?;
+    Ok((args.reference(3)?, args.boolean(4)?))
+}
+
+/// The point of a VERTEX_POINT.
+pub fn vertex(ctx: &Ctx, id: u64) -> CadResult<Point3> {
+    let args = ctx.args(id, "VERTEX_POINT")?;
+    point(ctx, args.reference(1)?, Space::Model)
+}
+
+/// Samples edges and caches the polylines (each edge bounds two faces).
+pub struct EdgeSampler<'a> {
+    ctx: Ctx<'a>,
+    /// The tolerances in use.
+    pub opts: ImportOptions,
+    cache: HashMap<u64, Vec<Point3>>,
+}
+
+impl<'a> EdgeSampler<'a> {
+    /// A sampler for `ctx`.
+    pub fn new(ctx: Ctx<'a>, opts: ImportOptions) -> Self {
+        EdgeSampler {
+            ctx,
+            opts,
+            cache: HashMap::new(),
+        }
+    }
+
+    /// The 3-D polyline of a bound, closed implicitly (last point != first).
+    pub fn bound_points(&mut self, b: &Bound) -> CadResult<Vec<Point3>> {
+        let mut out = b.points.clone();
+        for &(edge, forward) in &b.edges {
+            let mut pts = self.edge(edge)?;
+            if !forward {
+                pts.reverse();
+            }
+            let skip = usize::from(out.last().is_some_and(|l| {
+                pts.first()
+                    .is_some_and(|f| (l - f).norm() <= self.opts.point_tolerance_mm)
+            }));
+            out.extend(pts.into_iter().skip(skip));
+        }
+        if out.len() > 1
+            && out
+                .first()
+                .zip(out.last())
+                .is_some_and(|(f, l)| (f - l).norm() <= self.opts.point_tolerance_mm)
+        {
+            out.pop();
+        }
+        Ok(out)
+    }
+
+    /// The polyline of an EDGE_CURVE from its start vertex to its end vertex.
+    pub fn edge(&mut self, id: u64) -> CadResult<Vec<Point3>> {
+        if let Some(pts) = self.cache.get(&id) {
+            return Ok(pts.clone());
+        }
+        let pts = self.sample_edge(id)?;
+        self.cache.insert(id, pts.clone());
+        Ok(pts)
+    }
+
+    fn sample_edge(&self, id: u64) -> CadResult<Vec<Point3>> {
+        let ctx = &self.ctx;
+        let args = ctx.args(id, "EDGE_CURVE")?;
+        let (v0, v1) = (args.reference(1)?, args.reference(2)?);
+        let (p0, p1) = (vertex(ctx, v0)?, vertex(ctx, v1)?);
+        let c = curve(ctx, args.reference(3)?, Space::Model)?;
+        let same = args.boolean(4)?;
+        let closed = v0 == v1 || (p0 - p1).norm() <= self.opts.point_tolerance_mm;
+        let (from, to) = if same { (p0, p1) } else { (p1, p0) };
+        let mut pts = self.between(&c, from, to, closed);
+        if !same {
+            pts.reverse();
+        }
+        Ok(pts)
+    }
+
+    /// Samples `c` from `from` to `to` in its parameter direction.
+    fn between(&self, c: &Curve, from: Point3, to: Point3, closed: bool) -> Vec<Point3> {
+        let (t0, t1) = param_range(c, from, to, closed);
+        if matches!(c, Curve::Line { .. }) {
+            return vec![from, to];
+        }
+        let initial = initial_segments(c, t0, t1);
+        let f = |t: f64| c.eval(t);
+        let mut pts: Vec<Point3> = adaptive(
+            &f,
+            t0,
+            t1,
+            initial,
+            self.opts.chord_tolerance_mm,
+            self.opts.max_edge_samples,
+        )
+        .into_iter()
+        .map(|(_, p)| p)
+        .collect();
+        if let Some(first) = pts.first_mut() {
+            *first = from;
+        }
+        if let Some(last) = pts.last_mut() {
+            *last = to;
+        }
+        pts
+    }
+}
+
+/// The parameter range of `c` from `from` to `to` (a full period or the
+/// whole domain for closed edges).
+pub fn param_range(c: &Curve, from: Point3, to: Point3, closed: bool) -> (f64, f64) {
+    let t0 = c.param_of(from);
+    if let Some(period) = c.period() {
+        let mut t1 = c.param_of(to);
+        while t1 <= t0 + 1e-12 {
+            t1 += period;
+        }
+        if closed {
+            t1 = t0 + period;
+        }
+        return (t0, t1);
+    }
+    if let Curve::Nurbs(n) = c {
+        let (lo, hi) = n.domain();
+        let t1 = c.param_of(to);
+        if closed || t1 <= t0 {
+            return (lo, hi);
+        }
+        return (t0, t1);
+    }
+    (t0, c.param_of(to))
+}
+
+/// Initial sample intervals before adaptive refinement.
+pub fn initial_segments(c: &Curve, t0: f64, t1: f64) -> usize {
+    match c {
+        Curve::Nurbs(n) => 2 * n.breaks().len().max(2),
+        _ => {
+            (((t1 - t0).abs() / FRAC_PI_8).ceil() as usize).clamp(1, (TAU / FRAC_PI_8) as usize + 1)
+        }
+    }
+}
