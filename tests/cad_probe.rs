@@ -21,7 +21,7 @@ fn probe() {
                     t.elapsed()
                 );
                 for d in imp.diagnostics.iter().take(8) {
-                    println!("   {d:?}");
+                    println!("   #{} {:?} {}", d.entity, d.kind, d.message);
                 }
                 println!("   diagnostics: {}", imp.diagnostics.len());
             }

@@ -1,5 +1,6 @@
 //! Conversion of one B-rep face to a trimmed NURBS surface.
-use super::access::{type_name, Ctx};
+use super::access::{has_record, type_name, Ctx};
+use super::parser::Instance;
 use super::pcurves::pcurve_trim;
 use super::surfaces::{curve_to_nurbs, surface, SurfaceKind};
 use super::topology::{EdgeSampler, FaceData};
@@ -32,7 +33,7 @@ pub fn convert_face(
 ) -> Result<Converted, String> {
     let surface_type = ctx
         .inst(face.surface)
-        .map(type_name)
+        .map(surface_type_name)
         .map_err(|e| e.to_string())?;
     let kind = surface(ctx, face.surface).map_err(|e| e.to_string())?;
     let mut loops = || face_loops(sampler, face);
@@ -63,6 +64,21 @@ pub fn convert_face(
         surface_type,
         untrimmed,
     })
+}
+
+/// The surface's type; complex B-spline instances are named
+/// `RATIONAL_B_SPLINE_SURFACE` (or `B_SPLINE_SURFACE_WITH_KNOTS`).
+pub fn surface_type_name(inst: &Instance) -> String {
+    if !inst.complex {
+        return type_name(inst);
+    }
+    let rational = has_record(inst, "RATIONAL_B_SPLINE_SURFACE");
+    let name = if rational {
+        "RATIONAL_B_SPLINE_SURFACE"
+    } else {
+        "B_SPLINE_SURFACE_WITH_KNOTS"
+    };
+    name.to_string()
 }
 
 const NO_SWEPT_TRIM: &str =

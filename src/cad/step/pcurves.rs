@@ -4,12 +4,18 @@ use super::curves::{curve, Space};
 use super::surfaces::param_curve;
 use super::topology::{initial_segments, param_range, vertex, Bound, EdgeSampler, FaceData};
 use crate::cad::geom::Curve;
-use crate::cad::nurbs::eval_surface;
+use crate::cad::nurbs::{eval_surface, NurbsCurve};
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
+use crate::math::Point3;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 
 type P2 = [f64; 2];
+
+/// Coarse samples per knot span when locating an edge end on a pcurve.
+const SEARCH_SAMPLES: usize = 16;
+/// Golden-section steps refining that location.
+const GOLDEN_STEPS: usize = 80;
 
 /// The face's trim in the surface's parameter domain, or why there is none.
 pub fn pcurve_trim(
@@ -110,9 +116,14 @@ fn edge_uv(
     let (from, to) = if same { (p0, p1) } else { (p1, p0) };
     let (t0, t1) = param_range(&c3, from, to, closed);
     let mut out = Vec::new();
+    let mut gaps: Vec<f64> = Vec::new();
     for pc in pcurves_on(ctx, geometry, surface)? {
         let mut uv = sample_uv(&pc, spec, t0, t1, opts);
-        let ok = ends_match(&uv, spec, from, to, opts.pcurve_tolerance_mm);
+        let mut ok = ends_match(&uv, spec, from, to, opts.pcurve_tolerance_mm);
+        if let (false, Curve::Nurbs(n)) = (ok, &pc) {
+            uv = resampled(&pc, n, spec, (from, to), closed, opts);
+            ok = ends_match(&uv, spec, from, to, opts.pcurve_tolerance_mm);
+        }
         if !same {
             uv.reverse();
         }
@@ -121,28 +132,113 @@ fn edge_uv(
         }
         if ok {
             out.push(uv);
+        } else {
+            gaps.push(end_gap_oriented(&uv, spec, same == forward, from, to));
         }
     }
     if out.is_empty() {
-        return Ok(Err(format!(
-            "edge #{edge}: no PCURVE on surface #{surface} matching the edge's vertices"
-        )));
+        let gap = gaps.iter().copied().fold(f64::INFINITY, f64::min);
+        let detail = if gaps.is_empty() {
+            "no PCURVE".to_string()
+        } else {
+            format!("PCURVE ends miss the vertices by {gap:.3e} mm")
+        };
+        return Ok(Err(format!("edge #{edge} on surface #{surface}: {detail}")));
     }
     Ok(Ok(out))
 }
 
-fn ends_match(
+/// Samples a B-spline pcurve between the parameters whose surface points are
+/// closest to the edge's ends (for pcurves parameterised unlike the 3-D curve).
+fn resampled(
+    pc: &Curve,
+    n: &NurbsCurve,
+    spec: &SurfaceSpec,
+    (from, to): (Point3, Point3),
+    closed: bool,
+    opts: &ImportOptions,
+) -> Vec<P2> {
+    let (lo, hi) = n.domain();
+    if closed {
+        return sample_uv(pc, spec, lo, hi, opts);
+    }
+    let on_surface = |t: f64| {
+        let q = pc.eval(t);
+        eval_surface(spec, q.x, q.y)
+    };
+    let (ta, tb) = (closest(&on_surface, n, from), closest(&on_surface, n, to));
+    if ta <= tb {
+        return sample_uv(pc, spec, ta, tb, opts);
+    }
+    let mut uv = sample_uv(pc, spec, tb, ta, opts);
+    uv.reverse();
+    uv
+}
+
+fn closest(f: &dyn Fn(f64) -> Point3, n: &NurbsCurve, p: Point3) -> f64 {
+    let breaks = n.breaks();
+    let samples: Vec<f64> = breaks
+        .windows(2)
+        .flat_map(|w| {
+            let (a, b) = (
+                w.first().copied().unwrap_or(0.0),
+                w.get(1).copied().unwrap_or(0.0),
+            );
+            (0..SEARCH_SAMPLES).map(move |k| a + (b - a) * k as f64 / SEARCH_SAMPLES as f64)
+        })
+        .chain(breaks.last().copied())
+        .collect();
+    let dist = |t: f64| (f(t) - p).norm_squared();
+    let best = (0..samples.len()).min_by(|&i, &j| {
+        let di = samples.get(i).map_or(f64::INFINITY, |t| dist(*t));
+        let dj = samples.get(j).map_or(f64::INFINITY, |t| dist(*t));
+        di.partial_cmp(&dj).unwrap_or(std::cmp::Ordering::Equal)
+    });
+    let k = best.unwrap_or(0);
+    let a = samples.get(k.saturating_sub(1)).copied().unwrap_or(0.0);
+    let b = samples.get(k + 1).or(samples.get(k)).copied().unwrap_or(a);
+    golden_min(&dist, a, b)
+}
+
+fn golden_min(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
+    let r = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..GOLDEN_STEPS {
+        let (c, d) = (b - r * (b - a), a + r * (b - a));
+        if f(c) < f(d) {
+            b = d;
+        } else {
+            a = c;
+        }
+    }
+    0.5 * (a + b)
+}
+
+fn ends_match(uv: &[P2], spec: &SurfaceSpec, from: Point3, to: Point3, tol: f64) -> bool {
+    end_gap(uv, spec, from, to) <= tol
+}
+
+fn end_gap_oriented(
     uv: &[P2],
     spec: &SurfaceSpec,
-    from: crate::math::Point3,
-    to: crate::math::Point3,
-    tol: f64,
-) -> bool {
-    let at = |p: Option<&P2>| p.map(|q| eval_surface(spec, q[0], q[1]));
-    let near = |a: Option<crate::math::Point3>, b: crate::math::Point3| {
-        a.is_some_and(|a| (a - b).norm() <= tol)
+    as_sampled: bool,
+    from: Point3,
+    to: Point3,
+) -> f64 {
+    if as_sampled {
+        end_gap(uv, spec, from, to)
+    } else {
+        end_gap(uv, spec, to, from)
+    }
+}
+
+/// The larger distance between an edge end and its pcurve end's surface point.
+fn end_gap(uv: &[P2], spec: &SurfaceSpec, from: Point3, to: Point3) -> f64 {
+    let at = |p: Option<&P2>, target: Point3| {
+        p.map_or(f64::INFINITY, |q| {
+            (eval_surface(spec, q[0], q[1]) - target).norm()
+        })
     };
-    near(at(uv.first()), from) && near(at(uv.last()), to)
+    at(uv.first(), from).max(at(uv.last(), to))
 }
 
 fn sample_uv(pc: &Curve, spec: &SurfaceSpec, t0: f64, t1: f64, opts: &ImportOptions) -> Vec<P2> {
