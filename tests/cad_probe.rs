@@ -5,6 +5,7 @@ fn probe() {
         "io1-cm-214.stp",
         "linkrods.step",
         "nist_ctc_05_asme1_rd.stp",
+        "bearing.iges",
     ] {
         let path = format!("{}/../shared/cad/{f}", env!("CARGO_MANIFEST_DIR"));
         let t = std::time::Instant::now();

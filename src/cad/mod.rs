@@ -78,7 +78,7 @@ pub struct Import {
 }
 
 impl Import {
-    fn new(name: &str) -> Import {
+    pub(crate) fn new(name: &str) -> Import {
         let workpiece = WorkpieceFile {
             format: WORKPIECE_FORMAT.into(),
             name: name.into(),
@@ -95,7 +95,7 @@ impl Import {
 
     /// Adds face number `n` (1-based, file order) under a unique name.
     #[allow(clippy::too_many_arguments)]
-    fn push_face(
+    pub(crate) fn push_face(
         &mut self,
         n: usize,
         name: &str,
@@ -136,7 +136,7 @@ impl Import {
         self.workpiece.surfaces.push(spec);
     }
 
-    fn finish(self, file: &str, line: usize, column: usize) -> CadResult<Import> {
+    pub(crate) fn finish(self, file: &str, line: usize, column: usize) -> CadResult<Import> {
         if !self.workpiece.surfaces.is_empty() {
             return Ok(self);
         }
