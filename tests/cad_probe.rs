@@ -30,3 +30,17 @@ fn probe() {
         }
     }
 }
+#[test]
+fn probe_face() {
+    let path = format!(
+        "{}/../shared/cad/nist_ctc_05_asme1_rd.stp",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let imp = cmm::cad::import(&path).unwrap();
+    for (f, s) in imp.faces.iter().zip(&imp.workpiece.surfaces) {
+        if f.name == "face190" || f.name == "face189" {
+            println!("{:?} knots_u {:?} knots_v {:?}", f, s.knots_u, s.knots_v);
+            println!("cps {:?}", s.control_points);
+        }
+    }
+}

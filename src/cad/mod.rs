@@ -117,6 +117,7 @@ impl Import {
         };
         self.names.insert(unique.clone());
         spec.name = unique.clone();
+        clamp_trim(&mut spec);
         if let Some(message) = untrimmed {
             let entity_type = surface_type.clone();
             self.diagnostics.push(Diagnostic {
@@ -152,6 +153,27 @@ impl Import {
             column,
             reason: format!("{skipped} face(s) could not be converted{first}"),
         })
+    }
+}
+
+/// Clamps trim points into the surface's parameter domain (files carry
+/// boundary curves that overshoot it by round-off).
+fn clamp_trim(spec: &mut SurfaceSpec) {
+    let domain = |k: &[f64], p: usize| {
+        (
+            k.get(p).copied().unwrap_or(0.0),
+            k.get(k.len().saturating_sub(p + 1)).copied().unwrap_or(0.0),
+        )
+    };
+    let (u0, u1) = domain(&spec.knots_u, spec.degree[0]);
+    let (v0, v1) = domain(&spec.knots_v, spec.degree[1]);
+    if !(u0 <= u1 && v0 <= v1) {
+        return;
+    }
+    if let Some(t) = spec.trim.as_mut() {
+        for p in t.outer.iter_mut().chain(t.holes.iter_mut().flatten()) {
+            *p = [p[0].clamp(u0, u1), p[1].clamp(v0, v1)];
+        }
     }
 }
 

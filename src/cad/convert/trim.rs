@@ -166,11 +166,11 @@ fn ranges(
             linear_range(&loops, axis, m)?
         };
     }
-    let sample = loops
+    let vs: Vec<f64> = loops
         .iter()
-        .flat_map(|l| l.pts.first())
-        .next()
-        .map_or(0.0, |p| p[1]);
+        .flat_map(|l| l.pts.iter().map(|p| p[1]))
+        .collect();
+    let sample = vs.iter().sum::<f64>() / vs.len().max(1) as f64;
     out[1] = a.clamp_v(out[1].0, out[1].1, sample);
     if a.periodic() == [false, false] && loops.iter().all(|l| l.degenerate) {
         return Err("face has no boundary edges".into());
