@@ -307,10 +307,11 @@ fn arc100(f: &Fields, tr: &Affine) -> CadResult<Piece> {
     let frame = Frame::new(center, tr.m * Vec3::z(), Some(x))
         .ok_or_else(|| f.bad(0, "degenerate arc transform"))?;
     let t0 = angle(s.1 - c.1, s.0 - c.0);
-    let mut t1 = angle(e.1 - c.1, e.0 - c.0);
-    while t1 <= t0 + 1e-12 {
-        t1 += TAU;
+    let mut sweep = (angle(e.1 - c.1, e.0 - c.0) - t0).rem_euclid(TAU);
+    if sweep <= 1e-12 {
+        sweep = TAU;
     }
+    let t1 = t0 + sweep;
     Ok(Piece::Arc(Curve::Circle { frame, radius }, t0, t1))
 }
 

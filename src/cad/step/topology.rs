@@ -220,14 +220,11 @@ impl<'a> EdgeSampler<'a> {
 pub fn param_range(c: &Curve, from: Point3, to: Point3, closed: bool) -> (f64, f64) {
     let t0 = c.param_of(from);
     if let Some(period) = c.period() {
-        let mut t1 = c.param_of(to);
-        while t1 <= t0 + 1e-12 {
-            t1 += period;
+        let mut sweep = (c.param_of(to) - t0).rem_euclid(period);
+        if closed || sweep <= 1e-12 {
+            sweep = period;
         }
-        if closed {
-            t1 = t0 + period;
-        }
-        return (t0, t1);
+        return (t0, t0 + sweep);
     }
     if let Curve::Nurbs(n) = c {
         let (lo, hi) = n.domain();
