@@ -93,8 +93,9 @@ fn basis_point(knots: &[f64], p: usize, cps: &[[f64; 4]], t: f64) -> [f64; 4] {
             let i = j + k - p;
             let den = knots[i + p + 1 - r] - knots[i];
             let a = if den > 0.0 { (t - knots[i]) / den } else { 0.0 };
-            for c in 0..4 {
-                d[j][c] = (1.0 - a) * d[j - 1][c] + a * d[j][c];
+            let prev = d[j - 1];
+            for (x, p) in d[j].iter_mut().zip(prev) {
+                *x = (1.0 - a) * p + a * *x;
             }
         }
     }
@@ -140,7 +141,7 @@ fn grid(s: &SurfaceSpec, n: usize) -> Vec<[f64; 3]> {
 // ---- independent reading of the analytic definitions from the text ----
 
 fn numbers(body: &str) -> Vec<f64> {
-    body.split(|c: char| c == ',' || c == '(' || c == ')')
+    body.split([',', '(', ')'])
         .filter_map(|t| {
             t.parse::<f64>()
                 .ok()

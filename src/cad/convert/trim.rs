@@ -148,19 +148,27 @@ fn bounds(loops: &[NLoop], axis: usize) -> Option<(f64, f64)> {
     })
 }
 
+/// Natural parameter ranges `[(u0, u1), (v0, v1)]`.
+type Ranges = [(f64, f64); 2];
+
 /// Aligns periodic loops with each other and computes the natural ranges.
 fn ranges(
     a: &Analytic,
     mut loops: Vec<NLoop>,
     winding: Option<usize>,
     margin: f64,
-) -> Result<(Vec<NLoop>, [(f64, f64); 2]), String> {
-    let metric = a.metric();
-    let mut out = [(0.0, 0.0); 2];
-    for axis in 0..2 {
-        let periodic = a.periodic().get(axis).copied().unwrap_or(false);
-        let m = margin / metric.get(axis).copied().unwrap_or(1.0);
-        out[axis] = if periodic {
+) -> Result<(Vec<NLoop>, Ranges), String> {
+    if a.periodic() == [false, false] && loops.iter().all(|l| l.degenerate) {
+        return Err("face has no boundary edges".into());
+    }
+    let mut out: Ranges = [(0.0, 0.0); 2];
+    for (axis, (slot, (periodic, metric))) in out
+        .iter_mut()
+        .zip(a.periodic().into_iter().zip(a.metric()))
+        .enumerate()
+    {
+        let m = margin / metric;
+        *slot = if periodic {
             periodic_range(&mut loops, axis, winding == Some(axis), m)
         } else {
             linear_range(&loops, axis, m)?
@@ -170,11 +178,8 @@ fn ranges(
         .iter()
         .flat_map(|l| l.pts.iter().map(|p| p[1]))
         .collect();
-    let sample = vs.iter().sum::<f64>() / vs.len().max(1) as f64;
-    out[1] = a.clamp_v(out[1].0, out[1].1, sample);
-    if a.periodic() == [false, false] && loops.iter().all(|l| l.degenerate) {
-        return Err("face has no boundary edges".into());
-    }
+    let mean_v = vs.iter().sum::<f64>() / vs.len().max(1) as f64;
+    out[1] = a.clamp_v(out[1].0, out[1].1, mean_v);
     Ok((loops, out))
 }
 
@@ -211,7 +216,7 @@ fn periodic_range(loops: &mut [NLoop], axis: usize, winding: bool, m: f64) -> (f
 fn build_trim(
     loops: &[NLoop],
     winding: Option<usize>,
-    ranges: &[(f64, f64); 2],
+    ranges: &Ranges,
     same_sense: bool,
 ) -> Result<(Vec<P2>, Vec<Vec<P2>>), String> {
     let real: Vec<&NLoop> = loops
@@ -233,7 +238,7 @@ fn build_trim(
 }
 
 /// No winding loop: the outer bound (or the largest loop) is the outer trim.
-fn plain_trim(real: &[&NLoop], ranges: &[(f64, f64); 2]) -> (Vec<P2>, Vec<Vec<P2>>) {
+fn plain_trim(real: &[&NLoop], ranges: &Ranges) -> (Vec<P2>, Vec<Vec<P2>>) {
     let area = |l: &NLoop| {
         let (a, b) = (
             bounds(std::slice::from_ref(l), 0),
@@ -264,13 +269,7 @@ fn plain_trim(real: &[&NLoop], ranges: &[(f64, f64); 2]) -> (Vec<P2>, Vec<Vec<P2
 }
 
 /// Closes a single winding loop along the domain edge on the face's side.
-fn close_one(
-    a: &[P2],
-    l: &NLoop,
-    axis: usize,
-    ranges: &[(f64, f64); 2],
-    same_sense: bool,
-) -> Vec<P2> {
+fn close_one(a: &[P2], l: &NLoop, axis: usize, ranges: &Ranges, same_sense: bool) -> Vec<P2> {
     let other = 1 - axis.min(1);
     let forward = l.net.get(axis).copied().unwrap_or(0.0) > 0.0;
     let left_is_high = forward != (axis == 1);

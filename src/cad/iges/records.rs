@@ -207,7 +207,7 @@ pub struct Entry {
 
 /// Parses the Directory entries (pairs of D records).
 pub fn directory(lines: &[Line], file: &str) -> CadResult<Vec<Entry>> {
-    if lines.len() % 2 != 0 {
+    if !lines.len().is_multiple_of(2) {
         let last = lines.last().map_or(1, |l| l.number);
         return Err(syntax(
             file,
