@@ -115,6 +115,24 @@ impl Analytic {
         }
     }
 
+    /// Extends the second natural range to the pole (sphere) or apex (cone)
+    /// on the face's side, for faces bounded by a single loop round the axis.
+    pub fn extend_v(&self, (lo, hi): (f64, f64), high: bool) -> (f64, f64) {
+        match *self {
+            Analytic::Sphere(..) if high => (lo, FRAC_PI_2),
+            Analytic::Sphere(..) => (-FRAC_PI_2, hi),
+            Analytic::Cone(_, r, semi) if semi.tan().abs() > 1e-12 => {
+                let apex = -r / semi.tan();
+                match (high, apex > hi, apex < lo) {
+                    (true, true, _) => (lo, apex),
+                    (false, _, true) => (apex, hi),
+                    _ => (lo, hi),
+                }
+            }
+            _ => (lo, hi),
+        }
+    }
+
     /// The axis maps for natural ranges `u` and `v`.
     pub fn maps(&self, u: (f64, f64), v: (f64, f64)) -> [AxisMap; 2] {
         let [pu, pv] = self.periodic();

@@ -46,7 +46,10 @@ pub fn analytic_face(
         .filter_map(|l| natural_loop(a, l, ext.axis_tol_mm))
         .collect();
     let winding_axis = winding_axis(&nloops)?;
-    let (nloops, ranges) = ranges(a, nloops, winding_axis, ext.margin_mm)?;
+    let (nloops, mut ranges) = ranges(a, nloops, winding_axis, ext.margin_mm)?;
+    if let (Some(0), Some(high)) = (winding_axis, single_winding_side(&nloops, same_sense)) {
+        ranges[1] = a.extend_v(ranges[1], high);
+    }
     let maps = a.maps(ranges[0], ranges[1]);
     let mut spec = a.to_nurbs(&maps);
     spec.reversed = !same_sense;
@@ -269,11 +272,27 @@ fn plain_trim(real: &[&NLoop], ranges: &Ranges) -> (Vec<P2>, Vec<Vec<P2>>) {
 }
 
 /// Closes a single winding loop along the domain edge on the face's side.
-fn close_one(a: &[P2], l: &NLoop, axis: usize, ranges: &Ranges, same_sense: bool) -> Vec<P2> {
-    let other = 1 - axis.min(1);
+/// With exactly one loop winding round in u: whether the face lies on the
+/// high-v side of it. The face is on the left of its loops in the (u, v)
+/// plane when the face normal agrees with `Su x Sv` (same_sense), else on the right.
+fn single_winding_side(loops: &[NLoop], same_sense: bool) -> Option<bool> {
+    let mut winding = loops.iter().filter(|l| winds(l, 0));
+    let l = winding.next()?;
+    if winding.next().is_some() {
+        return None;
+    }
+    Some(face_is_high(l, 0, same_sense))
+}
+
+fn face_is_high(l: &NLoop, axis: usize, same_sense: bool) -> bool {
     let forward = l.net.get(axis).copied().unwrap_or(0.0) > 0.0;
     let left_is_high = forward != (axis == 1);
-    let high = left_is_high == same_sense;
+    left_is_high == same_sense
+}
+
+fn close_one(a: &[P2], l: &NLoop, axis: usize, ranges: &Ranges, same_sense: bool) -> Vec<P2> {
+    let other = 1 - axis.min(1);
+    let high = face_is_high(l, axis, same_sense);
     let edge = ranges
         .get(other)
         .map_or(0.0, |r| if high { r.1 } else { r.0 });
