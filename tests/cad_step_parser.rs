@@ -295,3 +295,22 @@ fn file_without_faces_is_an_error() {
         Err(CadError::NoFaces { line: 5, .. })
     ));
 }
+
+#[test]
+fn import_dispatches_on_extension() {
+    match cmm::cad::import("part.dxf").expect_err("dxf") {
+        CadError::UnsupportedType { file, reason, .. } => {
+            assert_eq!(file, "part.dxf");
+            assert!(reason.contains("dxf"));
+        }
+        other => panic!("{other:?}"),
+    }
+    assert!(matches!(cmm::cad::import("/nonexistent/part.STP"), Err(CadError::Io { .. })));
+    assert!(matches!(cmm::cad::import("/nonexistent/part.IGS"), Err(CadError::Io { .. })));
+}
+
+#[test]
+fn error_messages_name_file_line_and_column() {
+    let err = cmm::cad::step::parse_step(&wrap("#1=A(1);\n#2=B(#9);\n"), "part.step").expect_err("unknown");
+    assert_eq!(err.to_string(), "part.step:7:1: #2 references #9, which is not defined");
+}

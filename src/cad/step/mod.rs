@@ -12,7 +12,7 @@ pub mod surfaces;
 pub mod topology;
 pub mod units;
 
-use super::error::{CadError, CadResult};
+use super::error::CadResult;
 use super::options::ImportOptions;
 use super::{Diagnostic, DiagnosticKind, Import};
 use access::{has_record, type_name, Ctx};
@@ -79,7 +79,3 @@ pub fn import_step(text: &str, file: &str, name: &str, opts: &ImportOptions) -> 
     }
     out.finish(file, step.data_pos.line, step.data_pos.column)
 }
-
-/// Keeps the compiler aware that CadError is used for the no-face case.
-#[allow(dead_code)]
-fn _uses(_: CadError, _: StepFile) {}
