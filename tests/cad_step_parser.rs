@@ -305,12 +305,22 @@ fn import_dispatches_on_extension() {
         }
         other => panic!("{other:?}"),
     }
-    assert!(matches!(cmm::cad::import("/nonexistent/part.STP"), Err(CadError::Io { .. })));
-    assert!(matches!(cmm::cad::import("/nonexistent/part.IGS"), Err(CadError::Io { .. })));
+    assert!(matches!(
+        cmm::cad::import("/nonexistent/part.STP"),
+        Err(CadError::Io { .. })
+    ));
+    assert!(matches!(
+        cmm::cad::import("/nonexistent/part.IGS"),
+        Err(CadError::Io { .. })
+    ));
 }
 
 #[test]
 fn error_messages_name_file_line_and_column() {
-    let err = cmm::cad::step::parse_step(&wrap("#1=A(1);\n#2=B(#9);\n"), "part.step").expect_err("unknown");
-    assert_eq!(err.to_string(), "part.step:7:1: #2 references #9, which is not defined");
+    let err = cmm::cad::step::parse_step(&wrap("#1=A(1);\n#2=B(#9);\n"), "part.step")
+        .expect_err("unknown");
+    assert_eq!(
+        err.to_string(),
+        "part.step:7:1: #2 references #9, which is not defined"
+    );
 }

@@ -1,8 +1,7 @@
 //! Trims of B-spline faces from the PCURVEs of their edges.
 use super::access::{has_record, Ctx};
-use super::curves::{curve, Space};
 use super::surfaces::param_curve;
-use super::topology::{initial_segments, param_range, vertex, Bound, EdgeSampler, FaceData};
+use super::topology::{edge_ends, initial_segments, Bound, EdgeEnds, EdgeSampler, FaceData};
 use crate::cad::geom::Curve;
 use crate::cad::nurbs::{eval_surface, NurbsCurve};
 use crate::cad::options::ImportOptions;
@@ -103,49 +102,55 @@ fn edge_uv(
     spec: &SurfaceSpec,
     opts: &ImportOptions,
 ) -> Nested {
-    let args = ctx.args(edge, "EDGE_CURVE")?;
-    let (p0, p1) = (
-        vertex(ctx, args.reference(1)?)?,
-        vertex(ctx, args.reference(2)?)?,
-    );
-    let geometry = args.reference(3)?;
-    let same = args.boolean(4)?;
-    let c3 = curve(ctx, geometry, Space::Model)?;
-    let closed =
-        args.reference(1)? == args.reference(2)? || (p0 - p1).norm() <= opts.point_tolerance_mm;
-    let (from, to) = if same { (p0, p1) } else { (p1, p0) };
-    let (t0, t1) = param_range(&c3, from, to, closed);
-    let mut out = Vec::new();
-    let mut gaps: Vec<f64> = Vec::new();
-    for pc in pcurves_on(ctx, geometry, surface)? {
-        let mut uv = sample_uv(&pc, spec, t0, t1, opts);
-        let mut ok = ends_match(&uv, spec, from, to, opts.pcurve_tolerance_mm);
-        if let (false, Curve::Nurbs(n)) = (ok, &pc) {
-            uv = resampled(&pc, n, spec, (from, to), closed, opts);
-            ok = ends_match(&uv, spec, from, to, opts.pcurve_tolerance_mm);
-        }
-        if !same {
-            uv.reverse();
-        }
-        if !forward {
-            uv.reverse();
-        }
-        if ok {
-            out.push(uv);
-        } else {
-            gaps.push(end_gap_oriented(&uv, spec, same == forward, from, to));
+    let ends = edge_ends(ctx, edge, opts)?;
+    let (mut found, mut gaps) = (Vec::new(), Vec::new());
+    for pc in pcurves_on(ctx, ends.geometry, surface)? {
+        match fit_pcurve(&pc, spec, &ends, opts) {
+            Ok(mut uv) => {
+                if ends.same != forward {
+                    uv.reverse();
+                }
+                found.push(uv);
+            }
+            Err(gap) => gaps.push(gap),
         }
     }
-    if out.is_empty() {
-        let gap = gaps.iter().copied().fold(f64::INFINITY, f64::min);
-        let detail = if gaps.is_empty() {
-            "no PCURVE".to_string()
-        } else {
-            format!("PCURVE ends miss the vertices by {gap:.3e} mm")
-        };
-        return Ok(Err(format!("edge #{edge} on surface #{surface}: {detail}")));
+    if found.is_empty() {
+        return Ok(Err(no_pcurve(edge, surface, &gaps)));
     }
-    Ok(Ok(out))
+    Ok(Ok(found))
+}
+
+fn no_pcurve(edge: u64, surface: u64, gaps: &[f64]) -> String {
+    let detail = match gaps.iter().copied().reduce(f64::min) {
+        None => "no PCURVE".to_string(),
+        Some(gap) => format!("PCURVE ends miss the vertices by {gap:.3e} mm"),
+    };
+    format!("edge #{edge} on surface #{surface}: {detail}")
+}
+
+/// The pcurve sampled in the curve's direction between the edge's ends, or
+/// the gap by which its ends miss the vertices.
+fn fit_pcurve(
+    pc: &Curve,
+    spec: &SurfaceSpec,
+    e: &EdgeEnds,
+    opts: &ImportOptions,
+) -> Result<Vec<P2>, f64> {
+    let uv = sample_uv(pc, spec, e.range.0, e.range.1, opts);
+    if end_gap(&uv, spec, e.from, e.to) <= opts.pcurve_tolerance_mm {
+        return Ok(uv);
+    }
+    let Curve::Nurbs(n) = pc else {
+        return Err(end_gap(&uv, spec, e.from, e.to));
+    };
+    let uv = resampled(pc, n, spec, (e.from, e.to), e.closed, opts);
+    let gap = end_gap(&uv, spec, e.from, e.to);
+    if gap <= opts.pcurve_tolerance_mm {
+        Ok(uv)
+    } else {
+        Err(gap)
+    }
 }
 
 /// Samples a B-spline pcurve between the parameters whose surface points are
@@ -211,24 +216,6 @@ fn golden_min(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
         }
     }
     0.5 * (a + b)
-}
-
-fn ends_match(uv: &[P2], spec: &SurfaceSpec, from: Point3, to: Point3, tol: f64) -> bool {
-    end_gap(uv, spec, from, to) <= tol
-}
-
-fn end_gap_oriented(
-    uv: &[P2],
-    spec: &SurfaceSpec,
-    as_sampled: bool,
-    from: Point3,
-    to: Point3,
-) -> f64 {
-    if as_sampled {
-        end_gap(uv, spec, from, to)
-    } else {
-        end_gap(uv, spec, to, from)
-    }
 }
 
 /// The larger distance between an edge end and its pcurve end's surface point.

@@ -55,55 +55,51 @@ pub fn face(ctx: &Ctx, id: u64, type_name: &str) -> CadResult<FaceData> {
 }
 
 fn bound(ctx: &Ctx, id: u64) -> CadResult<Bound> {
-    let inst = ctx.inst(id)?;
-    let outer = has_record(inst, "FACE_OUTER_BOUND");
-    let args = ctx.args(
-        id,
-        if outer {
-            "FACE_OUTER_BOUND"
-        } else {
-            "FACE_BOUND"
-        },
-    )?;
+    let outer = has_record(ctx.inst(id)?, "FACE_OUTER_BOUND");
+    let name = if outer {
+        "FACE_OUTER_BOUND"
+    } else {
+        "FACE_BOUND"
+    };
+    let args = ctx.args(id, name)?;
     let loop_id = args.reference(1)?;
-    let forward = args.boolean(2)?;
-    let mut b = Bound {
+    let (mut edges, mut points) = read_loop(ctx, loop_id)?;
+    if !args.boolean(2)? {
+        edges.reverse();
+        edges.iter_mut().for_each(|e| e.1 = !e.1);
+        points.reverse();
+    }
+    Ok(Bound {
         loop_id,
         outer,
-        edges: Vec::new(),
-        points: Vec::new(),
-    };
-    let lp = ctx.first(loop_id)?;
-    let kind = lp
-        .inst
-        .records
-        .first()
-        .map(|r| r.name.as_str())
-        .unwrap_or("");
-    match kind {
-        "EDGE_LOOP" => {
-            b.edges = lp
-                .refs(1)?
+        edges,
+        points,
+    })
+}
+
+/// Oriented edges and points of an EDGE_LOOP, VERTEX_LOOP or POLY_LOOP.
+type LoopContents = (Vec<(u64, bool)>, Vec<Point3>);
+
+fn read_loop(ctx: &Ctx, id: u64) -> CadResult<LoopContents> {
+    let lp = ctx.first(id)?;
+    match lp.inst.records.first().map_or("", |r| r.name.as_str()) {
+        "EDGE_LOOP" => Ok((
+            lp.refs(1)?
                 .into_iter()
                 .map(|e| oriented_edge(ctx, e))
-                .collect::<CadResult<_>>()?
-        }
-        "VERTEX_LOOP" => b.points = vec![vertex(ctx, lp.reference(1)?)?],
-        "POLY_LOOP" => {
-            b.points = lp
-                .refs(1)?
+                .collect::<CadResult<_>>()?,
+            Vec::new(),
+        )),
+        "VERTEX_LOOP" => Ok((Vec::new(), vec![vertex(ctx, lp.reference(1)?)?])),
+        "POLY_LOOP" => Ok((
+            Vec::new(),
+            lp.refs(1)?
                 .into_iter()
                 .map(|p| point(ctx, p, Space::Model))
-                .collect::<CadResult<_>>()?
-        }
-        other => return Err(lp.err(format!("unsupported loop type {other}"))),
+                .collect::<CadResult<_>>()?,
+        )),
+        other => Err(lp.err(format!("unsupported loop type {other}"))),
     }
-    if !forward {
-        b.edges.reverse();
-        b.edges.iter_mut().for_each(|e| e.1 = !e.1);
-        b.points.reverse();
-    }
-    Ok(b)
 }
 
 fn oriented_edge(ctx: &Ctx, id: u64) -> CadResult<(u64, bool)> {
@@ -171,24 +167,16 @@ impl<'a> EdgeSampler<'a> {
     }
 
     fn sample_edge(&self, id: u64) -> CadResult<Vec<Point3>> {
-        let ctx = &self.ctx;
-        let args = ctx.args(id, "EDGE_CURVE")?;
-        let (v0, v1) = (args.reference(1)?, args.reference(2)?);
-        let (p0, p1) = (vertex(ctx, v0)?, vertex(ctx, v1)?);
-        let c = curve(ctx, args.reference(3)?, Space::Model)?;
-        let same = args.boolean(4)?;
-        let closed = v0 == v1 || (p0 - p1).norm() <= self.opts.point_tolerance_mm;
-        let (from, to) = if same { (p0, p1) } else { (p1, p0) };
-        let mut pts = self.between(&c, from, to, closed);
-        if !same {
+        let e = edge_ends(&self.ctx, id, &self.opts)?;
+        let mut pts = self.between(&e.curve, e.from, e.to, e.range);
+        if !e.same {
             pts.reverse();
         }
         Ok(pts)
     }
 
     /// Samples `c` from `from` to `to` in its parameter direction.
-    fn between(&self, c: &Curve, from: Point3, to: Point3, closed: bool) -> Vec<Point3> {
-        let (t0, t1) = param_range(c, from, to, closed);
+    fn between(&self, c: &Curve, from: Point3, to: Point3, (t0, t1): (f64, f64)) -> Vec<Point3> {
         if matches!(c, Curve::Line { .. }) {
             return vec![from, to];
         }
@@ -213,6 +201,46 @@ impl<'a> EdgeSampler<'a> {
         }
         pts
     }
+}
+
+/// An EDGE_CURVE resolved: its curve and the ends in the curve's direction.
+pub struct EdgeEnds {
+    /// The edge geometry entity.
+    pub geometry: u64,
+    /// The curve.
+    pub curve: Curve,
+    /// Start point in the curve's direction.
+    pub from: Point3,
+    /// End point in the curve's direction.
+    pub to: Point3,
+    /// The edge runs along the curve's direction.
+    pub same: bool,
+    /// Start and end vertex coincide.
+    pub closed: bool,
+    /// Curve parameters of `from` and `to`.
+    pub range: (f64, f64),
+}
+
+/// Reads an EDGE_CURVE and locates its vertices on its curve.
+pub fn edge_ends(ctx: &Ctx, id: u64, opts: &ImportOptions) -> CadResult<EdgeEnds> {
+    let args = ctx.args(id, "EDGE_CURVE")?;
+    let (v0, v1) = (args.reference(1)?, args.reference(2)?);
+    let (p0, p1) = (vertex(ctx, v0)?, vertex(ctx, v1)?);
+    let geometry = args.reference(3)?;
+    let curve = curve(ctx, geometry, Space::Model)?;
+    let same = args.boolean(4)?;
+    let closed = v0 == v1 || (p0 - p1).norm() <= opts.point_tolerance_mm;
+    let (from, to) = if same { (p0, p1) } else { (p1, p0) };
+    let range = param_range(&curve, from, to, closed);
+    Ok(EdgeEnds {
+        geometry,
+        curve,
+        from,
+        to,
+        same,
+        closed,
+        range,
+    })
 }
 
 /// The parameter range of `c` from `from` to `to` (a full period or the
