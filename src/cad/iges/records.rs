@@ -41,44 +41,17 @@ pub fn syntax(file: &str, line: usize, column: usize, reason: impl Into<String>)
 /// Splits the text into sections by the letter in column 73.
 pub fn split_sections(text: &str, file: &str) -> CadResult<Sections> {
     let mut s = Sections::default();
-    for (k, raw) in text.lines().enumerate() {
-        let number = k + 1;
-        let line = raw.trim_end_matches(['\r', '\n']);
-        if line.trim().is_empty() {
-            continue;
-        }
-        let chars: Vec<char> = line.chars().collect();
-        let letter = chars.get(DATA_COLS).copied().ok_or_else(|| {
-            syntax(
-                file,
-                number,
-                chars.len() + 1,
-                "record shorter than 73 columns (no section letter)",
-            )
-        })?;
-        let width = if letter == 'P' { PARAM_COLS } else { DATA_COLS };
-        let data: String = chars.iter().take(width).collect();
+    for (k, raw) in text
+        .lines()
+        .enumerate()
+        .filter(|(_, l)| !l.trim().is_empty())
+    {
+        let (letter, line) = record(raw, k + 1, file)?;
         match letter {
-            'S' | 'T' => {}
-            'G' => s.global.push(Line { number, data }),
-            'D' => s.directory.push(Line { number, data }),
-            'P' => s.parameters.push(Line { number, data }),
-            'C' => {
-                return Err(syntax(
-                    file,
-                    number,
-                    DATA_COLS + 1,
-                    "compressed IGES is not supported",
-                ))
-            }
-            other => {
-                return Err(syntax(
-                    file,
-                    number,
-                    DATA_COLS + 1,
-                    format!("unknown section letter {other:?}"),
-                ))
-            }
+            'G' => s.global.push(line),
+            'D' => s.directory.push(line),
+            'P' => s.parameters.push(line),
+            _ => {}
         }
     }
     if s.directory.is_empty() {
@@ -91,6 +64,34 @@ pub fn split_sections(text: &str, file: &str) -> CadResult<Sections> {
         ));
     }
     Ok(s)
+}
+
+/// The section letter and data field of one physical line.
+fn record(raw: &str, number: usize, file: &str) -> CadResult<(char, Line)> {
+    let chars: Vec<char> = raw.trim_end_matches(['\r', '\n']).chars().collect();
+    let short = || {
+        syntax(
+            file,
+            number,
+            chars.len() + 1,
+            "record shorter than 73 columns (no section letter)",
+        )
+    };
+    let letter = chars.get(DATA_COLS).copied().ok_or_else(short)?;
+    let bad = |reason: String| Err(syntax(file, number, DATA_COLS + 1, reason));
+    match letter {
+        'S' | 'G' | 'D' | 'P' | 'T' => {}
+        'C' => return bad("compressed IGES is not supported".into()),
+        other => return bad(format!("unknown section letter {other:?}")),
+    }
+    let width = if letter == 'P' { PARAM_COLS } else { DATA_COLS };
+    Ok((
+        letter,
+        Line {
+            number,
+            data: chars.iter().take(width).collect(),
+        },
+    ))
 }
 
 /// Delimiters and units from the Global section.
