@@ -137,6 +137,25 @@ impl Import {
         self.workpiece.surfaces.push(spec);
     }
 
+    /// Lists a face that could not be converted.
+    pub(crate) fn skip(
+        &mut self,
+        entity: u64,
+        entity_type: String,
+        pos: step::lexer::Pos,
+        message: String,
+    ) {
+        let (line, column) = (pos.line, pos.column);
+        self.diagnostics.push(Diagnostic {
+            entity,
+            entity_type,
+            line,
+            column,
+            kind: DiagnosticKind::Skipped,
+            message,
+        });
+    }
+
     pub(crate) fn finish(self, file: &str, line: usize, column: usize) -> CadResult<Import> {
         if !self.workpiece.surfaces.is_empty() {
             return Ok(self);

@@ -199,6 +199,13 @@ impl Fields<'_> {
         (k..k + n).map(|i| self.real(i)).collect()
     }
 
+    /// `n` reals from `*at`, advancing `*at`.
+    pub fn take(&self, at: &mut usize, n: usize) -> CadResult<Vec<f64>> {
+        let out = self.reals(*at, n)?;
+        *at += n;
+        Ok(out)
+    }
+
     /// Number of fields.
     pub fn len(&self) -> usize {
         self.toks.items.len()
@@ -217,50 +224,41 @@ pub fn surface128(m: &Model, e: &Entry) -> CadResult<(SurfaceSpec, [f64; 4])> {
     let (k1, k2, m1, m2) = (f.count(1)?, f.count(2)?, f.count(3)?, f.count(4)?);
     let (n1, n2) = (k1 + 1, k2 + 1);
     let mut at = 10;
-    let knots_u = f.reals(at, k1 + m1 + 2)?;
-    at += k1 + m1 + 2;
-    let knots_v = f.reals(at, k2 + m2 + 2)?;
-    at += k2 + m2 + 2;
-    let w = f.reals(at, n1 * n2)?;
-    at += n1 * n2;
-    let xyz = f.reals(at, 3 * n1 * n2)?;
-    at += 3 * n1 * n2;
-    let range = [
-        f.real(at)?,
-        f.real(at + 1)?,
-        f.real(at + 2)?,
-        f.real(at + 3)?,
-    ];
-    let tr = m.transform(e)?;
-    let s = m.global.unit_mm;
+    let knots_u = f.take(&mut at, k1 + m1 + 2)?;
+    let knots_v = f.take(&mut at, k2 + m2 + 2)?;
+    let w = f.take(&mut at, n1 * n2)?;
+    let xyz = f.take(&mut at, 3 * n1 * n2)?;
+    let range: [f64; 4] = f
+        .take(&mut at, 4)?
+        .try_into()
+        .map_err(|_| m.err(e, "missing parameter range"))?;
+    let (tr, s) = (m.transform(e)?, m.global.unit_mm);
     let point = |k: usize| {
         let c = |d: usize| xyz.get(3 * k + d).copied().unwrap_or(0.0);
         let p = tr.apply(Point3::new(c(0), c(1), c(2)));
         [p.x * s, p.y * s, p.z * s]
     };
-    let control_points = (0..n1)
-        .map(|i| (0..n2).map(|j| point(i + n1 * j)).collect())
-        .collect();
-    let weights: Vec<Vec<f64>> = (0..n1)
-        .map(|i| {
-            (0..n2)
-                .map(|j| w.get(i + n1 * j).copied().unwrap_or(1.0))
-                .collect()
-        })
-        .collect();
+    let weights = grid(n1, n2, |k| w.get(k).copied().unwrap_or(1.0));
     let rational = weights.iter().flatten().any(|x| *x != 1.0);
     let spec = SurfaceSpec {
         name: String::new(),
         degree: [m1, m2],
         knots_u,
         knots_v,
-        control_points,
+        control_points: grid(n1, n2, point),
         weights: rational.then_some(weights),
         reversed: false,
         trim: None,
     };
     crate::cad::step::surfaces::check_spline(&spec).map_err(|r| m.err(e, r))?;
     Ok((spec, range))
+}
+
+/// `out[i][j] = f(i + n1 j)`: IGES lists the first index fastest.
+fn grid<T>(n1: usize, n2: usize, f: impl Fn(usize) -> T) -> Vec<Vec<T>> {
+    (0..n1)
+        .map(|i| (0..n2).map(|j| f(i + n1 * j)).collect())
+        .collect()
 }
 
 /// A parameter-space curve (102 composite of 110/100/126) as pieces.

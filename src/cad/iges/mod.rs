@@ -10,7 +10,7 @@ use super::nurbs::eval_surface;
 use super::options::ImportOptions;
 use super::sample::adaptive;
 use super::step::lexer::Pos;
-use super::{Diagnostic, DiagnosticKind, Import};
+use super::Import;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 use entities::{param_curve, surface128, Model, Piece};
 use records::Entry;
@@ -40,35 +40,14 @@ pub fn import_iges(text: &str, file: &str, name: &str, opts: &ImportOptions) -> 
             line: e.line,
             column: 1,
         };
+        let kind = format!("IGES {}", e.kind);
         match face(&model, e, opts) {
-            Ok((spec, note)) => out.push_face(
-                n + 1,
-                &e.label_if_meaningful(),
-                e.seq,
-                format!("IGES {}", e.kind),
-                spec,
-                note,
-                pos,
-            ),
-            Err(reason) => out.diagnostics.push(Diagnostic {
-                entity: e.seq,
-                entity_type: format!("IGES {}", e.kind),
-                line: e.line,
-                column: 1,
-                kind: DiagnosticKind::Skipped,
-                message: reason,
-            }),
+            Ok((spec, note)) => out.push_face(n + 1, "", e.seq, kind, spec, note, pos),
+            Err(reason) => out.skip(e.seq, kind, pos, reason),
         }
     }
     let first = sections.directory.first().map_or(1, |l| l.number);
     out.finish(file, first, 1)
-}
-
-impl Entry {
-    /// The label unless it is blank (IGES labels are rarely unique names).
-    fn label_if_meaningful(&self) -> String {
-        String::new()
-    }
 }
 
 /// DE pointers of the 128 surfaces that 144 entities trim.

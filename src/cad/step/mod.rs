@@ -14,7 +14,7 @@ pub mod units;
 
 use super::error::CadResult;
 use super::options::ImportOptions;
-use super::{Diagnostic, DiagnosticKind, Import};
+use super::Import;
 use access::{has_record, type_name, Ctx};
 use parser::StepFile;
 use topology::EdgeSampler;
@@ -67,14 +67,7 @@ pub fn import_step(text: &str, file: &str, name: &str, opts: &ImportOptions) -> 
                 c.untrimmed,
                 inst.pos,
             ),
-            Err(reason) => out.diagnostics.push(Diagnostic {
-                entity: inst.id,
-                entity_type: type_name(inst),
-                line: inst.pos.line,
-                column: inst.pos.column,
-                kind: DiagnosticKind::Skipped,
-                message: reason,
-            }),
+            Err(reason) => out.skip(inst.id, type_name(inst), inst.pos, reason),
         }
     }
     out.finish(file, step.data_pos.line, step.data_pos.column)
