@@ -279,6 +279,66 @@ fn face_vertices(all: &HashMap<u64, String>, face: u64) -> Vec<[f64; 3]> {
     out
 }
 
+/// Even-odd point-in-polygon test.
+fn inside(p: [f64; 2], poly: &[[f64; 2]]) -> bool {
+    let mut c = false;
+    for (k, a) in poly.iter().enumerate() {
+        let b = poly[(k + 1) % poly.len()];
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < a[0] + (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1])
+        {
+            c = !c;
+        }
+    }
+    c
+}
+
+/// Trims are consistent polygons: outer counter-clockwise with positive
+/// area, holes clockwise, smaller, and inside the outer loop.
+fn check_trim_shapes(imp: &Import) {
+    use cmm::cad::signed_area;
+    for s in &imp.workpiece.surfaces {
+        let Some(t) = &s.trim else { continue };
+        let outer = signed_area(&t.outer);
+        assert!(
+            outer > 0.0 && t.outer.len() >= 3,
+            "{}: outer area {outer}",
+            s.name
+        );
+        for h in &t.holes {
+            let a = signed_area(h);
+            assert!(
+                a < 0.0 && -a < outer,
+                "{}: hole area {a} vs outer {outer}",
+                s.name
+            );
+            let mid = [
+                h.iter().map(|p| p[0]).sum::<f64>() / h.len() as f64,
+                h.iter().map(|p| p[1]).sum::<f64>() / h.len() as f64,
+            ];
+            assert!(
+                inside(h[0], &t.outer) || inside(mid, &t.outer),
+                "{}: hole outside the outer loop",
+                s.name
+            );
+        }
+    }
+}
+
+#[test]
+fn trims_are_consistent_polygons() {
+    for name in [
+        "abc-0000.step",
+        "io1-cm-214.stp",
+        "linkrods.step",
+        "nist_ctc_05_asme1_rd.stp",
+        "bearing.iges",
+    ] {
+        let Some(p) = path(name) else { return };
+        check_trim_shapes(&import(&p).expect("imports"));
+    }
+}
+
 #[test]
 fn nist_ctc_05_inch_part() {
     let Some((imp, text)) = check_step("nist_ctc_05_asme1_rd.stp", 209) else {

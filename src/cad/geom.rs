@@ -59,11 +59,12 @@ impl Frame {
 /// A 3-D (or 2-D parameter-space) curve.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Curve {
-    /// `origin + t * dir` (dir is a unit vector, t in mm).
+    /// `origin + t * dir`, STEP's own parameterisation (dir = the VECTOR,
+    /// magnitude included).
     Line {
         /// A point on the line.
         origin: Point3,
-        /// Unit direction.
+        /// Direction times magnitude (non-zero).
         dir: Vec3,
     },
     /// Circle in the frame's xy plane, parameter = angle (rad).
@@ -105,7 +106,9 @@ impl Curve {
     /// The parameter of the point of the curve closest to `p`.
     pub fn param_of(&self, p: Point3) -> f64 {
         match self {
-            Curve::Line { origin, dir } => (p - origin).dot(dir),
+            Curve::Line { origin, dir } => {
+                (p - origin).dot(dir) / dir.norm_squared().max(f64::MIN_POSITIVE)
+            }
             Curve::Circle { frame, .. } => angle(frame.local(p).y, frame.local(p).x),
             Curve::Ellipse { frame, a, b } => angle(frame.local(p).y / b, frame.local(p).x / a),
             Curve::Nurbs(n) => closest_param(n, p),

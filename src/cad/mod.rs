@@ -118,6 +118,7 @@ impl Import {
         self.names.insert(unique.clone());
         spec.name = unique.clone();
         clamp_trim(&mut spec);
+        orient_trim(&mut spec);
         if let Some(message) = untrimmed {
             let entity_type = surface_type.clone();
             self.diagnostics.push(Diagnostic {
@@ -194,6 +195,28 @@ fn clamp_trim(spec: &mut SurfaceSpec) {
             *p = [p[0].clamp(u0, u1), p[1].clamp(v0, v1)];
         }
     }
+}
+
+/// Orients trims: outer loop counter-clockwise in (u, v), holes clockwise.
+fn orient_trim(spec: &mut SurfaceSpec) {
+    if let Some(t) = spec.trim.as_mut() {
+        if signed_area(&t.outer) < 0.0 {
+            t.outer.reverse();
+        }
+        for h in t.holes.iter_mut().filter(|h| signed_area(h) > 0.0) {
+            h.reverse();
+        }
+    }
+}
+
+/// Shoelace area of a closed polyline (positive when counter-clockwise).
+pub fn signed_area(pts: &[[f64; 2]]) -> f64 {
+    let next = pts.iter().cycle().skip(1);
+    0.5 * pts
+        .iter()
+        .zip(next)
+        .map(|(a, b)| a[0] * b[1] - b[0] * a[1])
+        .sum::<f64>()
 }
 
 /// Imports a STEP (.step/.stp) or IGES (.iges/.igs) file with default options.

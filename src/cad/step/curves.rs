@@ -130,10 +130,10 @@ fn curve_at_depth(ctx: &Ctx, id: u64, space: Space, depth: usize) -> CadResult<C
 
 fn line(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
     let origin = point(ctx, args.reference(1)?, space)?;
-    let v = vector(ctx, args.reference(2)?, space)?;
-    let dir = v
-        .try_normalize(1e-300)
-        .ok_or_else(|| args.err("zero line direction"))?;
+    let dir = vector(ctx, args.reference(2)?, space)?;
+    if !(dir.norm_squared() > 0.0) {
+        return Err(args.err("zero line direction"));
+    }
     Ok(Curve::Line { origin, dir })
 }
 

@@ -103,21 +103,27 @@ fn all_points(loops: &[LoopPoints]) -> impl Iterator<Item = &Point3> {
     loops.iter().flat_map(|l| l.points.iter())
 }
 
-/// Range of `(p - o) . d` over the loops, with `margin`.
+/// Range of the line parameter `t` of `o + t d` over the loops' points
+/// projected onto the line, widened by `margin` mm.
 fn projected_range(
     loops: &[LoopPoints],
     o: Point3,
     d: Vec3,
     margin: f64,
 ) -> Result<(f64, f64), String> {
-    let vals = all_points(loops).map(|p| (p - o).dot(&d));
+    let len2 = d.norm_squared();
+    if !(len2 > 0.0) {
+        return Err("zero direction".into());
+    }
+    let vals = all_points(loops).map(|p| (p - o).dot(&d) / len2);
     let (lo, hi) = vals.fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
         (a.min(x), b.max(x))
     });
     if lo > hi {
         return Err("face has no boundary points to bound the surface".into());
     }
-    Ok((lo - margin, hi + margin))
+    let m = margin / len2.sqrt();
+    Ok((lo - m, hi + m))
 }
 
 fn revolution(
