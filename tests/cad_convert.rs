@@ -212,3 +212,31 @@ fn linear_extrusion_of_an_ellipse() {
         "extent from the vertex with 0.1 mm margin: {v0} {v1}"
     );
 }
+
+#[test]
+fn sampled_circle_edge_meets_the_chord_tolerance() {
+    // A disc of radius 50 on the plane z = 0, bounded by one full circle.
+    let data = format!(
+        "{AXIS}#5=PLANE('',#4);\n{}#70=ADVANCED_FACE('disc',(#20),#5,.T.);\n",
+        circle_loop(10, 0.0, 50.0, "FACE_OUTER_BOUND", ".T.")
+    );
+    let opts = ImportOptions::default();
+    let imp = import(&wrap(&data));
+    let trim = imp.workpiece.surfaces[0].trim.as_ref().expect("trim");
+    let n = trim.outer.len();
+    let mut worst: f64 = 0.0;
+    for k in 0..n {
+        let (a, b) = (trim.outer[k], trim.outer[(k + 1) % n]);
+        assert!(
+            (a[0].hypot(a[1]) - 50.0).abs() < 1e-12,
+            "samples lie on the circle"
+        );
+        let mid = [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0];
+        worst = worst.max(50.0 - mid[0].hypot(mid[1]));
+    }
+    assert!(worst <= opts.chord_tolerance_mm, "sagitta {worst}");
+    assert!(
+        worst > opts.chord_tolerance_mm / 8.0,
+        "not needlessly dense: {worst} with {n} points"
+    );
+}
