@@ -174,11 +174,9 @@ fn surface_of_revolution_of_a_circle_is_a_torus() {
 #10=ADVANCED_FACE('rev',(),#9,.T.);\n";
     let imp = import(&wrap(data));
     let s = &imp.workpiece.surfaces[0];
-    assert_eq!(
-        imp.diagnostics.len(),
-        1,
-        "untrimmed swept surface is reported"
-    );
+    assert!(imp.diagnostics.is_empty());
+    let trim = s.trim.as_ref().expect("unbounded face: the whole domain");
+    assert_eq!(trim.outer.len(), 4);
     let (u1, v1) = (
         s.knots_u[s.knots_u.len() - 1],
         s.knots_v[s.knots_v.len() - 1],
@@ -238,5 +236,62 @@ fn sampled_circle_edge_meets_the_chord_tolerance() {
     assert!(
         worst > opts.chord_tolerance_mm / 8.0,
         "not needlessly dense: {worst} with {n} points"
+    );
+}
+
+/// A half cylinder made by extruding a half circle (B-spline profile) and a
+/// revolved slanted line (a cone frustum), both bounded by real edges: the
+/// trims must reproduce the vertices.
+#[test]
+fn swept_faces_get_trims_through_their_vertices() {
+    // Extrusion of the circle x^2 + y^2 = 25 along z, face between z = 0 and z = 4,
+    // bounded by two circles (full band).
+    let data = format!(
+        "{AXIS}#5=CIRCLE('',#4,5.);\n#6=VECTOR('',#2,1.);\n#7=SURFACE_OF_LINEAR_EXTRUSION('',#5,#6);\n{}{}\
+#50=ADVANCED_FACE('band',(#20,#40),#7,.T.);\n",
+        circle_loop(10, 0.0, 5.0, "FACE_OUTER_BOUND", ".T."),
+        circle_loop(30, 4.0, 5.0, "FACE_BOUND", ".F.")
+    );
+    let imp = import(&wrap(&data));
+    let s = &imp.workpiece.surfaces[0];
+    let trim = s.trim.as_ref().expect("trim");
+    for uv in trim.outer.iter() {
+        let p = eval(s, uv[0], uv[1]);
+        assert!((p[0].hypot(p[1]) - 5.0).abs() < 1e-12);
+        assert!(p[2].abs() < 1e-9 || (p[2] - 4.0).abs() < 1e-9, "{p:?}");
+    }
+    let (vmin, vmax) = (s.knots_v[0], s.knots_v[3]);
+    assert!(
+        (vmin + 0.1).abs() < 1e-9 && (vmax - 4.1).abs() < 1e-9,
+        "{vmin} {vmax}"
+    );
+}
+
+#[test]
+fn revolved_line_is_bounded_by_its_edges() {
+    // The line through (3,0,0) and (5,0,2) revolved about z: a cone frustum
+    // between the circles r = 3 at z = 0 and r = 5 at z = 2.
+    let data = format!(
+        "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1.));\n#3=AXIS1_PLACEMENT('',#1,#2);\n\
+#4=CARTESIAN_POINT('',(3.,0.,0.));\n#5=DIRECTION('',(1.,0.,1.));\n#6=VECTOR('',#5,2.);\n#7=LINE('',#4,#6);\n\
+#8=SURFACE_OF_REVOLUTION('',#7,#3);\n{}{}#50=ADVANCED_FACE('frustum',(#20,#40),#8,.T.);\n",
+        circle_loop(10, 0.0, 3.0, "FACE_OUTER_BOUND", ".T."),
+        circle_loop(30, 2.0, 5.0, "FACE_BOUND", ".F.")
+    );
+    let imp = import(&wrap(&data));
+    let s = &imp.workpiece.surfaces[0];
+    let trim = s.trim.as_ref().expect("trim");
+    let mut levels = [0, 0];
+    for uv in &trim.outer {
+        let p = eval(s, uv[0], uv[1]);
+        let r = p[0].hypot(p[1]);
+        assert!((r - (3.0 + p[2])).abs() < 1e-9, "on the cone: {p:?}");
+        levels[usize::from(p[2] > 1.0)] += 1;
+    }
+    assert!(levels[0] > 10 && levels[1] > 10, "{levels:?}");
+    let corner = eval(s, s.knots_u[0], s.knots_v[0]);
+    assert!(
+        (corner[2] + 0.1 / 2f64.sqrt()).abs() < 1e-9,
+        "0.1 mm margin along the line: {corner:?}"
     );
 }

@@ -127,7 +127,12 @@ pub fn angle(y: f64, x: f64) -> f64 {
 }
 
 fn closest_param(n: &NurbsCurve, p: Point3) -> f64 {
-    let breaks = n.breaks();
+    closest_on(&|t| n.eval(t), &n.breaks(), p)
+}
+
+/// The parameter in `[breaks.first, breaks.last]` where `f` comes closest to
+/// `p`: coarse samples per interval, then golden-section refinement.
+pub fn closest_on(f: &dyn Fn(f64) -> Point3, breaks: &[f64], p: Point3) -> f64 {
     let mut best = (f64::INFINITY, 0.0, 0.0, 0.0);
     for w in breaks.windows(2) {
         let [a, b] = [
@@ -137,13 +142,13 @@ fn closest_param(n: &NurbsCurve, p: Point3) -> f64 {
         let h = (b - a) / SEARCH_SAMPLES_PER_SPAN as f64;
         for k in 0..=SEARCH_SAMPLES_PER_SPAN {
             let t = a + h * k as f64;
-            let d = (n.eval(t) - p).norm_squared();
+            let d = (f(t) - p).norm_squared();
             if d < best.0 {
                 best = (d, t, (t - h).max(a), (t + h).min(b));
             }
         }
     }
-    golden(|t| (n.eval(t) - p).norm_squared(), best.2, best.3)
+    golden(|t| (f(t) - p).norm_squared(), best.2, best.3)
 }
 
 /// Minimises a unimodal `f` on `[a, b]` by golden-section search.

@@ -12,6 +12,32 @@ use crate::math::{Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
 use std::f64::consts::FRAC_PI_2;
 
+/// A surface whose points map analytically to "natural" parameters, from
+/// which its NURBS form and face trims are built (see [`super::trim`]).
+pub trait NaturalSurface {
+    /// Which natural parameters are angles (periodic).
+    fn periodic(&self) -> [bool; 2];
+    /// Length per natural unit of each parameter, for margins (mm).
+    fn metric(&self) -> [f64; 2];
+    /// Natural parameters of `p`; `None` for the first one where it is
+    /// undefined (on the axis).
+    fn natural(&self, p: Point3, singular_tol: f64) -> (Option<f64>, f64);
+    /// Restricts the second range to where it is valid (`sample` is a
+    /// typical value of the face).
+    fn clamp_v(&self, lo: f64, hi: f64, sample: f64) -> (f64, f64);
+    /// Extends the second range to a pole or apex on the face's side.
+    fn extend_v(&self, range: (f64, f64), high: bool) -> (f64, f64);
+    /// True when parameter `axis` always spans a fixed range (a profile
+    /// curve's domain), whatever the face's extent.
+    fn fixed(&self, _axis: usize) -> bool {
+        false
+    }
+    /// The natural-to-NURBS parameter maps for the given natural ranges.
+    fn maps(&self, u: (f64, f64), v: (f64, f64)) -> [AxisMap; 2];
+    /// The NURBS surface over the maps' ranges (name left empty).
+    fn to_nurbs(&self, maps: &[AxisMap; 2]) -> SurfaceSpec;
+}
+
 /// An elementary surface in its placement.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Analytic {
@@ -62,9 +88,11 @@ impl Analytic {
             Analytic::Sphere(f, _) | Analytic::Torus(f, _, _) => *f,
         }
     }
+}
 
+impl NaturalSurface for Analytic {
     /// Which natural parameters are angles (periodic).
-    pub fn periodic(&self) -> [bool; 2] {
+    fn periodic(&self) -> [bool; 2] {
         match self {
             Analytic::Plane(_) => [false, false],
             Analytic::Torus(..) => [true, true],
@@ -73,7 +101,7 @@ impl Analytic {
     }
 
     /// Length per radian of each natural parameter (1 for lengths), for margins.
-    pub fn metric(&self) -> [f64; 2] {
+    fn metric(&self) -> [f64; 2] {
         match *self {
             Analytic::Plane(_) => [1.0, 1.0],
             Analytic::Cylinder(_, r) | Analytic::Cone(_, r, _) => [r.abs().max(1e-9), 1.0],
@@ -86,7 +114,7 @@ impl Analytic {
 
     /// Natural parameters of `p`; `None` for the first one on the axis
     /// (cone apex, sphere poles), where the angle is undefined.
-    pub fn natural(&self, p: Point3, singular_tol: f64) -> (Option<f64>, f64) {
+    fn natural(&self, p: Point3, singular_tol: f64) -> (Option<f64>, f64) {
         let l: Vec3 = self.frame().local(p);
         let rho = l.x.hypot(l.y);
         let theta = (rho > singular_tol).then(|| angle(l.y, l.x));
@@ -100,7 +128,7 @@ impl Analytic {
 
     /// Clamps a natural range of the second parameter to where it is valid
     /// (sphere latitude within the poles; a cone on one side of its apex).
-    pub fn clamp_v(&self, lo: f64, hi: f64, sample: f64) -> (f64, f64) {
+    fn clamp_v(&self, lo: f64, hi: f64, sample: f64) -> (f64, f64) {
         match *self {
             Analytic::Sphere(..) => (lo.max(-FRAC_PI_2), hi.min(FRAC_PI_2)),
             Analytic::Cone(_, r, semi) if semi.tan().abs() > 1e-12 => {
@@ -117,7 +145,7 @@ impl Analytic {
 
     /// Extends the second natural range to the pole (sphere) or apex (cone)
     /// on the face's side, for faces bounded by a single loop round the axis.
-    pub fn extend_v(&self, (lo, hi): (f64, f64), high: bool) -> (f64, f64) {
+    fn extend_v(&self, (lo, hi): (f64, f64), high: bool) -> (f64, f64) {
         match *self {
             Analytic::Sphere(..) if high => (lo, FRAC_PI_2),
             Analytic::Sphere(..) => (-FRAC_PI_2, hi),
@@ -134,7 +162,7 @@ impl Analytic {
     }
 
     /// The axis maps for natural ranges `u` and `v`.
-    pub fn maps(&self, u: (f64, f64), v: (f64, f64)) -> [AxisMap; 2] {
+    fn maps(&self, u: (f64, f64), v: (f64, f64)) -> [AxisMap; 2] {
         let [pu, pv] = self.periodic();
         let m = |periodic: bool, (lo, hi): (f64, f64)| {
             if periodic {
@@ -151,7 +179,7 @@ impl Analytic {
     }
 
     /// The exact NURBS surface over the given axis maps (name left empty).
-    pub fn to_nurbs(&self, maps: &[AxisMap; 2]) -> SurfaceSpec {
+    fn to_nurbs(&self, maps: &[AxisMap; 2]) -> SurfaceSpec {
         let frame = self.frame();
         let [mu, mv] = maps;
         let AxisMap::Angle(arc) = mu else {
@@ -160,7 +188,9 @@ impl Analytic {
         };
         revolve(&frame, arc, &self.profile(mv))
     }
+}
 
+impl Analytic {
     /// The profile in the frame's xz half-plane (local coordinates).
     fn profile(&self, mv: &AxisMap) -> Profile {
         let (h0, h1) = mv.range();

@@ -2,4 +2,5 @@
 pub mod analytic;
 pub mod arc;
 pub mod revolve;
+pub mod swept;
 pub mod trim;

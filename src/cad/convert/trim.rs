@@ -1,7 +1,7 @@
 //! Face extents and trimming loops for elementary surfaces, computed from the
 //! face's sampled 3-D boundary loops through the surface's own analytic
-//! parameterisation (see [`Analytic::natural`]).
-use super::analytic::{Analytic, AxisMap};
+//! parameterisation (see [`NaturalSurface::natural`]).
+use super::analytic::{AxisMap, NaturalSurface};
 use crate::math::Point3;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 use std::f64::consts::{PI, TAU};
@@ -36,7 +36,7 @@ struct NLoop {
 /// Converts an elementary surface bounded by `loops` to a NURBS patch that
 /// covers the face, with the face's trim in the NURBS parameter domain.
 pub fn analytic_face(
-    a: &Analytic,
+    a: &impl NaturalSurface,
     loops: &[LoopPoints],
     same_sense: bool,
     ext: Extent,
@@ -53,7 +53,8 @@ pub fn analytic_face(
     let maps = a.maps(ranges[0], ranges[1]);
     let mut spec = a.to_nurbs(&maps);
     spec.reversed = !same_sense;
-    let trim = build_trim(&nloops, winding_axis, &ranges, same_sense)?;
+    let covered = [maps[0].range(), maps[1].range()];
+    let trim = build_trim(&nloops, winding_axis, &covered, same_sense)?;
     spec.trim = Some(map_trim(trim, &maps));
     Ok(spec)
 }
@@ -62,7 +63,7 @@ fn wrap(d: f64) -> f64 {
     d - TAU * (d / TAU).round()
 }
 
-fn natural_loop(a: &Analytic, l: &LoopPoints, tol: f64) -> Option<NLoop> {
+fn natural_loop(a: &impl NaturalSurface, l: &LoopPoints, tol: f64) -> Option<NLoop> {
     let raw: Vec<(Option<f64>, f64)> = l.points.iter().map(|p| a.natural(*p, tol)).collect();
     let defined: Vec<usize> = (0..raw.len())
         .filter(|&k| raw.get(k).is_some_and(|r| r.0.is_some()))
@@ -156,7 +157,7 @@ type Ranges = [(f64, f64); 2];
 
 /// Aligns periodic loops with each other and computes the natural ranges.
 fn ranges(
-    a: &Analytic,
+    a: &impl NaturalSurface,
     mut loops: Vec<NLoop>,
     winding: Option<usize>,
     margin: f64,
@@ -173,6 +174,8 @@ fn ranges(
         let m = margin / metric;
         *slot = if periodic {
             periodic_range(&mut loops, axis, winding == Some(axis), m)
+        } else if a.fixed(axis) {
+            (0.0, 0.0)
         } else {
             linear_range(&loops, axis, m)?
         };

@@ -4,14 +4,14 @@ use super::parser::Instance;
 use super::pcurves::pcurve_trim;
 use super::surfaces::{curve_to_nurbs, surface, SurfaceKind};
 use super::topology::{EdgeSampler, FaceData};
-use crate::cad::convert::arc::Arc;
-use crate::cad::convert::revolve::{extrude, revolve, Profile};
+use crate::cad::convert::analytic::NaturalSurface;
+use crate::cad::convert::swept::Swept;
 use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
 use crate::cad::geom::{Curve, Frame};
+use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
-use std::f64::consts::TAU;
 
 /// A converted face.
 #[derive(Debug, Clone, PartialEq)]
@@ -51,13 +51,10 @@ pub fn convert_face(
             (s, note)
         }
         SurfaceKind::Revolution(c, o, axis) => (
-            revolution(&c, o, axis, &loops()?, face.same_sense)?,
-            Some(NO_SWEPT_TRIM.into()),
+            revolution(&c, o, axis, &loops()?, face.same_sense, ext)?,
+            None,
         ),
-        SurfaceKind::Extrusion(c, d) => (
-            extrusion(&c, d, &loops()?, face.same_sense, opts)?,
-            Some(NO_SWEPT_TRIM.into()),
-        ),
+        SurfaceKind::Extrusion(c, d) => (extrusion(&c, d, &loops()?, face.same_sense, ext)?, None),
     };
     Ok(Converted {
         spec,
@@ -80,9 +77,6 @@ pub fn surface_type_name(inst: &Instance) -> String {
     };
     name.to_string()
 }
-
-const NO_SWEPT_TRIM: &str =
-    "trims of swept surfaces are not computed yet (projection-based trim pending)";
 
 fn face_loops(sampler: &mut EdgeSampler, face: &FaceData) -> Result<Vec<LoopPoints>, String> {
     face.bounds
@@ -126,22 +120,61 @@ fn projected_range(
     Ok((lo - m, hi + m))
 }
 
+/// Bounds an unbounded LINE profile: a loose range from the points' extent,
+/// then the exact one from the surface's own natural parameters.
+fn line_range(
+    c: &Curve,
+    loops: &[LoopPoints],
+    make: &dyn Fn(NurbsCurve) -> Swept,
+    axis: usize,
+    margin: f64,
+) -> Result<NurbsCurve, String> {
+    let Curve::Line { origin, dir } = c else {
+        return Ok(curve_to_nurbs(c, (0.0, 0.0)));
+    };
+    let (lo, hi) = extent(loops);
+    let loose = projected_range(loops, *origin, *dir, (hi - lo).norm() + margin)?;
+    let provisional = make(curve_to_nurbs(c, loose));
+    let ts: Vec<f64> = all_points(loops)
+        .map(|p| pick(provisional.natural(*p, 0.0), axis))
+        .collect();
+    let (t0, t1) = ts
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), t| {
+            (a.min(*t), b.max(*t))
+        });
+    let m = margin / dir.norm();
+    Ok(curve_to_nurbs(c, (t0 - m, t1 + m)))
+}
+
+fn pick((u, v): (Option<f64>, f64), axis: usize) -> f64 {
+    if axis == 0 {
+        u.unwrap_or(0.0)
+    } else {
+        v
+    }
+}
+
+fn extent(loops: &[LoopPoints]) -> (Point3, Point3) {
+    let first = all_points(loops)
+        .next()
+        .copied()
+        .unwrap_or_else(Point3::origin);
+    all_points(loops).fold((first, first), |(lo, hi), p| (lo.inf(p), hi.sup(p)))
+}
+
 fn revolution(
     c: &Curve,
     o: Point3,
     axis: Vec3,
     loops: &[LoopPoints],
     same_sense: bool,
+    ext: Extent,
 ) -> Result<SurfaceSpec, String> {
     let frame = Frame::new(o, axis, None).ok_or("degenerate revolution axis")?;
-    let range = match c {
-        Curve::Line { origin, dir } => projected_range(loops, *origin, *dir, 0.0)?,
-        _ => (0.0, 0.0),
-    };
-    let profile = Profile::from_curve(&frame, &curve_to_nurbs(c, range));
-    let mut spec = revolve(&frame, &Arc::new(0.0, TAU), &profile);
-    spec.reversed = !same_sense;
-    Ok(spec)
+    let make = |n: NurbsCurve| Swept::Revolution(frame, n);
+    let profile = line_range(c, loops, &make, 1, ext.margin_mm)?;
+    analytic_face(&make(profile), loops, same_sense, ext)
 }
 
 fn extrusion(
@@ -149,21 +182,9 @@ fn extrusion(
     d: Vec3,
     loops: &[LoopPoints],
     same_sense: bool,
-    opts: &ImportOptions,
+    ext: Extent,
 ) -> Result<SurfaceSpec, String> {
-    let base = match c {
-        Curve::Line { origin, dir } => curve_to_nurbs(
-            c,
-            projected_range(loops, *origin, *dir, opts.extent_margin_mm)?,
-        ),
-        _ => curve_to_nurbs(c, (0.0, 0.0)),
-    };
-    let start = base.points.first().copied().unwrap_or_else(Point3::origin);
-    let (lo, hi) = projected_range(loops, start, d, opts.extent_margin_mm)?;
-    let along = base.points.iter().map(|p| (p - start).dot(&d));
-    let (c_lo, c_hi) = along.fold((0.0f64, 0.0f64), |(a, b), x| (a.min(x), b.max(x)));
-    let (v0, v1) = (lo - c_hi, hi - c_lo);
-    let mut spec = extrude(&base, d, [v0, v1]);
-    spec.reversed = !same_sense;
-    Ok(spec)
+    let make = |n: NurbsCurve| Swept::Extrusion(n, d);
+    let profile = line_range(c, loops, &make, 0, ext.margin_mm)?;
+    analytic_face(&make(profile), loops, same_sense, ext)
 }

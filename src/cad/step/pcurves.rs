@@ -2,7 +2,7 @@
 use super::access::{has_record, Ctx};
 use super::surfaces::param_curve;
 use super::topology::{edge_ends, initial_segments, Bound, EdgeEnds, EdgeSampler, FaceData};
-use crate::cad::geom::Curve;
+use crate::cad::geom::{closest_on, Curve};
 use crate::cad::nurbs::{eval_surface, NurbsCurve};
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
@@ -10,11 +10,6 @@ use crate::math::Point3;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 
 type P2 = [f64; 2];
-
-/// Coarse samples per knot span when locating an edge end on a pcurve.
-const SEARCH_SAMPLES: usize = 16;
-/// Golden-section steps refining that location.
-const GOLDEN_STEPS: usize = 80;
 
 /// The face's trim in the surface's parameter domain, or why there is none.
 pub fn pcurve_trim(
@@ -171,51 +166,17 @@ fn resampled(
         let q = pc.eval(t);
         eval_surface(spec, q.x, q.y)
     };
-    let (ta, tb) = (closest(&on_surface, n, from), closest(&on_surface, n, to));
+    let breaks = n.breaks();
+    let (ta, tb) = (
+        closest_on(&on_surface, &breaks, from),
+        closest_on(&on_surface, &breaks, to),
+    );
     if ta <= tb {
         return sample_uv(pc, spec, ta, tb, opts);
     }
     let mut uv = sample_uv(pc, spec, tb, ta, opts);
     uv.reverse();
     uv
-}
-
-fn closest(f: &dyn Fn(f64) -> Point3, n: &NurbsCurve, p: Point3) -> f64 {
-    let breaks = n.breaks();
-    let samples: Vec<f64> = breaks
-        .windows(2)
-        .flat_map(|w| {
-            let (a, b) = (
-                w.first().copied().unwrap_or(0.0),
-                w.get(1).copied().unwrap_or(0.0),
-            );
-            (0..SEARCH_SAMPLES).map(move |k| a + (b - a) * k as f64 / SEARCH_SAMPLES as f64)
-        })
-        .chain(breaks.last().copied())
-        .collect();
-    let dist = |t: f64| (f(t) - p).norm_squared();
-    let best = (0..samples.len()).min_by(|&i, &j| {
-        let di = samples.get(i).map_or(f64::INFINITY, |t| dist(*t));
-        let dj = samples.get(j).map_or(f64::INFINITY, |t| dist(*t));
-        di.partial_cmp(&dj).unwrap_or(std::cmp::Ordering::Equal)
-    });
-    let k = best.unwrap_or(0);
-    let a = samples.get(k.saturating_sub(1)).copied().unwrap_or(0.0);
-    let b = samples.get(k + 1).or(samples.get(k)).copied().unwrap_or(a);
-    golden_min(&dist, a, b)
-}
-
-fn golden_min(f: &dyn Fn(f64) -> f64, mut a: f64, mut b: f64) -> f64 {
-    let r = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..GOLDEN_STEPS {
-        let (c, d) = (b - r * (b - a), a + r * (b - a));
-        if f(c) < f(d) {
-            b = d;
-        } else {
-            a = c;
-        }
-    }
-    0.5 * (a + b)
 }
 
 /// The larger distance between an edge end and its pcurve end's surface point.
