@@ -131,7 +131,7 @@ fn curve_at_depth(ctx: &Ctx, id: u64, space: Space, depth: usize) -> CadResult<C
 fn line(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
     let origin = point(ctx, args.reference(1)?, space)?;
     let dir = vector(ctx, args.reference(2)?, space)?;
-    if !(dir.norm_squared() > 0.0) {
+    if dir.norm_squared().is_nan() || dir.norm_squared() <= 0.0 {
         return Err(args.err("zero line direction"));
     }
     Ok(Curve::Line { origin, dir })

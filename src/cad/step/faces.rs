@@ -106,7 +106,7 @@ fn projected_range(
     margin: f64,
 ) -> Result<(f64, f64), String> {
     let len2 = d.norm_squared();
-    if !(len2 > 0.0) {
+    if len2.is_nan() || len2 <= 0.0 {
         return Err("zero direction".into());
     }
     let vals = all_points(loops).map(|p| (p - o).dot(&d) / len2);
