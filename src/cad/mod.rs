@@ -65,6 +65,17 @@ pub struct FaceRecord {
     pub surface_type: String,
 }
 
+/// Where a face comes from: entity id, type and position.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Source {
+    /// Entity id.
+    pub entity: u64,
+    /// Surface type (converted faces) or face entity type (skipped faces).
+    pub entity_type: String,
+    /// Position of the entity.
+    pub pos: step::lexer::Pos,
+}
+
 /// The result of an import.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Import {
@@ -94,17 +105,31 @@ impl Import {
     }
 
     /// Adds face number `n` (1-based, file order) under a unique name.
-    #[allow(clippy::too_many_arguments)]
     pub(crate) fn push_face(
         &mut self,
         n: usize,
         name: &str,
-        entity: u64,
-        surface_type: String,
+        src: Source,
         mut spec: SurfaceSpec,
         untrimmed: Option<String>,
-        pos: step::lexer::Pos,
     ) {
+        let unique = self.unique_name(n, name);
+        spec.name = unique.clone();
+        clamp_trim(&mut spec);
+        orient_trim(&mut spec);
+        if let Some(message) = untrimmed {
+            self.note(&src, DiagnosticKind::Untrimmed, message);
+        }
+        self.faces.push(FaceRecord {
+            name: unique,
+            entity: src.entity,
+            surface_type: src.entity_type,
+        });
+        self.workpiece.surfaces.push(spec);
+    }
+
+    /// The face's own name, or `face<n>`; made unique with a `-face<n>` suffix.
+    fn unique_name(&mut self, n: usize, name: &str) -> String {
         let base = if name.trim().is_empty() {
             format!("face{n}")
         } else {
@@ -116,43 +141,22 @@ impl Import {
             base
         };
         self.names.insert(unique.clone());
-        spec.name = unique.clone();
-        clamp_trim(&mut spec);
-        orient_trim(&mut spec);
-        if let Some(message) = untrimmed {
-            let entity_type = surface_type.clone();
-            self.diagnostics.push(Diagnostic {
-                entity,
-                entity_type,
-                line: pos.line,
-                column: pos.column,
-                kind: DiagnosticKind::Untrimmed,
-                message,
-            });
-        }
-        self.faces.push(FaceRecord {
-            name: unique,
-            entity,
-            surface_type,
-        });
-        self.workpiece.surfaces.push(spec);
+        unique
     }
 
-    /// Lists a face that could not be converted.
-    pub(crate) fn skip(
-        &mut self,
-        entity: u64,
-        entity_type: String,
-        pos: step::lexer::Pos,
-        message: String,
-    ) {
-        let (line, column) = (pos.line, pos.column);
+    /// Records a diagnostic about `src`.
+    pub(crate) fn note(&mut self, src: &Source, kind: DiagnosticKind, message: String) {
+        let Source {
+            entity,
+            entity_type,
+            pos,
+        } = src.clone();
         self.diagnostics.push(Diagnostic {
             entity,
             entity_type,
-            line,
-            column,
-            kind: DiagnosticKind::Skipped,
+            line: pos.line,
+            column: pos.column,
+            kind,
             message,
         });
     }

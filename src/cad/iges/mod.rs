@@ -10,7 +10,7 @@ use super::nurbs::eval_surface;
 use super::options::ImportOptions;
 use super::sample::adaptive;
 use super::step::lexer::Pos;
-use super::Import;
+use super::{DiagnosticKind, Import, Source};
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 use entities::{param_curve, surface128, Model, Piece};
 use records::Entry;
@@ -40,10 +40,14 @@ pub fn import_iges(text: &str, file: &str, name: &str, opts: &ImportOptions) -> 
             line: e.line,
             column: 1,
         };
-        let kind = format!("IGES {}", e.kind);
+        let src = Source {
+            entity: e.seq,
+            entity_type: format!("IGES {}", e.kind),
+            pos,
+        };
         match face(&model, e, opts) {
-            Ok((spec, note)) => out.push_face(n + 1, "", e.seq, kind, spec, note, pos),
-            Err(reason) => out.skip(e.seq, kind, pos, reason),
+            Ok((spec, note)) => out.push_face(n + 1, "", src, spec, note),
+            Err(reason) => out.note(&src, DiagnosticKind::Skipped, reason),
         }
     }
     let first = sections.directory.first().map_or(1, |l| l.number);

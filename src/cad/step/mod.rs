@@ -14,7 +14,7 @@ pub mod units;
 
 use super::error::CadResult;
 use super::options::ImportOptions;
-use super::Import;
+use super::{DiagnosticKind, Import, Source};
 use access::{has_record, type_name, Ctx};
 use parser::StepFile;
 use topology::EdgeSampler;
@@ -57,17 +57,14 @@ pub fn import_step(text: &str, file: &str, name: &str, opts: &ImportOptions) -> 
         let result = topology::face(&ctx, inst.id, kind)
             .map_err(|e| e.to_string())
             .and_then(|f| faces::convert_face(&ctx, &mut sampler, &f, opts).map(|c| (f, c)));
+        let src = |entity_type: String| Source {
+            entity: inst.id,
+            entity_type,
+            pos: inst.pos,
+        };
         match result {
-            Ok((f, c)) => out.push_face(
-                n + 1,
-                &f.name,
-                inst.id,
-                c.surface_type,
-                c.spec,
-                c.untrimmed,
-                inst.pos,
-            ),
-            Err(reason) => out.skip(inst.id, type_name(inst), inst.pos, reason),
+            Ok((f, c)) => out.push_face(n + 1, &f.name, src(c.surface_type), c.spec, c.untrimmed),
+            Err(reason) => out.note(&src(type_name(inst)), DiagnosticKind::Skipped, reason),
         }
     }
     out.finish(file, step.data_pos.line, step.data_pos.column)
