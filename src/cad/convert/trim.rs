@@ -104,16 +104,17 @@ fn unwrap(pts: &mut [P2], periodic: [bool; 2]) -> [f64; 2] {
             continue;
         }
         for k in 1..pts.len() {
-            let prev = pts.get(k - 1).map_or(0.0, |p| p[axis]);
+            let prev = pts.get(k - 1).map_or(0.0, |p| coord(p, axis));
             if let Some(p) = pts.get_mut(k) {
-                p[axis] = prev + wrap(p[axis] - prev);
+                let here = coord(*p, axis);
+                *slot(p, axis) = prev + wrap(here - prev);
             }
         }
         let (first, last) = (
-            pts.first().map_or(0.0, |p| p[axis]),
-            pts.last().map_or(0.0, |p| p[axis]),
+            pts.first().map_or(0.0, |p| coord(p, axis)),
+            pts.last().map_or(0.0, |p| coord(p, axis)),
         );
-        net[axis] = last - first + wrap(first - last);
+        *slot(&mut net, axis) = last - first + wrap(first - last);
     }
     net
 }
@@ -135,18 +136,18 @@ fn winding_axis(loops: &[NLoop]) -> Result<Option<usize>, String> {
 }
 
 fn shift(l: &mut NLoop, axis: usize, by: f64) {
-    l.pts.iter_mut().for_each(|p| p[axis] += by);
+    l.pts.iter_mut().for_each(|p| *slot(p, axis) += by);
 }
 
 fn mean(l: &NLoop, axis: usize) -> f64 {
-    l.pts.iter().map(|p| p[axis]).sum::<f64>() / l.pts.len().max(1) as f64
+    l.pts.iter().map(|p| coord(p, axis)).sum::<f64>() / l.pts.len().max(1) as f64
 }
 
 fn bounds(loops: &[NLoop], axis: usize) -> Option<(f64, f64)> {
     let vals = loops
         .iter()
         .filter(|l| axis == 1 || !l.degenerate)
-        .flat_map(|l| l.pts.iter().map(move |p| p[axis]));
+        .flat_map(|l| l.pts.iter().map(move |p| coord(p, axis)));
     vals.fold(None, |acc, x| {
         Some(acc.map_or((x, x), |(lo, hi): (f64, f64)| (lo.min(x), hi.max(x))))
     })
@@ -198,7 +199,11 @@ fn periodic_range(loops: &mut [NLoop], axis: usize, winding: bool, m: f64) -> (f
     let active = |l: &NLoop| axis == 1 || !l.degenerate;
     if winding {
         for l in loops.iter_mut().filter(|l| active(l)) {
-            let lo = l.pts.iter().map(|p| p[axis]).fold(f64::INFINITY, f64::min);
+            let lo = l
+                .pts
+                .iter()
+                .map(|p| coord(p, axis))
+                .fold(f64::INFINITY, f64::min);
             shift(l, axis, -TAU * (lo / TAU).floor());
         }
         return (0.0, TAU);
@@ -313,12 +318,12 @@ fn cut_ascending(l: &NLoop, axis: usize) -> Vec<P2> {
     if let Some(first) = pts.first().copied() {
         pts.push({
             let mut p = first;
-            p[axis] += net;
+            *slot(&mut p, axis) += net;
             p
         });
     }
     let boundary = if net > 0.0 { TAU } else { 0.0 };
-    let k = pts.windows(2).position(|w| matches!(w, [p, q] if (p[axis] - boundary) * (q[axis] - boundary) <= 0.0 && p[axis] != q[axis]));
+    let k = pts.windows(2).position(|w| matches!(w, [p, q] if (coord(p, axis) - boundary) * (coord(q, axis) - boundary) <= 0.0 && coord(p, axis) != coord(q, axis)));
     let Some(k) = k else { return sorted(pts, axis) };
     let (head, tail) = pts.split_at(k + 1);
     let crossing = interpolate(head.last().copied(), tail.first().copied(), axis, boundary);
@@ -334,26 +339,26 @@ fn cut_ascending(l: &NLoop, axis: usize) -> Vec<P2> {
 }
 
 fn crossing_shift(mut p: P2, axis: usize, by: f64) -> P2 {
-    p[axis] += by;
+    *slot(&mut p, axis) += by;
     p
 }
 
 fn interpolate(p: Option<P2>, q: Option<P2>, axis: usize, at: f64) -> P2 {
     let (p, q) = (p.unwrap_or([at, 0.0]), q.unwrap_or([at, 0.0]));
-    let s = if q[axis] != p[axis] {
-        (at - p[axis]) / (q[axis] - p[axis])
+    let s = if coord(q, axis) != coord(p, axis) {
+        (at - coord(p, axis)) / (coord(q, axis) - coord(p, axis))
     } else {
         0.0
     };
     let mut r = [p[0] + s * (q[0] - p[0]), p[1] + s * (q[1] - p[1])];
-    r[axis] = at;
+    *slot(&mut r, axis) = at;
     r
 }
 
 fn sorted(mut pts: Vec<P2>, axis: usize) -> Vec<P2> {
     pts.sort_by(|a, b| {
-        a[axis]
-            .partial_cmp(&b[axis])
+        coord(a, axis)
+            .partial_cmp(&coord(b, axis))
             .unwrap_or(std::cmp::Ordering::Equal)
     });
     pts
@@ -375,5 +380,25 @@ fn map_trim((outer, holes): (Vec<P2>, Vec<Vec<P2>>), maps: &[AxisMap; 2]) -> Tri
     TrimSpec {
         outer: map(outer),
         holes: holes.into_iter().map(map).collect(),
+    }
+}
+
+/// Coordinate `axis` (0 = u, anything else = v) of a parameter pair.
+fn coord(p: impl std::borrow::Borrow<P2>, axis: usize) -> f64 {
+    let p = *p.borrow();
+    if axis == 0 {
+        p[0]
+    } else {
+        p[1]
+    }
+}
+
+/// Mutable coordinate `axis` (0 = u, anything else = v).
+fn slot(p: &mut [f64; 2], axis: usize) -> &mut f64 {
+    let [u, v] = p;
+    if axis == 0 {
+        u
+    } else {
+        v
     }
 }
