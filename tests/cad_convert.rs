@@ -295,3 +295,34 @@ fn revolved_line_is_bounded_by_its_edges() {
         "0.1 mm margin along the line: {corner:?}"
     );
 }
+
+#[test]
+fn rational_complex_surface_in_any_record_order() {
+    // A quarter cylinder (radius 2, height 3) as a rational B-spline surface,
+    // records deliberately out of the usual order.
+    let w = std::f64::consts::FRAC_1_SQRT_2;
+    let data = format!(
+        "#1=CARTESIAN_POINT('',(2.,0.,0.));\n#2=CARTESIAN_POINT('',(2.,0.,3.));\n\
+#3=CARTESIAN_POINT('',(2.,2.,0.));\n#4=CARTESIAN_POINT('',(2.,2.,3.));\n\
+#5=CARTESIAN_POINT('',(0.,2.,0.));\n#6=CARTESIAN_POINT('',(0.,2.,3.));\n\
+#7=(SURFACE() RATIONAL_B_SPLINE_SURFACE(((1.,1.),({w:?},{w:?}),(1.,1.))) REPRESENTATION_ITEM('') \
+B_SPLINE_SURFACE_WITH_KNOTS((3,3),(2,2),(0.,1.),(0.,1.),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() \
+B_SPLINE_SURFACE(2,1,((#1,#2),(#3,#4),(#5,#6)),.UNSPECIFIED.,.F.,.F.,.F.) BOUNDED_SURFACE());\n\
+#8=ADVANCED_FACE('quarter',(),#7,.T.);\n"
+    );
+    let imp = import(&wrap(&data));
+    assert_eq!(imp.faces[0].surface_type, "RATIONAL_B_SPLINE_SURFACE");
+    let s = &imp.workpiece.surfaces[0];
+    assert_eq!(s.degree, [2, 1]);
+    assert_eq!(s.knots_u, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0]);
+    assert_eq!(s.weights.as_ref().map(|w| w[1][0]), Some(w));
+    for k in 0..=10 {
+        let p = eval(s, k as f64 / 10.0, 0.5);
+        assert!((p[0].hypot(p[1]) - 2.0).abs() < 1e-14 && (p[2] - 1.5).abs() < 1e-14);
+    }
+    assert_eq!(
+        imp.diagnostics.len(),
+        1,
+        "no PCURVEs: untrimmed, and reported"
+    );
+}
