@@ -324,3 +324,21 @@ fn error_messages_name_file_line_and_column() {
         "part.step:7:1: #2 references #9, which is not defined"
     );
 }
+
+#[test]
+fn si_metre_and_degree_units() {
+    let context = "#50=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT($,.METRE.));
+#51=(NAMED_UNIT(*)PLANE_ANGLE_UNIT()SI_UNIT($,.RADIAN.));
+#52=PLANE_ANGLE_MEASURE_WITH_UNIT(PLANE_ANGLE_MEASURE(0.0174532925199433),#51);
+#53=(CONVERSION_BASED_UNIT('DEGREE',#52)NAMED_UNIT(*)PLANE_ANGLE_UNIT());
+#54=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#50,#53))REPRESENTATION_CONTEXT('',''));
+#55=ADVANCED_BREP_SHAPE_REPRESENTATION('',(#45),#54);
+";
+    let step = parse_step_str(&wrap(&format!("{PLANE_FACE}{context}"))).expect("parses");
+    let units = cmm::cad::step::units::find_units(&step, "mem").expect("units");
+    assert_eq!(units.length_mm, 1000.0);
+    assert!((units.angle_rad - std::f64::consts::PI / 180.0).abs() < 1e-15);
+    let imp = import_text(&wrap(&format!("{PLANE_FACE}{context}"))).expect("imports");
+    let far = imp.workpiece.surfaces[0].trim.as_ref().map(|t| t.outer[1]);
+    assert_eq!(far, Some([1000.0, 0.0]));
+}

@@ -1,16 +1,38 @@
 //! CAD import (issue 8): a focused STEP and IGES reader that turns B-rep
 //! faces into trimmed NURBS [`SurfaceSpec`]s of a [`WorkpieceFile`].
 //!
-//! * STEP: [`step::parse_step_str`] parses the exchange structure (never
-//!   panics); faces on planes, cylinders, cones, spheres and tori are
-//!   converted exactly (rational quadratic arcs), B-spline surfaces are taken
-//!   as they are; trims come from the faces' edges (elementary surfaces) or
-//!   PCURVEs (B-spline surfaces).
-//! * IGES 5.3: trimmed (144) rational B-spline surfaces (128) with their
-//!   parameter-space boundaries (142/102/110/126/100), 124 transforms.
+//! Entry point: [`import`] (dispatch on `.step`/`.stp`/`.iges`/`.igs`, any
+//! case) returning an [`Import`]: the workpiece (mm), one [`FaceRecord`] per
+//! converted face and [`Diagnostic`]s for faces skipped or left untrimmed.
 //!
-//! Lengths are converted to millimetres. Faces that cannot be converted are
-//! listed in [`Import::diagnostics`], never dropped silently.
+//! * STEP (ISO 10303-21): [`step::parse_step_str`] tokenizes and parses the
+//!   exchange structure and resolves references (unknown and cyclic
+//!   references are errors); it never panics and never recurses deeper than
+//!   [`step::parser::MAX_NESTING`]. Faces (ADVANCED_FACE, FACE_SURFACE) on
+//!   planes, cylinders, cones, spheres and tori are converted exactly
+//!   (rational quadratic arcs, [`convert::arc`]); surfaces of revolution and
+//!   linear extrusion are revolved/extruded NURBS of their profile; B-spline
+//!   surfaces (simple and rational complex form) are taken as they are.
+//!   Trims: elementary and swept faces map their sampled edges to (u, v)
+//!   analytically ([`convert::trim`]); B-spline faces use PCURVEs (checked
+//!   against the vertices, [`ImportOptions::pcurve_tolerance_mm`]) and are
+//!   otherwise left `trim: None` with a diagnostic.
+//! * IGES 5.3: 144 trimmed surfaces on 128 rational B-spline surfaces with
+//!   parameter-space boundaries (142 -> 102 / 110 / 100 / 126), 124
+//!   transformations, units from the Global section; free 128s untrimmed.
+//!
+//! Trims are clamped into the surface domain and oriented (outer loop
+//! counter-clockwise in (u, v), holes clockwise). Face names: the face's name
+//! when non-empty, else `face<N>` (N = 1-based order in the file), made unique
+//! with a `-face<N>` suffix.
+//!
+//! Not handled (yet): assembly placements (ITEM_DEFINED_TRANSFORMATION /
+//! MAPPED_ITEM), ORIENTED_FACE flips, offset / rectangular-trimmed / Bezier /
+//! uniform B-spline surfaces (reported as skipped), compressed IGES.
+//!
+//! Speed (`cargo bench --bench cad`, 2-core shared machine): parse of
+//! linkrods.step (1.8 MB) ~30 ms, its full import ~80 ms; nist_ctc_05 (0.3 MB)
+//! ~48 ms; bearing.iges (1.3 MB) ~19 ms.
 pub mod convert;
 pub mod error;
 pub mod geom;
