@@ -3,6 +3,15 @@ use super::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
 use std::f64::consts::TAU;
 
+/// Smallest length treated as non-zero (radii, margins per radian), mm.
+pub const EPS_LENGTH_MM: f64 = 1e-9;
+/// Smallest angle or parameter step treated as non-zero (sweeps, tangents).
+pub const EPS_PARAM: f64 = 1e-12;
+/// Smallest direction-vector norm accepted before normalising (dimensionless).
+pub const EPS_DIRECTION: f64 = 1e-12;
+/// Parameter-space distance below which two trim points coincide.
+pub const EPS_UV: f64 = 1e-12;
+
 /// Iterations of the golden-section refinement of a closest curve parameter.
 const GOLDEN_ITERATIONS: usize = 80;
 /// Samples per knot span for the coarse closest-parameter search.
@@ -25,7 +34,7 @@ impl Frame {
     /// Builds a frame from an axis and an approximate reference direction;
     /// `None` when degenerate.
     pub fn new(origin: Point3, axis: Vec3, reference: Option<Vec3>) -> Option<Frame> {
-        let z = axis.try_normalize(1e-12)?;
+        let z = axis.try_normalize(EPS_DIRECTION)?;
         let guess = reference.unwrap_or_else(|| {
             if z.x.abs() < 0.9 {
                 Vec3::x()
@@ -34,8 +43,8 @@ impl Frame {
             }
         });
         let x = (guess - z * guess.dot(&z))
-            .try_normalize(1e-12)
-            .or_else(|| z.cross(&Vec3::x()).try_normalize(1e-12))?;
+            .try_normalize(EPS_DIRECTION)
+            .or_else(|| z.cross(&Vec3::x()).try_normalize(EPS_DIRECTION))?;
         Some(Frame {
             origin,
             x,

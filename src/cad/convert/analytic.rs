@@ -8,6 +8,7 @@
 use super::arc::Arc;
 use super::revolve::{bilinear_plane, revolve, Profile};
 use crate::cad::geom::{angle, Frame};
+use crate::cad::geom::{EPS_LENGTH_MM, EPS_PARAM};
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
 use std::f64::consts::FRAC_PI_2;
@@ -104,11 +105,12 @@ impl NaturalSurface for Analytic {
     fn metric(&self) -> [f64; 2] {
         match *self {
             Analytic::Plane(_) => [1.0, 1.0],
-            Analytic::Cylinder(_, r) | Analytic::Cone(_, r, _) => [r.abs().max(1e-9), 1.0],
-            Analytic::Sphere(_, r) => [r.abs().max(1e-9); 2],
-            Analytic::Torus(_, big, small) => {
-                [(big + small).abs().max(1e-9), small.abs().max(1e-9)]
-            }
+            Analytic::Cylinder(_, r) | Analytic::Cone(_, r, _) => [r.abs().max(EPS_LENGTH_MM), 1.0],
+            Analytic::Sphere(_, r) => [r.abs().max(EPS_LENGTH_MM); 2],
+            Analytic::Torus(_, big, small) => [
+                (big + small).abs().max(EPS_LENGTH_MM),
+                small.abs().max(EPS_LENGTH_MM),
+            ],
         }
     }
 
@@ -131,7 +133,7 @@ impl NaturalSurface for Analytic {
     fn clamp_v(&self, lo: f64, hi: f64, sample: f64) -> (f64, f64) {
         match *self {
             Analytic::Sphere(..) => (lo.max(-FRAC_PI_2), hi.min(FRAC_PI_2)),
-            Analytic::Cone(_, r, semi) if semi.tan().abs() > 1e-12 => {
+            Analytic::Cone(_, r, semi) if semi.tan().abs() > EPS_PARAM => {
                 let apex = -r / semi.tan();
                 if sample >= apex {
                     (lo.max(apex), hi)
@@ -149,7 +151,7 @@ impl NaturalSurface for Analytic {
         match *self {
             Analytic::Sphere(..) if high => (lo, FRAC_PI_2),
             Analytic::Sphere(..) => (-FRAC_PI_2, hi),
-            Analytic::Cone(_, r, semi) if semi.tan().abs() > 1e-12 => {
+            Analytic::Cone(_, r, semi) if semi.tan().abs() > EPS_PARAM => {
                 let apex = -r / semi.tan();
                 match (high, apex > hi, apex < lo) {
                     (true, true, _) => (lo, apex),

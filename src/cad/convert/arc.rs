@@ -4,6 +4,7 @@
 //! with middle weight `cos(phi / 2)`. Its parameter `s in [0, 1]` relates to
 //! the angle from the segment's middle by `tan(angle / 2) = tan(phi / 4) (2 s - 1)`,
 //! which is what makes the mapping of edge points to parameters exact.
+use crate::cad::geom::EPS_PARAM;
 use std::f64::consts::FRAC_PI_2;
 
 /// Tolerance on the sweep when counting quarter segments (rad).
@@ -34,7 +35,7 @@ pub struct ArcPoint {
 impl Arc {
     /// The arc from `start` to `end` (`end > start`).
     pub fn new(start: f64, end: f64) -> Arc {
-        let sweep = (end - start).max(1e-12);
+        let sweep = (end - start).max(EPS_PARAM);
         let n = ((sweep / FRAC_PI_2 - SWEEP_SLACK).ceil() as usize).clamp(1, 4);
         Arc { start, sweep, n }
     }

@@ -9,6 +9,7 @@
 use super::analytic::{AxisMap, NaturalSurface};
 use super::arc::Arc;
 use super::revolve::{extrude, revolve, Profile};
+use crate::cad::geom::EPS_LENGTH_MM;
 use crate::cad::geom::{angle, closest_on, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
@@ -50,7 +51,7 @@ impl NaturalSurface for Swept {
                     .iter()
                     .map(|p| Swept::meridian(frame, *p).x)
                     .fold(0.0, f64::max);
-                [r.max(1e-9), 1.0]
+                [r.max(EPS_LENGTH_MM), 1.0]
             }
             Swept::Extrusion(..) => [1.0, 1.0],
         }

@@ -2,6 +2,7 @@
 //! face's sampled 3-D boundary loops through the surface's own analytic
 //! parameterisation (see [`NaturalSurface::natural`]).
 use super::analytic::{AxisMap, NaturalSurface};
+use crate::cad::geom::EPS_UV;
 use crate::math::Point3;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 use std::f64::consts::{PI, TAU};
@@ -83,7 +84,7 @@ fn natural_loop(a: &impl NaturalSurface, l: &LoopPoints, tol: f64) -> Option<NLo
             }
         }
     }
-    pts.dedup_by(|x, y| (x[0] - y[0]).abs() < 1e-14 && (x[1] - y[1]).abs() < 1e-14);
+    pts.dedup_by(|x, y| (x[0] - y[0]).abs() < EPS_UV && (x[1] - y[1]).abs() < EPS_UV);
     if pts.is_empty() {
         return None;
     }

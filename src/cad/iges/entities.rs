@@ -3,6 +3,7 @@
 use super::params::{tokenize, Token, Tokens};
 use super::records::{Entry, Global, Line};
 use crate::cad::error::{CadError, CadResult};
+use crate::cad::geom::EPS_PARAM;
 use crate::cad::geom::{angle, Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Mat3, Point3, Vec3};
@@ -306,7 +307,7 @@ fn arc100(f: &Fields, tr: &Affine) -> CadResult<Piece> {
         .ok_or_else(|| f.bad(0, "degenerate arc transform"))?;
     let t0 = angle(s.1 - c.1, s.0 - c.0);
     let mut sweep = (angle(e.1 - c.1, e.0 - c.0) - t0).rem_euclid(TAU);
-    if sweep <= 1e-12 {
+    if sweep <= EPS_PARAM {
         sweep = TAU;
     }
     let t1 = t0 + sweep;

@@ -6,6 +6,7 @@ pub mod params;
 pub mod records;
 
 use super::error::CadResult;
+use super::geom::EPS_UV;
 use super::nurbs::eval_surface;
 use super::options::ImportOptions;
 use super::sample::adaptive;
@@ -138,7 +139,7 @@ fn boundary(
         let pts = sample_piece(p, spec, opts);
         let skip = usize::from(out.last().is_some_and(|l| {
             pts.first()
-                .is_some_and(|f| (l[0] - f[0]).hypot(l[1] - f[1]) < 1e-12)
+                .is_some_and(|f| (l[0] - f[0]).hypot(l[1] - f[1]) < EPS_UV)
         }));
         out.extend(pts.into_iter().skip(skip));
     }
@@ -146,7 +147,7 @@ fn boundary(
         && out
             .first()
             .zip(out.last())
-            .is_some_and(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) < 1e-12)
+            .is_some_and(|(a, b)| (a[0] - b[0]).hypot(a[1] - b[1]) < EPS_UV)
     {
         out.pop();
     }

@@ -1,6 +1,7 @@
 //! Points, directions, placements and curves.
 use super::access::{has_record, Args, Ctx};
 use crate::cad::error::CadResult;
+use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
@@ -76,7 +77,7 @@ pub fn axis1(ctx: &Ctx, id: u64) -> CadResult<(Point3, Vec3)> {
     let origin = point(ctx, args.reference(1)?, Space::Model)?;
     let axis = optional_direction(ctx, &args, 2)?.unwrap_or_else(Vec3::z);
     let axis = axis
-        .try_normalize(1e-12)
+        .try_normalize(EPS_DIRECTION)
         .ok_or_else(|| args.err("zero axis"))?;
     Ok((origin, axis))
 }
@@ -86,7 +87,7 @@ pub fn vector(ctx: &Ctx, id: u64, space: Space) -> CadResult<Vec3> {
     let args = ctx.args(id, "VECTOR")?;
     let dir = direction(ctx, args.reference(1)?)?;
     let unit = dir
-        .try_normalize(1e-12)
+        .try_normalize(EPS_DIRECTION)
         .ok_or_else(|| args.err("zero direction"))?;
     Ok(unit * args.real(2)? * scale(ctx, space))
 }

@@ -5,6 +5,7 @@ use super::curves::{axis1, bspline_curve, curve, expand_knots, placement, point,
 use crate::cad::convert::analytic::Analytic;
 use crate::cad::convert::arc::Arc;
 use crate::cad::error::CadResult;
+use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
@@ -54,7 +55,7 @@ pub fn surface(ctx: &Ctx, id: u64) -> CadResult<SurfaceKind> {
         "SURFACE_OF_LINEAR_EXTRUSION" => {
             let v = vector(ctx, args.reference(2)?, Space::Model)?;
             let dir = v
-                .try_normalize(1e-300)
+                .try_normalize(EPS_DIRECTION)
                 .ok_or_else(|| args.err("zero extrusion vector"))?;
             return Ok(SurfaceKind::Extrusion(
                 curve(ctx, args.reference(1)?, Space::Model)?,

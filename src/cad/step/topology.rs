@@ -3,6 +3,7 @@ use super::access::{has_record, Ctx};
 use super::curves::{curve, point, Space};
 use crate::cad::error::CadResult;
 use crate::cad::geom::Curve;
+use crate::cad::geom::EPS_PARAM;
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
 use crate::math::Point3;
@@ -249,7 +250,7 @@ pub fn param_range(c: &Curve, from: Point3, to: Point3, closed: bool) -> (f64, f
     let t0 = c.param_of(from);
     if let Some(period) = c.period() {
         let mut sweep = (c.param_of(to) - t0).rem_euclid(period);
-        if closed || sweep <= 1e-12 {
+        if closed || sweep <= EPS_PARAM {
             sweep = period;
         }
         return (t0, t0 + sweep);
