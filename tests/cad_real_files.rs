@@ -207,7 +207,32 @@ fn check_trims_hit_vertices(imp: &Import, text: &str, scale: f64, angle_scale: f
     let all = instances(text);
     for (face, spec) in imp.faces.iter().zip(&imp.workpiece.surfaces) {
         let Some(trim) = &spec.trim else { continue };
+        let pts: Vec<[f64; 3]> = trim
+            .outer
+            .iter()
+            .chain(trim.holes.iter().flatten())
+            .map(|uv| eval(spec, uv[0], uv[1]))
+            .collect();
+        let nearest = |v: [f64; 3]| {
+            pts.iter()
+                .map(|p| norm(sub(*p, v)))
+                .fold(f64::INFINITY, f64::min)
+        };
         if face.surface_type.contains("B_SPLINE") {
+            // PCURVE trims: accepted when their ends meet the vertices within
+            // the pcurve tolerance.
+            let tol = cmm::cad::ImportOptions::default().pcurve_tolerance_mm;
+            let vertices = face_vertices(&all, face.entity);
+            assert!(!vertices.is_empty(), "{}: vertices found", face.name);
+            for v in vertices {
+                let v = [v[0] * scale, v[1] * scale, v[2] * scale];
+                assert!(
+                    nearest(v) <= tol,
+                    "{}: vertex {v:?} is {:e} from the PCURVE trim",
+                    face.name,
+                    nearest(v)
+                );
+            }
             continue;
         }
         let body = &all[&face.entity];
@@ -217,18 +242,9 @@ fn check_trims_hit_vertices(imp: &Import, text: &str, scale: f64, angle_scale: f
             .expect("id")];
         let (o, z) = placement(&all, refs(surf)[0], scale);
         let nums = numbers(surf);
-        let pts: Vec<[f64; 3]> = trim
-            .outer
-            .iter()
-            .chain(trim.holes.iter().flatten())
-            .map(|uv| eval(spec, uv[0], uv[1]))
-            .collect();
         for v in face_vertices(&all, face.entity) {
             let v = [v[0] * scale, v[1] * scale, v[2] * scale];
-            let best = pts
-                .iter()
-                .map(|p| norm(sub(*p, v)))
-                .fold(f64::INFINITY, f64::min);
+            let best = nearest(v);
             // The file's vertex may sit off the surface by its modelling
             // tolerance; the trim point is on the surface, so allow that gap.
             let off =
