@@ -17,6 +17,7 @@
 //!
 //! Units: `f64` millimetres everywhere (see [`math`]).
 
+pub mod cad;
 pub mod cli;
 pub mod evaluate;
 pub mod fit;
