@@ -25,3 +25,4 @@ pub mod math;
 pub mod output;
 pub mod pointfile;
 pub mod workpiece;
+pub mod world;

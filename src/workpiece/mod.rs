@@ -5,7 +5,7 @@
 pub mod as_machined;
 pub mod examples;
 pub mod format;
-mod validate;
+pub(crate) mod validate;
 
 use std::path::{Path, PathBuf};
 
