@@ -13,11 +13,12 @@
 //! C_iA)`, with `e_i` the translation error and `theta_i` the rotation
 //! error of axis `i`, and `C_iA = C_iB + P` the lever arm from the axis's
 //! fulcrum `C_i` to the tip `A` (via the spindle reference point `B` and the
-//! probe vector `P`). Model choice: the fulcrum of axis `i` moves with the
-//! axis and lies on the machine-coordinate line of that axis through the
-//! origin, so `C_iB` is `B` with its own coordinate set to 0. A rotation
-//! error therefore grows with the distance from the axis line, and acts
-//! through the probe vector even at the origin.
+//! probe vector `P`). Model choice: a rotation error of a carriage tilts
+//! everything that carriage carries, about the carriage's own reference
+//! point, so `C_iB` is the displacement of the axes stacked on axis `i`
+//! ([`Stacking`]; for the bridge, Y carries X carries Z: the bridge's errors
+//! act through `(x, 0, z)`, the carriage's through `(0, 0, z)`, the ram's
+//! only through the probe vector).
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -109,6 +110,51 @@ pub struct Squareness {
     pub yz_rad: f64,
 }
 
+/// Which linear axis carries which, from the base up: `yxz` (the default,
+/// a bridge CMM) means Y carries X, which carries Z.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Stacking {
+    /// X carries Y carries Z.
+    Xyz,
+    /// X carries Z carries Y.
+    Xzy,
+    /// Y carries X carries Z (bridge CMM).
+    #[default]
+    Yxz,
+    /// Y carries Z carries X.
+    Yzx,
+    /// Z carries X carries Y.
+    Zxy,
+    /// Z carries Y carries X.
+    Zyx,
+}
+
+impl Stacking {
+    /// Axis indices (0 = X, 1 = Y, 2 = Z) from the base up.
+    pub fn order(self) -> [usize; 3] {
+        match self {
+            Stacking::Xyz => [0, 1, 2],
+            Stacking::Xzy => [0, 2, 1],
+            Stacking::Yxz => [1, 0, 2],
+            Stacking::Yzx => [1, 2, 0],
+            Stacking::Zxy => [2, 0, 1],
+            Stacking::Zyx => [2, 1, 0],
+        }
+    }
+
+    /// Lever arm of axis `axis` without the probe vector: the positions of
+    /// the axes it carries (mm).
+    fn carried(self, axis: usize, b: &Vec3) -> Vec3 {
+        let order = self.order();
+        let above = order.iter().skip_while(|&&a| a != axis).skip(1);
+        above.fold(Vec3::zeros(), |mut lever, &a| {
+            lever[a] = b[a];
+            lever
+        })
+    }
+}
+
 /// The 21 geometric error terms; all zero by default (a perfect machine).
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields, default)]
@@ -121,6 +167,8 @@ pub struct GeometricErrors {
     pub z: LinearAxisErrors,
     /// The three squareness angles.
     pub squareness: Squareness,
+    /// Which axis carries which (sets the lever arms of rotation errors).
+    pub stacking: Stacking,
 }
 
 impl GeometricErrors {
@@ -134,12 +182,9 @@ impl GeometricErrors {
     /// `B`) and the probe vector `probe_vector` (mm, from `B` to the tip).
     pub fn displacement(&self, xyz: [f64; 3], probe_vector: &Vec3) -> Vec3 {
         let b = Vec3::from(xyz);
-        let tip = b + probe_vector;
         let per_axis = self.axes().into_iter().enumerate().map(|(i, (_, errors))| {
-            let p = b[i];
-            let (translation, rotation) = errors.errors_at(i, p);
-            let mut lever = tip;
-            lever[i] -= p;
+            let (translation, rotation) = errors.errors_at(i, b[i]);
+            let lever = self.stacking.carried(i, &b) + probe_vector;
             translation + rotation.cross(&lever)
         });
         per_axis.sum::<Vec3>() + self.squareness_displacement(&b)

@@ -21,7 +21,7 @@ pub mod servo;
 pub mod urdf;
 
 pub use error::MachineError;
-pub use geometric::{ErrorPolynomial, GeometricErrors, LinearAxisErrors, Squareness};
+pub use geometric::{ErrorPolynomial, GeometricErrors, LinearAxisErrors, Squareness, Stacking};
 pub use model::{Axis, AxisKind, AxisLimits, MachineModel};
 pub use profile::{LinearAxesProfile, MachineProfile, ProfileError, RotaryAxesProfile};
 pub use servo::{AxisDynamics, AxisState, Servo, ServoError};
