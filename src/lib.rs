@@ -28,3 +28,4 @@ pub mod output;
 pub mod pointfile;
 pub mod program;
 pub mod workpiece;
+pub mod world;

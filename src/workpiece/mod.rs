@@ -5,7 +5,7 @@
 pub mod as_machined;
 pub mod examples;
 pub mod format;
-mod validate;
+pub(crate) mod validate;
 pub(crate) use validate::{json_path, strip_position};
 
 use std::path::{Path, PathBuf};

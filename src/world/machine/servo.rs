@@ -1,0 +1,266 @@
+//! The servo loop: per-axis first-order velocity following with velocity and
+//! acceleration limits, travel limits, and scale readings.
+//!
+//! Each control cycle of length `dt` every axis moves its actual velocity `v`
+//! towards the commanded velocity `c` (clamped to the axis's speed limit) as a
+//! first-order lag with time constant `tau`, sampled exactly:
+//! `v' = c + (v - c) exp(-dt/tau)`. The change is then clamped to
+//! `+-a_max dt` (so the mean acceleration over every cycle stays within
+//! `a_max`). The position integrates the velocity exactly over the cycle:
+//! the exponential's integral when the lag was not clamped, the trapezoid
+//! (exact for constant acceleration) when it was.
+use rand::Rng;
+
+use super::model::{Axis, AxisKind, MachineModel};
+use super::profile::MachineProfile;
+use crate::world::noise::gaussian;
+
+/// Resolved dynamics of one axis (mm and s for linear axes, rad and s for
+/// rotary ones).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisDynamics {
+    /// Axis (joint) name.
+    pub name: String,
+    /// Lowest allowed position.
+    pub lower: f64,
+    /// Highest allowed position.
+    pub upper: f64,
+    /// Speed limit: the smaller of the URDF and the profile limit.
+    pub max_velocity: f64,
+    /// Acceleration limit, per s^2.
+    pub max_acceleration: f64,
+    /// First-order lag time constant, s (0 = none).
+    pub lag_s: f64,
+    /// Scale quantum (0 = continuous).
+    pub resolution: f64,
+    /// Standard deviation of the scale noise.
+    pub noise_sigma: f64,
+}
+
+impl AxisDynamics {
+    /// Combines an axis's URDF limits with the profile for its kind.
+    pub fn for_axis(axis: &Axis, profile: &MachineProfile) -> Self {
+        let (l, r) = (&profile.linear, &profile.rotary);
+        let (v, a, lag, res, noise) = match axis.kind {
+            AxisKind::Prismatic => (
+                l.max_velocity_mm_s,
+                l.max_acceleration_mm_s2,
+                l.servo_lag_s,
+                l.scale_resolution_mm,
+                l.scale_noise_mm,
+            ),
+            AxisKind::Revolute => (
+                r.max_velocity_rad_s,
+                r.max_acceleration_rad_s2,
+                r.servo_lag_s,
+                r.scale_resolution_rad,
+                r.scale_noise_rad,
+            ),
+        };
+        Self {
+            name: axis.name.clone(),
+            lower: axis.limits.lower,
+            upper: axis.limits.upper,
+            max_velocity: v.min(axis.limits.velocity),
+            max_acceleration: a,
+            lag_s: lag,
+            resolution: res,
+            noise_sigma: noise,
+        }
+    }
+
+    /// One cycle of length `dt` (s): new (position, velocity).
+    fn advance(&self, position: f64, velocity: f64, command: f64, dt: f64) -> (f64, f64) {
+        let target = command.clamp(-self.max_velocity, self.max_velocity);
+        let decay = if self.lag_s > 0.0 {
+            (-dt / self.lag_s).exp()
+        } else {
+            0.0
+        };
+        let lagged = target + (velocity - target) * decay;
+        let max_change = self.max_acceleration * dt;
+        let next = lagged.clamp(velocity - max_change, velocity + max_change);
+        let distance = if next == lagged {
+            target * dt + (velocity - target) * self.lag_s * (1.0 - decay)
+        } else {
+            0.5 * (velocity + next) * dt
+        };
+        (position + distance, next)
+    }
+
+    /// A scale reading of `position`: plus Gaussian noise, then quantised.
+    fn read(&self, position: f64, rng: &mut impl Rng) -> f64 {
+        let noisy = position + gaussian(rng, self.noise_sigma);
+        if self.resolution > 0.0 {
+            (noisy / self.resolution).round() * self.resolution
+        } else {
+            noisy
+        }
+    }
+}
+
+/// True axis positions and velocities at one instant (chain order).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisState {
+    /// Machine time since the servo started, s.
+    pub time_s: f64,
+    /// Actual positions, mm or rad.
+    pub position: Vec<f64>,
+    /// Actual velocities, mm/s or rad/s.
+    pub velocity: Vec<f64>,
+}
+
+/// Why a servo cycle did not complete normally.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ServoError {
+    /// An axis left (or would start outside) its travel range. The machine
+    /// halts: every velocity is zeroed and the axis is held at its limit.
+    #[error("axis '{axis}' (index {index}) at {position} is outside its travel {lower}..{upper}")]
+    AxisLimit {
+        /// Axis name.
+        axis: String,
+        /// Axis index in chain order.
+        index: usize,
+        /// The position it reached, mm or rad.
+        position: f64,
+        /// Lower travel limit, mm or rad.
+        lower: f64,
+        /// Upper travel limit, mm or rad.
+        upper: f64,
+    },
+    /// A command or start vector of the wrong length.
+    #[error("expected {expected} axis values, found {found}")]
+    AxisCount {
+        /// Number of axes.
+        expected: usize,
+        /// Number given.
+        found: usize,
+    },
+    /// A commanded velocity that is NaN or infinite.
+    #[error("commanded velocity {value} for axis index {index} is not finite")]
+    NotFinite {
+        /// Axis index.
+        index: usize,
+        /// The value.
+        value: f64,
+    },
+}
+
+/// The machine's axes in motion, one control cycle at a time.
+#[derive(Debug, Clone)]
+pub struct Servo {
+    axes: Vec<AxisDynamics>,
+    position: Vec<f64>,
+    velocity: Vec<f64>,
+    cycle_s: f64,
+    time_s: f64,
+}
+
+impl Servo {
+    /// A servo at rest at `start` (chain order, mm or rad).
+    pub fn new(
+        model: &MachineModel,
+        profile: &MachineProfile,
+        start: &[f64],
+    ) -> Result<Self, ServoError> {
+        let axes: Vec<_> = model
+            .axes()
+            .iter()
+            .map(|a| AxisDynamics::for_axis(a, profile))
+            .collect();
+        check_count(axes.len(), start.len())?;
+        let servo = Self {
+            velocity: vec![0.0; axes.len()],
+            position: start.to_vec(),
+            axes,
+            cycle_s: profile.control_cycle_s,
+            time_s: 0.0,
+        };
+        match servo.first_outside() {
+            Some(err) => Err(err),
+            None => Ok(servo),
+        }
+    }
+
+    /// Resolved per-axis dynamics, chain order.
+    pub fn axes(&self) -> &[AxisDynamics] {
+        &self.axes
+    }
+
+    /// The control cycle, s.
+    pub fn cycle_s(&self) -> f64 {
+        self.cycle_s
+    }
+
+    /// The true state now.
+    pub fn state(&self) -> AxisState {
+        AxisState {
+            time_s: self.time_s,
+            position: self.position.clone(),
+            velocity: self.velocity.clone(),
+        }
+    }
+
+    /// Advances one control cycle with the commanded velocities (mm/s or
+    /// rad/s, chain order). Leaving the travel range halts the machine and
+    /// returns [`ServoError::AxisLimit`].
+    pub fn step(&mut self, commanded_velocity: &[f64]) -> Result<AxisState, ServoError> {
+        check_count(self.axes.len(), commanded_velocity.len())?;
+        check_finite(commanded_velocity)?;
+        let states = self.position.iter_mut().zip(self.velocity.iter_mut());
+        for ((axis, (p, v)), c) in self.axes.iter().zip(states).zip(commanded_velocity) {
+            (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s);
+        }
+        self.time_s += self.cycle_s;
+        match self.first_outside() {
+            Some(err) => Err(self.halt(err)),
+            None => Ok(self.state()),
+        }
+    }
+
+    /// Scale readings of the current positions (quantised, with noise drawn
+    /// from `rng` in axis order; an ideal profile draws nothing).
+    pub fn read_scales(&self, rng: &mut impl Rng) -> Vec<f64> {
+        let pairs = self.axes.iter().zip(&self.position);
+        pairs.map(|(axis, p)| axis.read(*p, rng)).collect()
+    }
+
+    /// The first axis outside its travel, as an error.
+    fn first_outside(&self) -> Option<ServoError> {
+        let mut pairs = self.axes.iter().zip(&self.position).enumerate();
+        let (index, (axis, &position)) =
+            pairs.find(|(_, (a, p))| !(a.lower..=a.upper).contains(*p))?;
+        let (axis, lower, upper) = (axis.name.clone(), axis.lower, axis.upper);
+        Some(ServoError::AxisLimit {
+            axis,
+            index,
+            position,
+            lower,
+            upper,
+        })
+    }
+
+    /// Stops every axis and holds each inside its travel.
+    fn halt(&mut self, err: ServoError) -> ServoError {
+        self.velocity.iter_mut().for_each(|v| *v = 0.0);
+        for (p, axis) in self.position.iter_mut().zip(&self.axes) {
+            *p = p.clamp(axis.lower, axis.upper);
+        }
+        err
+    }
+}
+
+fn check_count(expected: usize, found: usize) -> Result<(), ServoError> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(ServoError::AxisCount { expected, found })
+    }
+}
+
+fn check_finite(values: &[f64]) -> Result<(), ServoError> {
+    match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
+        Some((index, &value)) => Err(ServoError::NotFinite { index, value }),
+        None => Ok(()),
+    }
+}

@@ -1,0 +1,252 @@
+//! Reading URDF text into validated joint descriptions (units converted).
+//!
+//! **Units.** cmm machine files are ordinary URDF, in SI units as ROS tools
+//! expect: lengths in metres, angles in radians, velocities in m/s or rad/s.
+//! They are converted on reading: every length (joint origins, prismatic
+//! travel limits) is multiplied by [`MM_PER_M`], prismatic velocity limits
+//! become mm/s; angles stay in radians. Everything after this module is in mm.
+//!
+//! urdf-rs silently gives a prismatic joint without `<limit>` a 0..0 range and
+//! its errors carry no location, so the raw XML is scanned first: every joint
+//! is named, its type checked, and a movable joint without `<limit>` rejected
+//! by name.
+use std::collections::HashSet;
+use std::path::Path;
+
+use super::error::MachineError;
+use super::model::{AxisKind, AxisLimits};
+use crate::math::{Iso3, Vec3};
+
+/// Millimetres per metre: URDF lengths are metres, cmm works in mm.
+pub const MM_PER_M: f64 = 1000.0;
+
+/// Allowed deviation of a joint axis from unit length (URDF axes must be
+/// normalised; a small rounding in the file is accepted and normalised away).
+pub const AXIS_UNIT_TOLERANCE: f64 = 1e-6;
+
+/// What a joint does.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum JointKind {
+    /// Rigid offset.
+    Fixed,
+    /// A machine axis.
+    Movable(AxisKind),
+}
+
+/// One validated joint, lengths in mm.
+#[derive(Debug, Clone)]
+pub(super) struct JointSpec {
+    pub name: String,
+    pub kind: JointKind,
+    pub parent: String,
+    pub child: String,
+    /// Joint frame in the parent link frame, mm.
+    pub origin: Iso3,
+    /// Unit axis in the joint frame (meaningless for fixed joints).
+    pub axis: Vec3,
+    /// Travel and velocity limits (mm, mm/s or rad, rad/s); movable only.
+    pub limits: Option<AxisLimits>,
+}
+
+/// A parsed URDF: link names in file order and validated joints.
+#[derive(Debug, Clone)]
+pub(super) struct ParsedUrdf {
+    pub name: String,
+    pub links: Vec<String>,
+    pub joints: Vec<JointSpec>,
+}
+
+/// Parses and validates URDF text; `file` is used in messages only.
+pub(super) fn parse(text: &str, file: &Path) -> Result<ParsedUrdf, MachineError> {
+    scan_raw(text, file)?;
+    let robot = urdf_rs::read_from_string(text).map_err(|e| xml_error(file, e.to_string()))?;
+    let joints = robot
+        .joints
+        .iter()
+        .map(|j| joint_spec(j, file))
+        .collect::<Result<Vec<_>, _>>()?;
+    let links = robot.links.iter().map(|l| l.name.clone()).collect();
+    Ok(ParsedUrdf {
+        name: robot.name,
+        links,
+        joints,
+    })
+}
+
+fn xml_error(file: &Path, reason: String) -> MachineError {
+    MachineError::Xml {
+        file: file.to_path_buf(),
+        reason,
+    }
+}
+
+/// Checks names, joint types and `<limit>` presence on the raw XML.
+fn scan_raw(text: &str, file: &Path) -> Result<(), MachineError> {
+    let root: xml::Element = text
+        .parse()
+        .map_err(|e: xml::BuilderError| xml_error(file, e.to_string()))?;
+    if root.name != "robot" {
+        let reason = format!("root element is <{}>, expected <robot>", root.name);
+        return Err(xml_error(file, reason));
+    }
+    check_names(&root, "link", file)?;
+    check_names(&root, "joint", file)?;
+    root.get_children("joint", None)
+        .try_for_each(|joint| check_raw_joint(joint, file))
+}
+
+/// Every `element` child has a non-empty, unique name.
+fn check_names(
+    root: &xml::Element,
+    element: &'static str,
+    file: &Path,
+) -> Result<(), MachineError> {
+    let mut seen = HashSet::new();
+    for child in root.get_children(element, None) {
+        let name = raw_name(child, element, file)?;
+        if !seen.insert(name) {
+            let name = name.to_string();
+            let file = file.to_path_buf();
+            return Err(MachineError::Duplicate {
+                file,
+                element,
+                name,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn raw_name<'a>(
+    elem: &'a xml::Element,
+    element: &'static str,
+    file: &Path,
+) -> Result<&'a str, MachineError> {
+    match elem.get_attribute("name", None) {
+        Some(name) if !name.trim().is_empty() => Ok(name),
+        _ => Err(MachineError::Unnamed {
+            file: file.to_path_buf(),
+            element,
+        }),
+    }
+}
+
+/// Supported type; a movable joint has a `<limit>` child.
+fn check_raw_joint(joint: &xml::Element, file: &Path) -> Result<(), MachineError> {
+    let name = raw_name(joint, "joint", file)?.to_string();
+    let written = joint.get_attribute("type", None).unwrap_or("");
+    let kind = match written {
+        "fixed" => return Ok(()),
+        "prismatic" => "prismatic",
+        "revolute" => "revolute",
+        other => {
+            let kind = other.to_string();
+            let file = file.to_path_buf();
+            return Err(MachineError::UnsupportedJointType {
+                file,
+                joint: name,
+                kind,
+            });
+        }
+    };
+    match joint.get_child("limit", None) {
+        Some(_) => Ok(()),
+        None => Err(MachineError::MissingLimit {
+            file: file.to_path_buf(),
+            joint: name,
+            kind,
+        }),
+    }
+}
+
+/// Converts one urdf-rs joint (metres) into a validated spec (mm).
+fn joint_spec(joint: &urdf_rs::Joint, file: &Path) -> Result<JointSpec, MachineError> {
+    let kind = match joint.joint_type {
+        urdf_rs::JointType::Prismatic => JointKind::Movable(AxisKind::Prismatic),
+        urdf_rs::JointType::Revolute => JointKind::Movable(AxisKind::Revolute),
+        _ => JointKind::Fixed,
+    };
+    let (axis, limits) = match kind {
+        JointKind::Fixed => (Vec3::z(), None),
+        JointKind::Movable(k) => (unit_axis(joint, file)?, Some(limits(joint, k, file)?)),
+    };
+    Ok(JointSpec {
+        name: joint.name.clone(),
+        kind,
+        parent: joint.parent.link.clone(),
+        child: joint.child.link.clone(),
+        origin: origin(joint, file)?,
+        axis,
+        limits,
+    })
+}
+
+/// Joint origin in mm: translation `xyz * 1000`, rotation from `rpy`
+/// (URDF: `Rz(yaw) * Ry(pitch) * Rx(roll)` about fixed axes).
+fn origin(joint: &urdf_rs::Joint, file: &Path) -> Result<Iso3, MachineError> {
+    let [x, y, z] = joint.origin.xyz.0;
+    let [roll, pitch, yaw] = joint.origin.rpy.0;
+    if !crate::math::all_finite(&[x, y, z, roll, pitch, yaw]) {
+        let joint = joint.name.clone();
+        return Err(MachineError::BadOrigin {
+            file: file.to_path_buf(),
+            joint,
+        });
+    }
+    let rotation = nalgebra::UnitQuaternion::from_euler_angles(roll, pitch, yaw);
+    let translation = Vec3::new(x, y, z) * MM_PER_M;
+    Ok(Iso3::from_parts(translation.into(), rotation))
+}
+
+fn unit_axis(joint: &urdf_rs::Joint, file: &Path) -> Result<Vec3, MachineError> {
+    let axis = joint.axis.xyz.0;
+    let v = Vec3::from(axis);
+    let length = v.norm();
+    if length.is_finite() && (length - 1.0).abs() <= AXIS_UNIT_TOLERANCE {
+        return Ok(v / length);
+    }
+    let joint = joint.name.clone();
+    let file = file.to_path_buf();
+    Err(MachineError::BadAxis {
+        file,
+        joint,
+        axis,
+        length,
+    })
+}
+
+/// Travel and velocity limits converted to mm (prismatic) or kept in rad.
+fn limits(joint: &urdf_rs::Joint, kind: AxisKind, file: &Path) -> Result<AxisLimits, MachineError> {
+    let scale = match kind {
+        AxisKind::Prismatic => MM_PER_M,
+        AxisKind::Revolute => 1.0,
+    };
+    let l = &joint.limit;
+    let (lower, upper, velocity) = (l.lower * scale, l.upper * scale, l.velocity * scale);
+    if !(lower.is_finite() && upper.is_finite() && lower < upper) {
+        let (joint, unit) = (joint.name.clone(), kind.unit());
+        let file = file.to_path_buf();
+        return Err(MachineError::LimitRange {
+            file,
+            joint,
+            lower,
+            upper,
+            unit,
+        });
+    }
+    if !(velocity.is_finite() && velocity > 0.0) {
+        let (joint, unit) = (joint.name.clone(), kind.velocity_unit());
+        let file = file.to_path_buf();
+        return Err(MachineError::VelocityLimit {
+            file,
+            joint,
+            velocity,
+            unit,
+        });
+    }
+    Ok(AxisLimits {
+        lower,
+        upper,
+        velocity,
+    })
+}

@@ -1,0 +1,15 @@
+//! The simulated world: the as-machined part, the machine's true kinematics,
+//! dynamics and errors, the probe's physics, noise.
+//!
+//! **The world knows the truth; the host never reads it.** Everything here is
+//! what a real machine would *be*, not what its software would *know*. The host
+//! (the measuring software) sees only commanded velocities going in and
+//! readings (scales, probe deflection, status) coming out, through a seam that
+//! a real machine could be plugged into later.
+//!
+//! Every random draw in the world goes through a caller-provided
+//! `&mut impl rand::Rng` (one seeded stream, e.g. `rand::rngs::ChaCha8Rng`), so
+//! the same inputs and seed give identical results.
+
+pub mod machine;
+pub mod noise;
