@@ -10,4 +10,6 @@
 //!   `r - Ep`, parametric cubic curve segments) and speed planning on the
 //!   control cycle (seeds 000, 001, 004).
 
+pub mod machine;
+pub mod modes;
 pub mod path;

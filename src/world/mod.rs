@@ -11,5 +11,7 @@
 //! `&mut impl rand::Rng` (one seeded stream, e.g. `rand::rngs::ChaCha8Rng`), so
 //! the same inputs and seed give identical results.
 
+pub mod cmm;
 pub mod machine;
 pub mod noise;
+pub mod probe;

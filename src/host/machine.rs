@@ -1,0 +1,48 @@
+//! The seam between the measuring software and a machine: a commanded
+//! ball-centre velocity goes in every control cycle, readings come out. The
+//! simulator implements it ([`crate::world::cmm::SimulatedCmm`]); a real
+//! machine (e.g. over I++ DME) could later.
+use crate::math::{Point3, Vec3};
+
+/// Machine state as the software sees it after a control cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MachineStatus {
+    /// Moving normally.
+    Ok,
+    /// An axis reached its travel limit; the machine halted.
+    AxisLimit {
+        /// Axis name.
+        axis: String,
+        /// Where it stopped, mm.
+        position: f64,
+    },
+    /// The stylus was pushed past its mechanical range; the machine halted.
+    ProbeOverrange {
+        /// Deflection magnitude reached, mm.
+        deflection_mm: f64,
+    },
+}
+
+/// What the machine reports each control cycle (machine coordinates, mm).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Readings {
+    /// Machine time, s.
+    pub time_s: f64,
+    /// Scale readings of the X, Y, Z axes (the probe mount), mm.
+    pub scales: Point3,
+    /// Probe deflection reading, mm (how far the ball is pushed, as sensed).
+    pub deflection: Vec3,
+    /// Status.
+    pub status: MachineStatus,
+}
+
+/// A CMM driven one control cycle at a time.
+pub trait Cmm {
+    /// Control cycle, s.
+    fn cycle_s(&self) -> f64;
+    /// The readings now, without moving.
+    fn readings(&self) -> Readings;
+    /// Commands the ball-centre velocity (mm/s, machine axes) for one cycle
+    /// and returns the readings at its end.
+    fn step(&mut self, velocity: Vec3) -> Readings;
+}

@@ -1,0 +1,102 @@
+//! Autonomous scanning (no design path): move sideways to the measured
+//! deflection direction within the scanning plane, hold the deflection,
+//! stay in the plane. Closes on its start for a closed section; stops at the
+//! section end for an open one.
+use super::touch::finish;
+use super::{move_to, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use crate::host::machine::Cmm;
+use crate::math::{Point3, Vec3};
+
+/// Where and how an autonomous scan runs (machine coordinates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AutonomousTask {
+    /// Nominal start point on the surface.
+    pub start: Point3,
+    /// Outward normal there.
+    pub start_normal: Vec3,
+    /// Initial scanning direction (tangent of the nominal section).
+    pub direction: Vec3,
+    /// Scanning plane: a point and unit normal.
+    pub plane: (Point3, Vec3),
+    /// Nominal end point of an open section (`None` = closed section).
+    pub end: Option<(Point3, Vec3)>,
+    /// Nominal section length, mm (bounds the scan at three times it).
+    pub nominal_length_mm: f64,
+    /// Wanted deflection, mm.
+    pub deflection_mm: f64,
+    /// Reported point spacing, mm.
+    pub pitch_mm: f64,
+}
+
+/// Runs an autonomous scan.
+pub fn autonomous_scan(cmm: &mut dyn Cmm, probe: HostProbe, task: &AutonomousTask, opts: &ModeOptions) -> Attempt {
+    let mut tr = Tracker::new(cmm, probe);
+    let r = probe.tip_radius_mm;
+    let above = task.start + task.start_normal * (r + opts.standoff_mm);
+    let result = move_to(cmm, &mut tr, above, opts.rapid_speed_mm_s, opts)
+        .and_then(|_| touch_down(cmm, &mut tr, task, opts))
+        .and_then(|_| follow(cmm, &mut tr, task, opts));
+    finish(tr, result)
+}
+
+fn touch_down(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &ModeOptions) -> Result<(), Outcome> {
+    for _ in 0..opts.max_cycles {
+        if tr.deflection() >= task.deflection_mm {
+            return Ok(());
+        }
+        if let Some(o) = tr.step(cmm, -task.start_normal * opts.approach_speed_mm_s) {
+            return Err(o);
+        }
+    }
+    Err(Outcome::Aborted)
+}
+
+/// Gain pulling the ball back into the scanning plane, 1/s.
+const PLANE_GAIN: f64 = 30.0;
+
+fn follow(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &ModeOptions) -> Result<(), Outcome> {
+    let (o, pn) = task.plane;
+    let mut dir = task.direction;
+    let start = tr.ball_undeflected();
+    let (mut travelled, mut lost, mut speed) = (0.0, 0usize, 0.0f64);
+    let dt = cmm.cycle_s();
+    for _ in 0..opts.max_cycles {
+        let d = tr.now.deflection;
+        let n = d.try_normalize(1e-9).unwrap_or(task.start_normal);
+        let t = pn.cross(&n).try_normalize(1e-12).unwrap_or(dir);
+        dir = if t.dot(&dir) >= 0.0 { t } else { -t };
+        speed = (speed + opts.tangential_accel_mm_s2 * dt).min(opts.autonomous_speed_mm_s);
+        let a0 = tr.ball_undeflected();
+        let off_plane = (a0 - o).dot(&pn);
+        let v = dir * speed - n * ((task.deflection_mm - d.norm()) * opts.gain_deflection) - pn * (off_plane * PLANE_GAIN);
+        if let Some(out) = tr.step(cmm, v) {
+            return Err(out);
+        }
+        travelled += speed * dt;
+        lost = if tr.deflection() < opts.contact_mm { lost + 1 } else { 0 };
+        if lost >= opts.lost_contact_cycles {
+            return Err(Outcome::LostContact);
+        }
+        tr.sample(task.pitch_mm);
+        if finished(task, tr, start, travelled, dir) {
+            return Ok(());
+        }
+        if travelled > 3.0 * task.nominal_length_mm + 10.0 {
+            return Err(Outcome::Aborted);
+        }
+    }
+    Err(Outcome::Aborted)
+}
+
+/// Closed: back near the start after most of a loop. Open: past the end
+/// point's plane (perpendicular to the end tangent).
+fn finished(task: &AutonomousTask, tr: &Tracker, start: Point3, travelled: f64, dir: Vec3) -> bool {
+    let here = tr.ball_undeflected();
+    match task.end {
+        None => travelled > 0.5 * task.nominal_length_mm && (here - start).norm() < task.pitch_mm.max(0.2),
+        Some((end, tangent)) => {
+            let past = tr.measured().is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
+            past && dir.dot(&tangent) > 0.0
+        }
+    }
+}

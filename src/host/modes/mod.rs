@@ -1,0 +1,127 @@
+//! Measuring modes (seed 000): touch points, passive and active
+//! design-value scanning, autonomous scanning, and the moves between them.
+//! Every attempt ends with exactly one [`Outcome`] and its machine time.
+
+mod autonomous;
+mod motion;
+mod scan;
+mod touch;
+
+pub use autonomous::{autonomous_scan, AutonomousTask};
+pub use motion::{move_to, Tracker};
+pub use scan::{design_value_scan, ScanKind, ScanTargets};
+pub use touch::touch_point;
+
+use crate::math::{Point3, Vec3};
+
+/// How a measuring attempt ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Outcome {
+    /// Measured to the end.
+    Completed,
+    /// Active scanning left its trajectory tolerance.
+    TrajectoryError,
+    /// The stylus lost contact with the part.
+    LostContact,
+    /// The stylus was pushed past its range.
+    OverDeflection,
+    /// An axis reached its travel limit.
+    AxisLimit,
+    /// Stopped for another reason (cycle budget exhausted).
+    Aborted,
+}
+
+/// What the host knows about its probe (nominal or calibrated).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HostProbe {
+    /// Probe mount to ball centre, machine coordinates, mm.
+    pub probe_vector: Vec3,
+    /// Tip radius, mm.
+    pub tip_radius_mm: f64,
+}
+
+/// A measured surface point (machine coordinates).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Measured {
+    /// Surface point: ball centre minus the radius along the measured normal.
+    pub point: Point3,
+    /// Measured surface normal (the deflection direction).
+    pub normal: Vec3,
+    /// Ball centre.
+    pub ball: Point3,
+}
+
+/// Result of one measuring attempt.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Attempt {
+    /// How it ended.
+    pub outcome: Outcome,
+    /// Points measured before it ended.
+    pub points: Vec<Measured>,
+    /// Machine time spent, s.
+    pub machine_time_s: f64,
+    /// Largest |trajectory error| seen, mm (0 for modes without a path).
+    pub max_trajectory_error_mm: f64,
+}
+
+/// Gains, speeds and thresholds of the measuring modes (mm, s).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ModeOptions {
+    /// Positioning speed in free air, mm/s.
+    pub rapid_speed_mm_s: f64,
+    /// Positioning acceleration, mm/s^2.
+    pub rapid_accel_mm_s2: f64,
+    /// Approach speed towards the surface, mm/s.
+    pub approach_speed_mm_s: f64,
+    /// Clearance of approach start points from the surface, mm.
+    pub standoff_mm: f64,
+    /// Deflection at which a touch point triggers, mm.
+    pub trigger_mm: f64,
+    /// Below this deflection the stylus counts as out of contact, mm.
+    pub contact_mm: f64,
+    /// Passive scanning fails above this deflection, mm.
+    pub over_deflection_mm: f64,
+    /// Consecutive cycles out of contact before active/autonomous scanning
+    /// reports lost contact.
+    pub lost_contact_cycles: usize,
+    /// Gain of the path-following velocity `Gf` (dimensionless).
+    pub gain_follow: f64,
+    /// Gain of the deflection loop `Ge`, 1/s.
+    pub gain_deflection: f64,
+    /// Gain of the sideways path correction `Gc`, 1/s.
+    pub gain_correction: f64,
+    /// Autonomous scanning speed, mm/s.
+    pub autonomous_speed_mm_s: f64,
+    /// Lateral acceleration limit used in speed planning, mm/s^2.
+    pub lateral_accel_mm_s2: f64,
+    /// Tangential acceleration limit used in speed planning, mm/s^2.
+    pub tangential_accel_mm_s2: f64,
+    /// Safety cap on the cycles of one attempt.
+    pub max_cycles: usize,
+    /// Position tolerance ending a positioning move, mm.
+    pub arrive_tol_mm: f64,
+}
+
+impl Default for ModeOptions {
+    fn default() -> Self {
+        ModeOptions {
+            rapid_speed_mm_s: 200.0,
+            rapid_accel_mm_s2: 1500.0,
+            approach_speed_mm_s: 10.0,
+            standoff_mm: 2.0,
+            trigger_mm: 0.3,
+            contact_mm: 0.02,
+            over_deflection_mm: 0.8,
+            lost_contact_cycles: 40,
+            gain_follow: 1.0,
+            gain_deflection: 40.0,
+            gain_correction: 40.0,
+            autonomous_speed_mm_s: 12.0,
+            lateral_accel_mm_s2: 1000.0,
+            tangential_accel_mm_s2: 500.0,
+            max_cycles: 3_000_000,
+            arrive_tol_mm: 0.002,
+        }
+    }
+}

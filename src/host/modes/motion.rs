@@ -1,0 +1,95 @@
+//! Positioning moves and the bookkeeping every mode shares.
+use super::{HostProbe, Measured, ModeOptions, Outcome};
+use crate::host::machine::{Cmm, MachineStatus, Readings};
+use crate::math::{Point3, Vec3};
+
+/// Follows the machine cycle by cycle: ball centre, deflection, time, and
+/// points taken at a pitch.
+pub struct Tracker {
+    /// What the host knows about the probe.
+    pub probe: HostProbe,
+    /// Latest readings.
+    pub now: Readings,
+    /// Machine time at the start, s.
+    pub t0: f64,
+    /// Measured points so far.
+    pub points: Vec<Measured>,
+    last_point: Option<Point3>,
+}
+
+impl Tracker {
+    /// Starts tracking from the machine's current readings.
+    pub fn new(cmm: &dyn Cmm, probe: HostProbe) -> Tracker {
+        let now = cmm.readings();
+        Tracker { probe, t0: now.time_s, now, points: Vec::new(), last_point: None }
+    }
+
+    /// Undeflected ball centre from the scales, machine coordinates.
+    pub fn ball_undeflected(&self) -> Point3 {
+        self.now.scales + self.probe.probe_vector
+    }
+
+    /// Deflection magnitude, mm.
+    pub fn deflection(&self) -> f64 {
+        self.now.deflection.norm()
+    }
+
+    /// The measured point now, if the stylus is deflected.
+    pub fn measured(&self) -> Option<Measured> {
+        let n = self.now.deflection.try_normalize(1e-12)?;
+        let ball = self.ball_undeflected() + self.now.deflection;
+        Some(Measured { point: ball - n * self.probe.tip_radius_mm, normal: n, ball })
+    }
+
+    /// Steps the machine and returns an outcome if it halted.
+    pub fn step(&mut self, cmm: &mut dyn Cmm, v: Vec3) -> Option<Outcome> {
+        self.now = cmm.step(v);
+        match self.now.status {
+            MachineStatus::Ok => None,
+            MachineStatus::AxisLimit { .. } => Some(Outcome::AxisLimit),
+            MachineStatus::ProbeOverrange { .. } => Some(Outcome::OverDeflection),
+        }
+    }
+
+    /// Records the current point when it is at least `pitch` from the last.
+    pub fn sample(&mut self, pitch: f64) {
+        let Some(m) = self.measured() else { return };
+        if self.last_point.is_none_or(|p| (m.point - p).norm() >= pitch) {
+            self.points.push(m);
+            self.last_point = Some(m.point);
+        }
+    }
+
+    /// Machine time since the start, s.
+    pub fn elapsed(&self) -> f64 {
+        self.now.time_s - self.t0
+    }
+}
+
+/// Proportional gain of the final approach of a positioning move, 1/s.
+const POSITION_GAIN: f64 = 30.0;
+
+/// Moves the undeflected ball centre to `target` in a straight line
+/// (trapezoidal speed, proportional correction), stopping at rest.
+pub fn move_to(cmm: &mut dyn Cmm, tr: &mut Tracker, target: Point3, speed: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+    let dt = cmm.cycle_s();
+    let mut v_prev = Vec3::zeros();
+    for _ in 0..opts.max_cycles {
+        let err = target - tr.ball_undeflected();
+        let dist = err.norm();
+        if dist <= opts.arrive_tol_mm && v_prev.norm() < 1.0 {
+            return Ok(());
+        }
+        let brake = (2.0 * opts.rapid_accel_mm_s2 * dist).sqrt();
+        let dir = err.try_normalize(1e-12).unwrap_or_else(Vec3::zeros);
+        let want = dir * speed.min(brake).min(POSITION_GAIN * dist);
+        let dv = want - v_prev;
+        let max_dv = opts.rapid_accel_mm_s2 * dt;
+        let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
+        if let Some(o) = tr.step(cmm, v) {
+            return Err(o);
+        }
+        v_prev = v;
+    }
+    Err(Outcome::Aborted)
+}

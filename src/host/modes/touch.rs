@@ -1,0 +1,54 @@
+//! Touch-point measurement: approach along the nominal normal until the
+//! deflection reaches the trigger, record, retract.
+use super::{move_to, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use crate::host::machine::Cmm;
+use crate::math::{Point3, Vec3};
+
+/// Measures one point near `nominal` (machine coordinates) with outward
+/// normal `normal`. Contact is searched up to `search_mm` past the nominal.
+pub fn touch_point(
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    nominal: Point3,
+    normal: Vec3,
+    search_mm: f64,
+    opts: &ModeOptions,
+) -> Attempt {
+    let mut tr = Tracker::new(cmm, probe);
+    let r = probe.tip_radius_mm;
+    let start = nominal + normal * (r + opts.standoff_mm);
+    let outcome = move_to(cmm, &mut tr, start, opts.rapid_speed_mm_s, opts)
+        .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))
+        .and_then(|_| {
+            tr.points.extend(tr.measured());
+            move_to(cmm, &mut tr, start, opts.approach_speed_mm_s * 2.0, opts)
+        });
+    finish(tr, outcome)
+}
+
+/// Moves along `-normal` until the deflection reaches the trigger.
+fn approach(cmm: &mut dyn Cmm, tr: &mut Tracker, normal: Vec3, reach: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+    let from = tr.ball_undeflected();
+    let v = -normal * opts.approach_speed_mm_s;
+    for _ in 0..opts.max_cycles {
+        if tr.deflection() >= opts.trigger_mm {
+            return Ok(());
+        }
+        if (tr.ball_undeflected() - from).norm() > reach {
+            return Err(Outcome::LostContact);
+        }
+        if let Some(o) = tr.step(cmm, v) {
+            return Err(o);
+        }
+    }
+    Err(Outcome::Aborted)
+}
+
+pub(super) fn finish(tr: Tracker, result: Result<(), Outcome>) -> Attempt {
+    Attempt {
+        outcome: result.err().unwrap_or(super::Outcome::Completed),
+        machine_time_s: tr.elapsed(),
+        points: tr.points,
+        max_trajectory_error_mm: 0.0,
+    }
+}

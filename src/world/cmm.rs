@@ -1,0 +1,150 @@
+//! The simulated CMM: servo axes, true probe and the as-machined part,
+//! stepped one control cycle at a time behind the [`Cmm`] seam.
+use rand::rngs::ChaCha8Rng;
+use rand::SeedableRng;
+
+use super::machine::{MachineModel, MachineProfile, Servo, ServoError};
+use super::noise::gaussian;
+use super::probe::TrueProbe;
+use crate::host::machine::{Cmm, MachineStatus, Readings};
+use crate::math::{Point3, Vec2, Vec3};
+use crate::program::Pose;
+use crate::workpiece::as_machined::AsMachined;
+use crate::workpiece::Workpiece;
+
+/// Contact is evaluated only when the ball may be this close to the part
+/// (beyond its radius), mm; further away the last distance bounds it.
+const CONTACT_MARGIN_MM: f64 = 0.5;
+
+/// The true part on the machine table.
+#[derive(Debug, Clone, Copy)]
+pub struct TruePart<'a> {
+    /// Nominal design data (the base of the as-machined definition).
+    pub workpiece: &'a Workpiece,
+    /// The machined part.
+    pub as_machined: &'a AsMachined,
+    /// True pose of the part frame on the machine.
+    pub pose: Pose,
+}
+
+/// Why the simulator could not start.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// The start position is outside the machine's travel.
+    #[error("start position outside the machine: {0}")]
+    Start(#[from] ServoError),
+    /// The machine has fewer than three linear axes.
+    #[error("the machine needs X, Y and Z axes first in its chain, found {0} axes")]
+    Axes(usize),
+}
+
+/// A simulated CMM measuring a true part.
+pub struct SimulatedCmm<'a> {
+    part: TruePart<'a>,
+    model: MachineModel,
+    profile: MachineProfile,
+    probe: TrueProbe,
+    servo: Servo,
+    rng: ChaCha8Rng,
+    /// Warm-start hint of the last contact computation.
+    hint: Option<(usize, Vec2)>,
+    /// Lower bound of the ball's distance to the part, mm.
+    clearance: f64,
+    last: Readings,
+}
+
+impl<'a> SimulatedCmm<'a> {
+    /// A machine at rest with the probe mount at `start` (machine coordinates).
+    pub fn new(
+        part: TruePart<'a>,
+        model: MachineModel,
+        profile: MachineProfile,
+        probe: TrueProbe,
+        seed: u64,
+        start: Point3,
+    ) -> Result<SimulatedCmm<'a>, SimError> {
+        let n = model.axes().len();
+        if n < 3 {
+            return Err(SimError::Axes(n));
+        }
+        let mut q = vec![0.0; n];
+        q[..3].copy_from_slice(start.coords.as_slice());
+        let servo = Servo::new(&model, &profile, &q)?;
+        let last = Readings { time_s: 0.0, scales: start, deflection: Vec3::zeros(), status: MachineStatus::Ok };
+        let rng = ChaCha8Rng::seed_from_u64(seed);
+        let mut sim = SimulatedCmm { part, model, profile, probe, servo, rng, hint: None, clearance: 0.0, last };
+        sim.last = sim.observe(Vec3::zeros(), MachineStatus::Ok);
+        Ok(sim)
+    }
+
+    /// True undeflected ball centre (machine coordinates) for axis positions.
+    fn ball_centre(&self, q: &[f64]) -> Point3 {
+        let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
+        let err = self.profile.geometric_error(xyz, &self.probe.probe_vector);
+        Point3::from(xyz) + self.probe.probe_vector + err
+    }
+
+    /// True deflection for the current state (zero when not touching).
+    fn contact(&mut self, velocity: Vec3) -> Vec3 {
+        let state = self.servo.state();
+        let a0 = self.ball_centre(&state.position);
+        let r = self.probe.tip_radius_mm;
+        if self.clearance > r + CONTACT_MARGIN_MM {
+            self.clearance -= velocity.norm() * self.servo.cycle_s();
+            return Vec3::zeros();
+        }
+        let y = self.part.pose.to_part(a0);
+        let found = match self.hint {
+            Some((face, uv)) => self.part.as_machined.closest_point_from(self.part.workpiece, y, face, uv),
+            None => self.part.as_machined.closest_point(self.part.workpiece, y),
+        };
+        let Ok(tp) = found else {
+            self.hint = None;
+            return Vec3::zeros();
+        };
+        self.hint = Some((tp.face, tp.uv));
+        let rough = gaussian(&mut self.rng, self.part.as_machined.roughness_mm);
+        let s = tp.signed_distance + rough;
+        self.clearance = s - velocity.norm() * self.servo.cycle_s();
+        let n = self.part.pose.dir_to_machine(tp.normal);
+        self.probe.deflection(r - s, n, velocity)
+    }
+
+    fn observe(&mut self, velocity: Vec3, status: MachineStatus) -> Readings {
+        let d = self.contact(velocity);
+        let status = if d.norm() > self.probe.max_deflection_mm && status == MachineStatus::Ok {
+            MachineStatus::ProbeOverrange { deflection_mm: d.norm() }
+        } else {
+            status
+        };
+        let scales = self.servo.read_scales(&mut self.rng);
+        let deflection = self.probe.sense(d, &mut self.rng);
+        let time_s = self.servo.state().time_s;
+        let xyz = Point3::new(scales[0], scales[1], scales[2]);
+        Readings { time_s, scales: xyz, deflection, status }
+    }
+}
+
+impl Cmm for SimulatedCmm<'_> {
+    fn cycle_s(&self) -> f64 {
+        self.servo.cycle_s()
+    }
+
+    fn readings(&self) -> Readings {
+        self.last.clone()
+    }
+
+    fn step(&mut self, velocity: Vec3) -> Readings {
+        let mut command = vec![0.0; self.model.axes().len()];
+        command[..3].copy_from_slice(velocity.as_slice());
+        let status = match self.servo.step(&command) {
+            Ok(_) => MachineStatus::Ok,
+            Err(ServoError::AxisLimit { axis, position, .. }) => MachineStatus::AxisLimit { axis, position },
+            Err(e) => MachineStatus::AxisLimit { axis: e.to_string(), position: f64::NAN },
+        };
+        let state = self.servo.state();
+        let actual = Vec3::new(state.velocity[0], state.velocity[1], state.velocity[2]);
+        self.last = self.observe(actual, status);
+        self.last.clone()
+    }
+}

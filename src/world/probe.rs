@@ -1,0 +1,77 @@
+//! The probe's true physics (world side): contact deflection with friction
+//! drag, and the deflection sensor with gain/cross-talk, nonlinearity and
+//! noise. The host never sees these parameters.
+use rand::Rng;
+
+use super::noise::gaussian;
+use crate::math::{Mat3, Vec3};
+
+/// True probe parameters.
+#[derive(Debug, Clone, PartialEq)]
+pub struct TrueProbe {
+    /// Probe mount (scale reference) to the undeflected ball centre, mm.
+    pub probe_vector: Vec3,
+    /// Effective tip radius, mm.
+    pub tip_radius_mm: f64,
+    /// Sensor gain and cross-talk: reading = G d (+ nonlinearity + noise).
+    pub gain: Mat3,
+    /// Cubic nonlinearity: adds `k |d|^2 d` to the reading, 1/mm^2.
+    pub cubic_per_mm2: f64,
+    /// Sensor noise (standard deviation per axis), mm.
+    pub noise_mm: f64,
+    /// Friction coefficient: tangential drag = mu x normal deflection,
+    /// against the motion.
+    pub friction: f64,
+    /// Mechanical range of the stylus, mm; beyond it the machine halts.
+    pub max_deflection_mm: f64,
+}
+
+impl TrueProbe {
+    /// A perfect probe with the nominal geometry (`--ideal`).
+    pub fn ideal(probe_vector: Vec3, tip_radius_mm: f64) -> TrueProbe {
+        TrueProbe {
+            probe_vector,
+            tip_radius_mm,
+            gain: Mat3::identity(),
+            cubic_per_mm2: 0.0,
+            noise_mm: 0.0,
+            friction: 0.0,
+            max_deflection_mm: 1.0,
+        }
+    }
+
+    /// A realistic uncalibrated probe: small vector and radius errors, 0.3 %
+    /// gain errors with cross-talk, mild nonlinearity, 0.1 um noise, friction.
+    pub fn realistic(probe_vector: Vec3, tip_radius_mm: f64) -> TrueProbe {
+        TrueProbe {
+            probe_vector: probe_vector + Vec3::new(0.0012, -0.0008, 0.0015),
+            tip_radius_mm: tip_radius_mm - 0.0009,
+            gain: Mat3::new(1.003, 0.002, -0.001, -0.0015, 0.998, 0.0012, 0.001, -0.002, 1.002),
+            cubic_per_mm2: 0.004,
+            noise_mm: 1e-4,
+            friction: 0.02,
+            ..TrueProbe::ideal(probe_vector, tip_radius_mm)
+        }
+    }
+
+    /// True ball displacement for penetration `depth = r - s` (mm) along the
+    /// surface normal `n`, with friction drag against the tangential motion
+    /// `velocity`.
+    pub fn deflection(&self, depth: f64, n: Vec3, velocity: Vec3) -> Vec3 {
+        if depth <= 0.0 {
+            return Vec3::zeros();
+        }
+        let tangential = velocity - n * velocity.dot(&n);
+        let drag = tangential.try_normalize(1e-9).map_or(Vec3::zeros(), |t| -t * (self.friction * depth));
+        n * depth + drag
+    }
+
+    /// The sensor reading of a true deflection `d`.
+    pub fn sense(&self, d: Vec3, rng: &mut impl Rng) -> Vec3 {
+        let mut reading = self.gain * d + d * (self.cubic_per_mm2 * d.norm_squared());
+        if self.noise_mm > 0.0 && d.norm_squared() > 0.0 {
+            reading += Vec3::new(gaussian(rng, self.noise_mm), gaussian(rng, self.noise_mm), gaussian(rng, self.noise_mm));
+        }
+        reading
+    }
+}
