@@ -150,13 +150,39 @@ fn check_raw_joint(joint: &xml::Element, file: &Path) -> Result<(), MachineError
         }
     };
     match joint.get_child("limit", None) {
-        Some(_) => Ok(()),
+        Some(limit) => check_limit_attributes(limit, &name, file),
         None => Err(MachineError::MissingLimit {
             file: file.to_path_buf(),
             joint: name,
             kind,
         }),
     }
+}
+
+/// `velocity` present; `lower`, `upper`, `velocity` numbers where present
+/// (an absent `lower`/`upper` is 0 in URDF 1.0, and is checked later).
+fn check_limit_attributes(
+    limit: &xml::Element,
+    joint: &str,
+    file: &Path,
+) -> Result<(), MachineError> {
+    for attribute in ["lower", "upper", "velocity"] {
+        let problem = match limit.get_attribute(attribute, None) {
+            None if attribute == "velocity" => "is missing".to_string(),
+            Some(text) if text.trim().parse::<f64>().is_err() => {
+                format!("is not a number: '{text}'")
+            }
+            _ => continue,
+        };
+        let (file, joint) = (file.to_path_buf(), joint.to_string());
+        return Err(MachineError::LimitAttribute {
+            file,
+            joint,
+            attribute,
+            problem,
+        });
+    }
+    Ok(())
 }
 
 /// Converts one urdf-rs joint (metres) into a validated spec (mm).
