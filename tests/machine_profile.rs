@@ -15,7 +15,9 @@ fn parse(text: &str) -> Result<MachineProfile, ProfileError> {
 
 fn json_path(err: &ProfileError) -> &str {
     match err {
-        ProfileError::Syntax { json_path, .. } | ProfileError::Invalid { json_path, .. } => json_path,
+        ProfileError::Syntax { json_path, .. } | ProfileError::Invalid { json_path, .. } => {
+            json_path
+        }
         other => panic!("no JSON path in {other}"),
     }
 }
@@ -52,9 +54,18 @@ fn given_values_override_defaults() {
 fn unknown_keys_and_wrong_types_carry_json_paths() {
     let cases = [
         (r#"{"linear": {"max_speed": 1}}"#, "$.linear.max_speed"),
-        (r#"{"rotary": {"servo_lag_s": "fast"}}"#, "$.rotary.servo_lag_s"),
-        (r#"{"geometric": {"z": {"roll_rad": [0, "a"]}}}"#, "$.geometric.z.roll_rad[1]"),
-        (r#"{"geometric": {"stacking": "xxz"}}"#, "$.geometric.stacking"),
+        (
+            r#"{"rotary": {"servo_lag_s": "fast"}}"#,
+            "$.rotary.servo_lag_s",
+        ),
+        (
+            r#"{"geometric": {"z": {"roll_rad": [0, "a"]}}}"#,
+            "$.geometric.z.roll_rad[1]",
+        ),
+        (
+            r#"{"geometric": {"stacking": "xxz"}}"#,
+            "$.geometric.stacking",
+        ),
         (r#"{"colour": "red"}"#, "$.colour"),
     ];
     for (text, path) in cases {
@@ -69,15 +80,33 @@ fn unknown_keys_and_wrong_types_carry_json_paths() {
 fn out_of_range_numbers_carry_json_paths_and_values() {
     let cases = [
         (r#"{"control_cycle_s": 0}"#, "$.control_cycle_s", 0.0),
-        (r#"{"linear": {"max_acceleration_mm_s2": -5}}"#, "$.linear.max_acceleration_mm_s2", -5.0),
-        (r#"{"linear": {"servo_lag_s": -0.001}}"#, "$.linear.servo_lag_s", -0.001),
-        (r#"{"rotary": {"scale_noise_rad": -1}}"#, "$.rotary.scale_noise_rad", -1.0),
-        (r#"{"rotary": {"max_velocity_rad_s": 0}}"#, "$.rotary.max_velocity_rad_s", 0.0),
+        (
+            r#"{"linear": {"max_acceleration_mm_s2": -5}}"#,
+            "$.linear.max_acceleration_mm_s2",
+            -5.0,
+        ),
+        (
+            r#"{"linear": {"servo_lag_s": -0.001}}"#,
+            "$.linear.servo_lag_s",
+            -0.001,
+        ),
+        (
+            r#"{"rotary": {"scale_noise_rad": -1}}"#,
+            "$.rotary.scale_noise_rad",
+            -1.0,
+        ),
+        (
+            r#"{"rotary": {"max_velocity_rad_s": 0}}"#,
+            "$.rotary.max_velocity_rad_s",
+            0.0,
+        ),
     ];
     for (text, path, bad) in cases {
         let err = parse(text).unwrap_err();
         match &err {
-            ProfileError::Invalid { json_path, value, .. } => {
+            ProfileError::Invalid {
+                json_path, value, ..
+            } => {
                 assert_eq!((json_path.as_str(), *value), (path, bad));
             }
             other => panic!("unexpected {other}"),
