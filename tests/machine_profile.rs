@@ -203,3 +203,19 @@ fn ideal_switches_every_error_and_all_noise_off() {
     let d = ideal.geometric_error([100.0, 500.0, 300.0], &Vec3::new(10.0, 20.0, -50.0));
     assert_eq!(d, Vec3::zeros());
 }
+
+#[test]
+fn shipped_example_profile_parses_and_has_errors() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/part-programs/machines/bridge-profile-with-errors.json"
+    );
+    let p = MachineProfile::from_json_file(path).unwrap();
+    assert_eq!(p.geometric.x.scale_mm, poly(&[0.0, 3e-6]));
+    // At the far corner the errors add up to micrometres, not millimetres.
+    let d = p.geometric_error([700.0, 1000.0, 600.0], &Vec3::new(0.0, 0.0, -50.0));
+    assert!(d.norm() > 1e-3 && d.norm() < 0.05, "{d:?}");
+    let missing = MachineProfile::from_json_file("/nonexistent/profile.json").unwrap_err();
+    assert!(matches!(missing, ProfileError::Io { .. }));
+    assert!(missing.to_string().contains("/nonexistent/profile.json"));
+}
