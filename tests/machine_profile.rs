@@ -219,3 +219,25 @@ fn shipped_example_profile_parses_and_has_errors() {
     assert!(matches!(missing, ProfileError::Io { .. }));
     assert!(missing.to_string().contains("/nonexistent/profile.json"));
 }
+
+#[test]
+fn small_rotations_match_exact_rigid_rotation_of_the_lever() {
+    // Independent reference: rotate the lever arm exactly; the first-order
+    // model must agree to O(theta^2 * lever).
+    let theta = 2e-5;
+    let probe = Vec3::new(20.0, -35.0, -60.0);
+    let xyz = [150.0, 420.0, 380.0];
+    // X roll (about X): the carriage carries only Z, so lever = (0, 0, z) + P.
+    let p = with_errors(|g| g.x.roll_rad = poly(&[theta]));
+    let lever = Vec3::new(0.0, 0.0, xyz[2]) + probe;
+    let exact = nalgebra::Rotation3::from_axis_angle(&Vec3::x_axis(), theta) * lever - lever;
+    let model = p.geometric_error(xyz, &probe);
+    assert!(
+        (model - exact).norm() <= theta * theta * lever.norm(),
+        "{model:?} vs {exact:?}"
+    );
+    assert!(
+        model.norm() > 1e-3,
+        "the effect is not negligible: {model:?}"
+    );
+}

@@ -189,3 +189,26 @@ fn ideal_profile_reads_exact_positions_and_draws_nothing() {
     let mut fresh = ChaCha8Rng::seed_from_u64(9);
     assert_eq!(rng.random::<u64>(), fresh.random::<u64>());
 }
+
+#[test]
+fn rotary_head_axis_hits_its_limit_in_radians() {
+    let model = MachineModel::from_urdf_str(BRIDGE_AB_HEAD_URDF, "ab.urdf").unwrap();
+    let start = [300.0, 300.0, 300.0, 0.0, 0.002];
+    let mut servo = Servo::new(&model, &MachineProfile::default(), &start).unwrap();
+    let outcome = (0..500).find_map(|_| servo.step(&[0.0, 0.0, 0.0, 0.5, -0.2]).err());
+    match outcome {
+        Some(ServoError::AxisLimit {
+            axis,
+            index,
+            position,
+            lower,
+            ..
+        }) => {
+            assert_eq!((axis.as_str(), index, lower), ("a", 4, 0.0));
+            assert!(position < 0.0 && position > -1e-3, "{position}");
+        }
+        other => panic!("expected the A axis limit, got {other:?}"),
+    }
+    let b = servo.state().position[3];
+    assert!(b > 0.0, "B turned meanwhile: {b}");
+}
