@@ -46,14 +46,23 @@ fn prismatic_chain_translates_by_axis_values() {
     let pose = m.pose(&[250.0, 100.0, 300.0]).unwrap();
     assert!((pose.translation.vector - Vec3::new(100.0, 250.0, 300.0)).norm() < TOL);
     assert!(pose.rotation.angle() < TOL);
-    assert_eq!(m.linear_xyz(&[250.0, 100.0, 300.0]).unwrap(), [100.0, 250.0, 300.0]);
+    assert_eq!(
+        m.linear_xyz(&[250.0, 100.0, 300.0]).unwrap(),
+        [100.0, 250.0, 300.0]
+    );
 }
 
 #[test]
 fn wrong_number_of_axis_values_is_an_error() {
     let m = MachineModel::default_bridge();
     let err = m.pose(&[1.0, 2.0]).unwrap_err();
-    assert!(matches!(err, MachineError::AxisCount { expected: 3, found: 2 }));
+    assert!(matches!(
+        err,
+        MachineError::AxisCount {
+            expected: 3,
+            found: 2
+        }
+    ));
 }
 
 #[test]
@@ -104,13 +113,19 @@ fn origin_rpy_follows_urdf_fixed_axis_convention_and_metres() {
     assert!((pose.translation.vector - expected_t).norm() < TOL);
     assert!((pose.rotation.to_rotation_matrix().into_inner() - expected_r).norm() < TOL);
     let axis = &m.axes()[0];
-    assert_eq!((axis.limits.lower, axis.limits.upper, axis.limits.velocity), (-500.0, 500.0, 200.0));
+    assert_eq!(
+        (axis.limits.lower, axis.limits.upper, axis.limits.velocity),
+        (-500.0, 500.0, 200.0)
+    );
     assert!((axis.home_direction - expected_r * Vec3::x()).norm() < TOL);
 }
 
 #[test]
 fn shipped_example_file_matches_the_embedded_text() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/part-programs/machines/bridge-ab-head.urdf");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/part-programs/machines/bridge-ab-head.urdf"
+    );
     assert_eq!(std::fs::read_to_string(path).unwrap(), BRIDGE_AB_HEAD_URDF);
     let m = MachineModel::from_urdf_file(path).unwrap();
     assert_eq!(m.axes().len(), 5);

@@ -59,6 +59,18 @@ pub enum MachineError {
         /// `prismatic` or `revolute`.
         kind: &'static str,
     },
+    /// A `<limit>` attribute missing (`velocity` is required) or not a number.
+    #[error("{file}: joint '{joint}': <limit> attribute '{attribute}' {problem}")]
+    LimitAttribute {
+        /// The machine file.
+        file: PathBuf,
+        /// The joint.
+        joint: String,
+        /// `lower`, `upper` or `velocity`.
+        attribute: &'static str,
+        /// What is wrong, e.g. `is missing` or `is not a number: 'abc'`.
+        problem: String,
+    },
     /// Travel limits not finite, or `lower >= upper` (values in mm or rad).
     #[error("{file}: joint '{joint}': travel limits must be finite with lower < upper, found lower {lower} upper {upper} ({unit})")]
     LimitRange {

@@ -12,7 +12,7 @@
 use rand::Rng;
 
 use super::model::{Axis, AxisKind, MachineModel};
-use super::profile::MachineProfile;
+use super::profile::{LinearAxesProfile, MachineProfile, RotaryAxesProfile};
 use crate::world::noise::gaussian;
 
 /// Resolved dynamics of one axis (mm and s for linear axes, rad and s for
@@ -40,32 +40,53 @@ pub struct AxisDynamics {
 impl AxisDynamics {
     /// Combines an axis's URDF limits with the profile for its kind.
     pub fn for_axis(axis: &Axis, profile: &MachineProfile) -> Self {
-        let (l, r) = (&profile.linear, &profile.rotary);
-        let (v, a, lag, res, noise) = match axis.kind {
-            AxisKind::Prismatic => (
-                l.max_velocity_mm_s,
-                l.max_acceleration_mm_s2,
-                l.servo_lag_s,
-                l.scale_resolution_mm,
-                l.scale_noise_mm,
-            ),
-            AxisKind::Revolute => (
-                r.max_velocity_rad_s,
-                r.max_acceleration_rad_s2,
-                r.servo_lag_s,
-                r.scale_resolution_rad,
-                r.scale_noise_rad,
-            ),
+        let kind = match axis.kind {
+            AxisKind::Prismatic => Self::linear(&profile.linear),
+            AxisKind::Revolute => Self::rotary(&profile.rotary),
         };
         Self {
             name: axis.name.clone(),
             lower: axis.limits.lower,
             upper: axis.limits.upper,
-            max_velocity: v.min(axis.limits.velocity),
-            max_acceleration: a,
-            lag_s: lag,
-            resolution: res,
-            noise_sigma: noise,
+            max_velocity: kind.max_velocity.min(axis.limits.velocity),
+            ..kind
+        }
+    }
+
+    /// Profile settings of linear axes (name and travel still unset).
+    fn linear(l: &LinearAxesProfile) -> Self {
+        Self::unnamed([
+            l.max_velocity_mm_s,
+            l.max_acceleration_mm_s2,
+            l.servo_lag_s,
+            l.scale_resolution_mm,
+            l.scale_noise_mm,
+        ])
+    }
+
+    /// Profile settings of rotary axes (name and travel still unset).
+    fn rotary(r: &RotaryAxesProfile) -> Self {
+        Self::unnamed([
+            r.max_velocity_rad_s,
+            r.max_acceleration_rad_s2,
+            r.servo_lag_s,
+            r.scale_resolution_rad,
+            r.scale_noise_rad,
+        ])
+    }
+
+    /// From `[max_velocity, max_acceleration, lag_s, resolution, noise]`.
+    fn unnamed([max_velocity, max_acceleration, lag_s, resolution, noise_sigma]: [f64; 5]) -> Self {
+        let (name, lower, upper) = (String::new(), 0.0, 0.0);
+        Self {
+            name,
+            lower,
+            upper,
+            max_velocity,
+            max_acceleration,
+            lag_s,
+            resolution,
+            noise_sigma,
         }
     }
 

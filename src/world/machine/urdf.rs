@@ -133,30 +133,62 @@ fn raw_name<'a>(
 
 /// Supported type; a movable joint has a `<limit>` child.
 fn check_raw_joint(joint: &xml::Element, file: &Path) -> Result<(), MachineError> {
-    let name = raw_name(joint, "joint", file)?.to_string();
-    let written = joint.get_attribute("type", None).unwrap_or("");
-    let kind = match written {
-        "fixed" => return Ok(()),
-        "prismatic" => "prismatic",
-        "revolute" => "revolute",
-        other => {
-            let kind = other.to_string();
-            let file = file.to_path_buf();
-            return Err(MachineError::UnsupportedJointType {
-                file,
-                joint: name,
-                kind,
-            });
-        }
+    let name = raw_name(joint, "joint", file)?;
+    let Some(kind) = movable_kind(joint, name, file)? else {
+        return Ok(());
     };
     match joint.get_child("limit", None) {
-        Some(_) => Ok(()),
+        Some(limit) => check_limit_attributes(limit, name, file),
         None => Err(MachineError::MissingLimit {
             file: file.to_path_buf(),
-            joint: name,
+            joint: name.into(),
             kind,
         }),
     }
+}
+
+/// `Some("prismatic" | "revolute")`, `None` for fixed, else an error.
+fn movable_kind(
+    joint: &xml::Element,
+    name: &str,
+    file: &Path,
+) -> Result<Option<&'static str>, MachineError> {
+    match joint.get_attribute("type", None).unwrap_or("") {
+        "fixed" => Ok(None),
+        "prismatic" => Ok(Some("prismatic")),
+        "revolute" => Ok(Some("revolute")),
+        other => Err(MachineError::UnsupportedJointType {
+            file: file.to_path_buf(),
+            joint: name.into(),
+            kind: other.into(),
+        }),
+    }
+}
+
+/// `velocity` present; `lower`, `upper`, `velocity` numbers where present
+/// (an absent `lower`/`upper` is 0 in URDF 1.0, and is checked later).
+fn check_limit_attributes(
+    limit: &xml::Element,
+    joint: &str,
+    file: &Path,
+) -> Result<(), MachineError> {
+    for attribute in ["lower", "upper", "velocity"] {
+        let problem = match limit.get_attribute(attribute, None) {
+            None if attribute == "velocity" => "is missing".to_string(),
+            Some(text) if text.trim().parse::<f64>().is_err() => {
+                format!("is not a number: '{text}'")
+            }
+            _ => continue,
+        };
+        let (file, joint) = (file.to_path_buf(), joint.to_string());
+        return Err(MachineError::LimitAttribute {
+            file,
+            joint,
+            attribute,
+            problem,
+        });
+    }
+    Ok(())
 }
 
 /// Converts one urdf-rs joint (metres) into a validated spec (mm).
@@ -222,10 +254,25 @@ fn limits(joint: &urdf_rs::Joint, kind: AxisKind, file: &Path) -> Result<AxisLim
         AxisKind::Revolute => 1.0,
     };
     let l = &joint.limit;
-    let (lower, upper, velocity) = (l.lower * scale, l.upper * scale, l.velocity * scale);
+    let limits = AxisLimits {
+        lower: l.lower * scale,
+        upper: l.upper * scale,
+        velocity: l.velocity * scale,
+    };
+    check_limits(&limits, kind, &joint.name, file).map(|()| limits)
+}
+
+/// Finite travel with `lower < upper`; finite positive velocity.
+fn check_limits(
+    l: &AxisLimits,
+    kind: AxisKind,
+    joint: &str,
+    file: &Path,
+) -> Result<(), MachineError> {
+    let (file, joint) = (file.to_path_buf(), joint.to_string());
+    let (lower, upper, velocity) = (l.lower, l.upper, l.velocity);
     if !(lower.is_finite() && upper.is_finite() && lower < upper) {
-        let (joint, unit) = (joint.name.clone(), kind.unit());
-        let file = file.to_path_buf();
+        let unit = kind.unit();
         return Err(MachineError::LimitRange {
             file,
             joint,
@@ -235,8 +282,7 @@ fn limits(joint: &urdf_rs::Joint, kind: AxisKind, file: &Path) -> Result<AxisLim
         });
     }
     if !(velocity.is_finite() && velocity > 0.0) {
-        let (joint, unit) = (joint.name.clone(), kind.velocity_unit());
-        let file = file.to_path_buf();
+        let unit = kind.velocity_unit();
         return Err(MachineError::VelocityLimit {
             file,
             joint,
@@ -244,9 +290,5 @@ fn limits(joint: &urdf_rs::Joint, kind: AxisKind, file: &Path) -> Result<AxisLim
             unit,
         });
     }
-    Ok(AxisLimits {
-        lower,
-        upper,
-        velocity,
-    })
+    Ok(())
 }
