@@ -27,5 +27,6 @@ pub mod math;
 pub mod output;
 pub mod pointfile;
 pub mod program;
+pub mod report;
 pub mod workpiece;
 pub mod world;

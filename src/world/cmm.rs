@@ -3,7 +3,7 @@
 use rand::rngs::ChaCha8Rng;
 use rand::SeedableRng;
 
-use super::machine::{MachineModel, MachineProfile, Servo, ServoError};
+use super::machine::{AxisKind, MachineModel, MachineProfile, Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
 use crate::host::machine::{Cmm, MachineStatus, Readings};
@@ -67,12 +67,26 @@ impl<'a> SimulatedCmm<'a> {
         if n < 3 {
             return Err(SimError::Axes(n));
         }
-        let mut q = vec![0.0; n];
-        q[..3].copy_from_slice(start.coords.as_slice());
+        let q = to_axes(&model, start.coords);
         let servo = Servo::new(&model, &profile, &q)?;
-        let last = Readings { time_s: 0.0, scales: start, deflection: Vec3::zeros(), status: MachineStatus::Ok };
+        let last = Readings {
+            time_s: 0.0,
+            scales: start,
+            deflection: Vec3::zeros(),
+            status: MachineStatus::Ok,
+        };
         let rng = ChaCha8Rng::seed_from_u64(seed);
-        let mut sim = SimulatedCmm { part, model, profile, probe, servo, rng, hint: None, clearance: 0.0, last };
+        let mut sim = SimulatedCmm {
+            part,
+            model,
+            profile,
+            probe,
+            servo,
+            rng,
+            hint: None,
+            clearance: 0.0,
+            last,
+        };
         sim.last = sim.observe(Vec3::zeros(), MachineStatus::Ok);
         Ok(sim)
     }
@@ -95,7 +109,11 @@ impl<'a> SimulatedCmm<'a> {
         }
         let y = self.part.pose.to_part(a0);
         let found = match self.hint {
-            Some((face, uv)) => self.part.as_machined.closest_point_from(self.part.workpiece, y, face, uv),
+            Some((face, uv)) => {
+                self.part
+                    .as_machined
+                    .closest_point_from(self.part.workpiece, y, face, uv)
+            }
             None => self.part.as_machined.closest_point(self.part.workpiece, y),
         };
         let Ok(tp) = found else {
@@ -113,16 +131,39 @@ impl<'a> SimulatedCmm<'a> {
     fn observe(&mut self, velocity: Vec3, status: MachineStatus) -> Readings {
         let d = self.contact(velocity);
         let status = if d.norm() > self.probe.max_deflection_mm && status == MachineStatus::Ok {
-            MachineStatus::ProbeOverrange { deflection_mm: d.norm() }
+            MachineStatus::ProbeOverrange {
+                deflection_mm: d.norm(),
+            }
         } else {
             status
         };
         let scales = self.servo.read_scales(&mut self.rng);
         let deflection = self.probe.sense(d, &mut self.rng);
         let time_s = self.servo.state().time_s;
-        let xyz = Point3::new(scales[0], scales[1], scales[2]);
-        Readings { time_s, scales: xyz, deflection, status }
+        let xyz = Point3::from(self.model.linear_xyz(&scales).unwrap_or([0.0; 3]));
+        Readings {
+            time_s,
+            scales: xyz,
+            deflection,
+            status,
+        }
     }
+}
+
+/// Axis values (chain order) whose linear axes add up to `v` (x, y, z);
+/// rotary axes stay at zero.
+fn to_axes(model: &MachineModel, v: Vec3) -> Vec<f64> {
+    model
+        .axes()
+        .iter()
+        .map(|a| {
+            if a.kind == AxisKind::Prismatic {
+                a.home_direction.dot(&v)
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }
 
 impl Cmm for SimulatedCmm<'_> {
@@ -135,15 +176,19 @@ impl Cmm for SimulatedCmm<'_> {
     }
 
     fn step(&mut self, velocity: Vec3) -> Readings {
-        let mut command = vec![0.0; self.model.axes().len()];
-        command[..3].copy_from_slice(velocity.as_slice());
+        let command = to_axes(&self.model, velocity);
         let status = match self.servo.step(&command) {
             Ok(_) => MachineStatus::Ok,
-            Err(ServoError::AxisLimit { axis, position, .. }) => MachineStatus::AxisLimit { axis, position },
-            Err(e) => MachineStatus::AxisLimit { axis: e.to_string(), position: f64::NAN },
+            Err(ServoError::AxisLimit { axis, position, .. }) => {
+                MachineStatus::AxisLimit { axis, position }
+            }
+            Err(e) => MachineStatus::AxisLimit {
+                axis: e.to_string(),
+                position: f64::NAN,
+            },
         };
         let state = self.servo.state();
-        let actual = Vec3::new(state.velocity[0], state.velocity[1], state.velocity[2]);
+        let actual = Vec3::from(self.model.linear_xyz(&state.velocity).unwrap_or([0.0; 3]));
         self.last = self.observe(actual, status);
         self.last.clone()
     }

@@ -46,7 +46,9 @@ impl TrueProbe {
         TrueProbe {
             probe_vector: probe_vector + Vec3::new(0.0012, -0.0008, 0.0015),
             tip_radius_mm: tip_radius_mm - 0.0009,
-            gain: Mat3::new(1.003, 0.002, -0.001, -0.0015, 0.998, 0.0012, 0.001, -0.002, 1.002),
+            gain: Mat3::new(
+                1.003, 0.002, -0.001, -0.0015, 0.998, 0.0012, 0.001, -0.002, 1.002,
+            ),
             cubic_per_mm2: 0.004,
             noise_mm: 1e-4,
             friction: 0.02,
@@ -62,7 +64,9 @@ impl TrueProbe {
             return Vec3::zeros();
         }
         let tangential = velocity - n * velocity.dot(&n);
-        let drag = tangential.try_normalize(1e-9).map_or(Vec3::zeros(), |t| -t * (self.friction * depth));
+        let drag = tangential
+            .try_normalize(1e-9)
+            .map_or(Vec3::zeros(), |t| -t * (self.friction * depth));
         n * depth + drag
     }
 
@@ -70,7 +74,11 @@ impl TrueProbe {
     pub fn sense(&self, d: Vec3, rng: &mut impl Rng) -> Vec3 {
         let mut reading = self.gain * d + d * (self.cubic_per_mm2 * d.norm_squared());
         if self.noise_mm > 0.0 && d.norm_squared() > 0.0 {
-            reading += Vec3::new(gaussian(rng, self.noise_mm), gaussian(rng, self.noise_mm), gaussian(rng, self.noise_mm));
+            reading += Vec3::new(
+                gaussian(rng, self.noise_mm),
+                gaussian(rng, self.noise_mm),
+                gaussian(rng, self.noise_mm),
+            );
         }
         reading
     }

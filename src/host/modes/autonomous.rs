@@ -29,7 +29,12 @@ pub struct AutonomousTask {
 }
 
 /// Runs an autonomous scan.
-pub fn autonomous_scan(cmm: &mut dyn Cmm, probe: HostProbe, task: &AutonomousTask, opts: &ModeOptions) -> Attempt {
+pub fn autonomous_scan(
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    task: &AutonomousTask,
+    opts: &ModeOptions,
+) -> Attempt {
     let mut tr = Tracker::new(cmm, probe);
     let r = probe.tip_radius_mm;
     let above = task.start + task.start_normal * (r + opts.standoff_mm);
@@ -39,7 +44,12 @@ pub fn autonomous_scan(cmm: &mut dyn Cmm, probe: HostProbe, task: &AutonomousTas
     finish(tr, result)
 }
 
-fn touch_down(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &ModeOptions) -> Result<(), Outcome> {
+fn touch_down(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    task: &AutonomousTask,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= task.deflection_mm {
             return Ok(());
@@ -54,7 +64,12 @@ fn touch_down(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: 
 /// Gain pulling the ball back into the scanning plane, 1/s.
 const PLANE_GAIN: f64 = 30.0;
 
-fn follow(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &ModeOptions) -> Result<(), Outcome> {
+fn follow(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    task: &AutonomousTask,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let (o, pn) = task.plane;
     let mut dir = task.direction;
     let start = tr.ball_undeflected();
@@ -68,12 +83,18 @@ fn follow(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &Mod
         speed = (speed + opts.tangential_accel_mm_s2 * dt).min(opts.autonomous_speed_mm_s);
         let a0 = tr.ball_undeflected();
         let off_plane = (a0 - o).dot(&pn);
-        let v = dir * speed - n * ((task.deflection_mm - d.norm()) * opts.gain_deflection) - pn * (off_plane * PLANE_GAIN);
+        let v = dir * speed
+            - n * ((task.deflection_mm - d.norm()) * opts.gain_deflection)
+            - pn * (off_plane * PLANE_GAIN);
         if let Some(out) = tr.step(cmm, v) {
             return Err(out);
         }
         travelled += speed * dt;
-        lost = if tr.deflection() < opts.contact_mm { lost + 1 } else { 0 };
+        lost = if tr.deflection() < opts.contact_mm {
+            lost + 1
+        } else {
+            0
+        };
         if lost >= opts.lost_contact_cycles {
             return Err(Outcome::LostContact);
         }
@@ -93,9 +114,14 @@ fn follow(cmm: &mut dyn Cmm, tr: &mut Tracker, task: &AutonomousTask, opts: &Mod
 fn finished(task: &AutonomousTask, tr: &Tracker, start: Point3, travelled: f64, dir: Vec3) -> bool {
     let here = tr.ball_undeflected();
     match task.end {
-        None => travelled > 0.5 * task.nominal_length_mm && (here - start).norm() < task.pitch_mm.max(0.2),
+        None => {
+            travelled > 0.5 * task.nominal_length_mm
+                && (here - start).norm() < task.pitch_mm.max(0.2)
+        }
         Some((end, tangent)) => {
-            let past = tr.measured().is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
+            let past = tr
+                .measured()
+                .is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
             past && dir.dot(&tangent) > 0.0
         }
     }

@@ -21,7 +21,13 @@ impl Tracker {
     /// Starts tracking from the machine's current readings.
     pub fn new(cmm: &dyn Cmm, probe: HostProbe) -> Tracker {
         let now = cmm.readings();
-        Tracker { probe, t0: now.time_s, now, points: Vec::new(), last_point: None }
+        Tracker {
+            probe,
+            t0: now.time_s,
+            now,
+            points: Vec::new(),
+            last_point: None,
+        }
     }
 
     /// Undeflected ball centre from the scales, machine coordinates.
@@ -38,7 +44,11 @@ impl Tracker {
     pub fn measured(&self) -> Option<Measured> {
         let n = self.now.deflection.try_normalize(1e-12)?;
         let ball = self.ball_undeflected() + self.now.deflection;
-        Some(Measured { point: ball - n * self.probe.tip_radius_mm, normal: n, ball })
+        Some(Measured {
+            point: ball - n * self.probe.tip_radius_mm,
+            normal: n,
+            ball,
+        })
     }
 
     /// Steps the machine and returns an outcome if it halted.
@@ -54,7 +64,10 @@ impl Tracker {
     /// Records the current point when it is at least `pitch` from the last.
     pub fn sample(&mut self, pitch: f64) {
         let Some(m) = self.measured() else { return };
-        if self.last_point.is_none_or(|p| (m.point - p).norm() >= pitch) {
+        if self
+            .last_point
+            .is_none_or(|p| (m.point - p).norm() >= pitch)
+        {
             self.points.push(m);
             self.last_point = Some(m.point);
         }
@@ -71,7 +84,13 @@ const POSITION_GAIN: f64 = 30.0;
 
 /// Moves the undeflected ball centre to `target` in a straight line
 /// (trapezoidal speed, proportional correction), stopping at rest.
-pub fn move_to(cmm: &mut dyn Cmm, tr: &mut Tracker, target: Point3, speed: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+pub fn move_to(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    target: Point3,
+    speed: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let dt = cmm.cycle_s();
     let mut v_prev = Vec3::zeros();
     for _ in 0..opts.max_cycles {

@@ -41,10 +41,11 @@ pub fn design_value_scan(
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe);
     let mut max_dl = 0.0;
-    let result = approach(cmm, &mut tr, path, kind, targets.deflection_mm, opts).and_then(|_| match kind {
-        ScanKind::Passive => passive(cmm, &mut tr, path, plan, targets, opts),
-        ScanKind::Active => active(cmm, &mut tr, path, plan, targets, opts, &mut max_dl),
-    });
+    let result =
+        approach(cmm, &mut tr, path, kind, targets.deflection_mm, opts).and_then(|_| match kind {
+            ScanKind::Passive => passive(cmm, &mut tr, path, plan, targets, opts),
+            ScanKind::Active => active(cmm, &mut tr, path, plan, targets, opts, &mut max_dl),
+        });
     let mut attempt = finish(tr, result);
     attempt.max_trajectory_error_mm = max_dl;
     attempt
@@ -52,9 +53,22 @@ pub fn design_value_scan(
 
 /// Rapid to a standoff above the path start, then approach along the path
 /// normal: to the planned start (passive) or to the wanted deflection (active).
-fn approach(cmm: &mut dyn Cmm, tr: &mut Tracker, path: &BallPath, kind: ScanKind, ep: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+fn approach(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    path: &BallPath,
+    kind: ScanKind,
+    ep: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
-    move_to(cmm, tr, p0 + n0 * (ep + opts.standoff_mm), opts.rapid_speed_mm_s, opts)?;
+    move_to(
+        cmm,
+        tr,
+        p0 + n0 * (ep + opts.standoff_mm),
+        opts.rapid_speed_mm_s,
+        opts,
+    )?;
     if kind == ScanKind::Passive {
         return move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts);
     }
@@ -74,23 +88,44 @@ fn approach(cmm: &mut dyn Cmm, tr: &mut Tracker, path: &BallPath, kind: ScanKind
     Err(Outcome::Aborted)
 }
 
-fn contact_check(tr: &Tracker, out_of_contact: &mut usize, over_mm: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+fn contact_check(
+    tr: &Tracker,
+    out_of_contact: &mut usize,
+    over_mm: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let d = tr.deflection();
     if d > over_mm {
         return Err(Outcome::OverDeflection);
     }
-    *out_of_contact = if d < opts.contact_mm { *out_of_contact + 1 } else { 0 };
+    *out_of_contact = if d < opts.contact_mm {
+        *out_of_contact + 1
+    } else {
+        0
+    };
     if *out_of_contact >= opts.lost_contact_cycles {
         return Err(Outcome::LostContact);
     }
     Ok(())
 }
 
-fn passive(cmm: &mut dyn Cmm, tr: &mut Tracker, path: &BallPath, plan: &SpeedPlan, t: ScanTargets, opts: &ModeOptions) -> Result<(), Outcome> {
+fn passive(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    path: &BallPath,
+    plan: &SpeedPlan,
+    t: ScanTargets,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let mut lost = 0;
-    let strict = ModeOptions { lost_contact_cycles: 3, ..*opts };
+    let strict = ModeOptions {
+        lost_contact_cycles: 3,
+        ..*opts
+    };
     for k in 0..plan.profile().cycles() {
-        let Some(st) = plan.profile().state_at_cycle(k) else { break };
+        let Some(st) = plan.profile().state_at_cycle(k) else {
+            break;
+        };
         let target = path.position(st.s);
         let v = path.tangent(st.s) * st.v + (target - tr.ball_undeflected()) * opts.gain_correction;
         if let Some(o) = tr.step(cmm, v) {
@@ -104,7 +139,11 @@ fn passive(cmm: &mut dyn Cmm, tr: &mut Tracker, path: &BallPath, plan: &SpeedPla
 
 /// Planned speed at arc length `s` from the segment speeds.
 fn planned_speed(plan: &SpeedPlan, s: f64, a: f64) -> f64 {
-    let seg = plan.segments().iter().find(|g| s <= g.s_end).or(plan.segments().last());
+    let seg = plan
+        .segments()
+        .iter()
+        .find(|g| s <= g.s_end)
+        .or(plan.segments().last());
     seg.map_or(0.0, |g| {
         let up = (g.v_start_mm_s.powi(2) + 2.0 * a * (s - g.s_start).max(0.0)).sqrt();
         let down = (g.v_end_mm_s.powi(2) + 2.0 * a * (g.s_end - s).max(0.0)).sqrt();
@@ -128,20 +167,28 @@ fn active(
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
     for _ in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
-        let s_loc = path.closest_s(&a0, Some(path.wrap(progress))).map_err(|_| Outcome::Aborted)?;
+        let s_loc = path
+            .closest_s(&a0, Some(path.wrap(progress)))
+            .map_err(|_| Outcome::Aborted)?;
         progress += wrapped_step(path, progress, s_loc);
         let remaining = length - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
         }
-        let (p, tan, n_path) = (path.position(s_loc), path.tangent(s_loc), path.normal(s_loc));
+        let (p, tan, n_path) = (
+            path.position(s_loc),
+            path.tangent(s_loc),
+            path.normal(s_loc),
+        );
         let dl = (a0 - p).dot(&n_path);
         *max_dl = f64::max(*max_dl, dl.abs());
         if dl.abs() > t.trajectory_tolerance_mm {
             return Err(Outcome::TrajectoryError);
         }
         let brake = (2.0 * a * remaining.max(0.0)).sqrt();
-        let want = planned_speed(plan, progress, a).max(CREEP_MM_S).min(brake.max(0.5));
+        let want = planned_speed(plan, progress, a)
+            .max(CREEP_MM_S)
+            .min(brake.max(0.5));
         speed += (want - speed).clamp(-a * dt, a * dt);
         let v = control(tr, p, a0, tan * speed, n_path, t.deflection_mm, opts);
         if let Some(o) = tr.step(cmm, v) {
@@ -154,12 +201,27 @@ fn active(
 }
 
 /// `V = Gf Vf + Ge Ve + Gc Vc2` with `q = normalize(n x Vf)`, `Vc2 = (Vc1 . q) q`.
-fn control(tr: &Tracker, p: Point3, a0: Point3, vf: Vec3, n_path: Vec3, ep: f64, opts: &ModeOptions) -> Vec3 {
+fn control(
+    tr: &Tracker,
+    p: Point3,
+    a0: Point3,
+    vf: Vec3,
+    n_path: Vec3,
+    ep: f64,
+    opts: &ModeOptions,
+) -> Vec3 {
     let d = tr.now.deflection;
-    let n = if d.norm() > opts.contact_mm { d.normalize() } else { n_path };
+    let n = if d.norm() > opts.contact_mm {
+        d.normalize()
+    } else {
+        n_path
+    };
     let ve = -n * (ep - d.norm());
     let vc1 = p - a0;
-    let vc2 = n.cross(&vf).try_normalize(1e-12).map_or(Vec3::zeros(), |q| q * vc1.dot(&q));
+    let vc2 = n
+        .cross(&vf)
+        .try_normalize(1e-12)
+        .map_or(Vec3::zeros(), |q| q * vc1.dot(&q));
     vf * opts.gain_follow + ve * opts.gain_deflection + vc2 * opts.gain_correction
 }
 

@@ -27,7 +27,13 @@ pub fn touch_point(
 }
 
 /// Moves along `-normal` until the deflection reaches the trigger.
-fn approach(cmm: &mut dyn Cmm, tr: &mut Tracker, normal: Vec3, reach: f64, opts: &ModeOptions) -> Result<(), Outcome> {
+fn approach(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    normal: Vec3,
+    reach: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
     let from = tr.ball_undeflected();
     let v = -normal * opts.approach_speed_mm_s;
     for _ in 0..opts.max_cycles {
