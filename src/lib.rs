@@ -23,6 +23,7 @@ pub mod evaluate;
 pub mod fit;
 pub mod geometry;
 pub mod host;
+pub mod inspect;
 pub mod math;
 pub mod output;
 pub mod pointfile;

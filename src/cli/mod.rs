@@ -9,6 +9,7 @@ mod check;
 mod evaluate;
 mod examples;
 mod fit;
+mod scan;
 mod schema;
 
 /// Dimensional metrology on a simulated CMM: design-value scanning with
@@ -30,6 +31,8 @@ pub enum Command {
     Evaluate(evaluate::EvaluateArgs),
     /// Fit a geometric element (line, plane, circle, sphere, cylinder, cone) to points.
     Fit(fit::FitArgs),
+    /// Run part programs on the simulated CMM and write deviation reports.
+    Scan(scan::ScanArgs),
     /// Print the JSON Schema of a file format.
     Schema(schema::SchemaArgs),
     /// Regenerate the example workpieces shipped in `workpieces/`.
@@ -78,6 +81,9 @@ pub enum CliError {
     /// A closest-point query failed.
     #[error(transparent)]
     Projection(#[from] crate::geometry::ProjectionError),
+    /// A run could not start.
+    #[error(transparent)]
+    Run(#[from] crate::inspect::RunError),
     /// An output file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
@@ -96,6 +102,7 @@ pub fn run(cli: Cli) -> Result<Status, CliError> {
         Command::Check(args) => check::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::Fit(args) => fit::run(&args),
+        Command::Scan(args) => scan::run(&args),
         Command::Schema(args) => schema::run(&args),
         Command::ExampleWorkpieces(args) => examples::run(&args),
     }

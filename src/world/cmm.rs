@@ -122,10 +122,25 @@ impl<'a> SimulatedCmm<'a> {
         };
         self.hint = Some((tp.face, tp.uv));
         let rough = gaussian(&mut self.rng, self.part.as_machined.roughness_mm);
-        let s = tp.signed_distance + rough;
+        // Beyond a face's edge the ball can only touch the edge from outside:
+        // the distance is unsigned and the push points away from the edge.
+        let (s, n_part) = if self.on_edge(tp.face, tp.uv) {
+            let away = (y - tp.point).try_normalize(1e-12).unwrap_or(tp.normal);
+            (tp.distance + rough, away)
+        } else {
+            (tp.signed_distance + rough, tp.normal)
+        };
         self.clearance = s - velocity.norm() * self.servo.cycle_s();
-        let n = self.part.pose.dir_to_machine(tp.normal);
+        let n = self.part.pose.dir_to_machine(n_part);
         self.probe.deflection(r - s, n, velocity)
+    }
+
+    fn on_edge(&self, face: usize, uv: Vec2) -> bool {
+        self.part.workpiece.faces.get(face).is_none_or(|f| {
+            let ((u0, u1), (v0, v1)) = f.surface.domain();
+            let inside_domain = uv.x > u0 && uv.x < u1 && uv.y > v0 && uv.y < v1;
+            !inside_domain || f.trim.as_ref().is_some_and(|t| !t.contains(uv))
+        })
     }
 
     fn observe(&mut self, velocity: Vec3, status: MachineStatus) -> Readings {

@@ -3,7 +3,7 @@
 //! stay in the plane. Closes on its start for a closed section; stops at the
 //! section end for an open one.
 use super::touch::finish;
-use super::{move_to, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::machine::Cmm;
 use crate::math::{Point3, Vec3};
 
@@ -38,7 +38,7 @@ pub fn autonomous_scan(
     let mut tr = Tracker::new(cmm, probe);
     let r = probe.tip_radius_mm;
     let above = task.start + task.start_normal * (r + opts.standoff_mm);
-    let result = move_to(cmm, &mut tr, above, opts.rapid_speed_mm_s, opts)
+    let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))
         .and_then(|_| follow(cmm, &mut tr, task, opts));
     finish(tr, result)

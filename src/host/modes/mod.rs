@@ -8,7 +8,7 @@ mod scan;
 mod touch;
 
 pub use autonomous::{autonomous_scan, AutonomousTask};
-pub use motion::{move_to, Tracker};
+pub use motion::{move_to, recover, reposition, Tracker};
 pub use scan::{design_value_scan, ScanKind, ScanTargets};
 pub use touch::touch_point;
 
@@ -101,6 +101,9 @@ pub struct ModeOptions {
     pub max_cycles: usize,
     /// Position tolerance ending a positioning move, mm.
     pub arrive_tol_mm: f64,
+    /// Height (machine z of the ball centre) above the part for moves
+    /// between measurements; `None` moves in a straight line.
+    pub clearance_z_mm: Option<f64>,
 }
 
 impl Default for ModeOptions {
@@ -122,6 +125,7 @@ impl Default for ModeOptions {
             tangential_accel_mm_s2: 500.0,
             max_cycles: 3_000_000,
             arrive_tol_mm: 0.002,
+            clearance_z_mm: None,
         }
     }
 }

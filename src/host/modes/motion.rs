@@ -112,3 +112,65 @@ pub fn move_to(
     }
     Err(Outcome::Aborted)
 }
+
+/// Moves to `target` between measurements, arriving along `approach`
+/// (the outward direction at the target): first free the stylus if it is
+/// touching, then up to the clearance height, across to a point `far`
+/// outside the target, down, and in (straight when no clearance height is
+/// set).
+pub fn reposition(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    recover(cmm, tr, opts)?;
+    let speed = opts.rapid_speed_mm_s;
+    let Some(z) = opts.clearance_z_mm else {
+        return move_to(cmm, tr, target, speed, opts);
+    };
+    let outside = target + approach * REPOSITION_OUTSIDE_MM;
+    let here = tr.ball_undeflected();
+    if (here.xy() - outside.xy()).norm() > opts.arrive_tol_mm {
+        move_to(
+            cmm,
+            tr,
+            Point3::new(here.x, here.y, z.max(here.z)),
+            speed,
+            opts,
+        )?;
+        move_to(
+            cmm,
+            tr,
+            Point3::new(outside.x, outside.y, z.max(here.z)),
+            speed,
+            opts,
+        )?;
+    }
+    move_to(cmm, tr, outside, speed, opts)?;
+    move_to(cmm, tr, target, speed, opts)
+}
+
+/// How far outside the target point a repositioning move comes down, mm.
+const REPOSITION_OUTSIDE_MM: f64 = 15.0;
+
+/// Backs the stylus off the part along its deflection until it is free,
+/// then by the standoff.
+pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
+    let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
+        return Ok(());
+    };
+    for _ in 0..opts.max_cycles {
+        if tr.deflection() < opts.contact_mm * 0.5 {
+            let away = tr.ball_undeflected() + dir * opts.standoff_mm;
+            return move_to(cmm, tr, away, opts.approach_speed_mm_s, opts);
+        }
+        if let (Some(o), true) = (tr.step(cmm, dir * opts.approach_speed_mm_s), true) {
+            if o != Outcome::OverDeflection {
+                return Err(o);
+            }
+        }
+    }
+    Err(Outcome::Aborted)
+}

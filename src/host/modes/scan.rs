@@ -4,7 +4,7 @@
 //! along the measured normal, correct sideways only; fail when the
 //! trajectory error `dL` leaves its tolerance).
 use super::touch::finish;
-use super::{move_to, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::machine::Cmm;
 use crate::host::path::{BallPath, SpeedPlan};
 use crate::math::{Point3, Vec3};
@@ -62,13 +62,7 @@ fn approach(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
-    move_to(
-        cmm,
-        tr,
-        p0 + n0 * (ep + opts.standoff_mm),
-        opts.rapid_speed_mm_s,
-        opts,
-    )?;
+    reposition(cmm, tr, p0 + n0 * (ep + opts.standoff_mm), n0, opts)?;
     if kind == ScanKind::Passive {
         return move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts);
     }

@@ -1,6 +1,6 @@
 //! Touch-point measurement: approach along the nominal normal until the
 //! deflection reaches the trigger, record, retract.
-use super::{move_to, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::machine::Cmm;
 use crate::math::{Point3, Vec3};
 
@@ -17,7 +17,7 @@ pub fn touch_point(
     let mut tr = Tracker::new(cmm, probe);
     let r = probe.tip_radius_mm;
     let start = nominal + normal * (r + opts.standoff_mm);
-    let outcome = move_to(cmm, &mut tr, start, opts.rapid_speed_mm_s, opts)
+    let outcome = reposition(cmm, &mut tr, start, normal, opts)
         .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());

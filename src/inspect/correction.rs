@@ -1,0 +1,238 @@
+//! Geometric correction (seed 000): compare touch points with the design
+//! data of a planar section and pick the simplest of a menu of corrections
+//! (offset, translation, rotation, scale, combinations) whose residuals are
+//! all small.
+use nalgebra::{DMatrix, DVector};
+
+use crate::math::{Point3, Vec3};
+
+/// One design point of a section: position and outward normal (part frame).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DesignPoint {
+    /// Position, mm.
+    pub point: Point3,
+    /// Outward unit normal.
+    pub normal: Vec3,
+}
+
+/// A correction model: which parameters it frees.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Model {
+    /// Constant offset along the normals (uniform under/overcut).
+    Offset,
+    /// In-plane translation.
+    Translation,
+    /// Offset and translation.
+    OffsetTranslation,
+    /// Rotation about the plane normal and translation.
+    Rigid,
+    /// Uniform scale about the section centroid and translation.
+    ScaleTranslation,
+    /// Rotation, uniform scale and translation.
+    Similarity,
+    /// Scales along the section's two principal directions and translation.
+    AxisScales,
+    /// Similarity plus offset.
+    SimilarityOffset,
+}
+
+impl Model {
+    /// The menu, simplest first.
+    pub const MENU: [Model; 8] = [
+        Model::Offset,
+        Model::Translation,
+        Model::OffsetTranslation,
+        Model::Rigid,
+        Model::ScaleTranslation,
+        Model::Similarity,
+        Model::AxisScales,
+        Model::SimilarityOffset,
+    ];
+
+    /// Name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Model::Offset => "offset",
+            Model::Translation => "translation",
+            Model::OffsetTranslation => "offset+translation",
+            Model::Rigid => "rotation+translation",
+            Model::ScaleTranslation => "uniform_scale+translation",
+            Model::Similarity => "rotation+uniform_scale+translation",
+            Model::AxisScales => "axis_scales+translation",
+            Model::SimilarityOffset => "rotation+uniform_scale+translation+offset",
+        }
+    }
+
+    /// Which of the basis motions [offset, tx, ty, rot, scale, sx, sy] it uses.
+    fn uses(self) -> [bool; 7] {
+        match self {
+            Model::Offset => [true, false, false, false, false, false, false],
+            Model::Translation => [false, true, true, false, false, false, false],
+            Model::OffsetTranslation => [true, true, true, false, false, false, false],
+            Model::Rigid => [false, true, true, true, false, false, false],
+            Model::ScaleTranslation => [false, true, true, false, true, false, false],
+            Model::Similarity => [false, true, true, true, true, false, false],
+            Model::AxisScales => [false, true, true, false, false, true, true],
+            Model::SimilarityOffset => [true, true, true, true, true, false, false],
+        }
+    }
+}
+
+/// A fitted correction, applicable to design points.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Correction {
+    /// The model.
+    pub model: Model,
+    /// Largest |residual| of the touch points after correction, mm.
+    pub max_residual_mm: f64,
+    /// Number of touch points.
+    pub points: usize,
+    frame: Frame,
+    /// Parameters in the order of [`Model::uses`] (unused ones zero).
+    params: [f64; 7],
+}
+
+/// In-plane frame of a section: centroid, principal axes, plane normal.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Frame {
+    c: Point3,
+    e1: Vec3,
+    e2: Vec3,
+}
+
+impl Frame {
+    fn of(design: &[DesignPoint], plane_normal: Vec3) -> Frame {
+        let n = design.len().max(1) as f64;
+        let c = Point3::from(design.iter().map(|d| d.point.coords).sum::<Vec3>() / n);
+        let cov = design.iter().fold(nalgebra::Matrix3::zeros(), |m, d| {
+            let r = d.point - c;
+            let r = r - plane_normal * r.dot(&plane_normal);
+            m + r * r.transpose()
+        });
+        let eig = cov.symmetric_eigen();
+        let k = eig.eigenvalues.iamax();
+        let e1 = eig.eigenvectors.column(k).into_owned();
+        let e1 = (e1 - plane_normal * e1.dot(&plane_normal))
+            .try_normalize(1e-12)
+            .unwrap_or_else(|| any_perp(plane_normal));
+        Frame {
+            c,
+            e1,
+            e2: plane_normal.cross(&e1),
+        }
+    }
+
+    /// Displacement of `p` (normal `n`) per unit of each basis motion.
+    fn basis(&self, p: Point3, n: Vec3) -> [Vec3; 7] {
+        let r = p - self.c;
+        let (a, b) = (r.dot(&self.e1), r.dot(&self.e2));
+        let rot = self.e2 * a - self.e1 * b;
+        [
+            n,
+            self.e1,
+            self.e2,
+            rot,
+            self.e1 * a + self.e2 * b,
+            self.e1 * a,
+            self.e2 * b,
+        ]
+    }
+}
+
+fn any_perp(n: Vec3) -> Vec3 {
+    let t = if n.x.abs() < 0.9 {
+        Vec3::x()
+    } else {
+        Vec3::y()
+    };
+    (t - n * t.dot(&n)).normalize()
+}
+
+/// Fits the simplest model whose residuals are all within `threshold_mm`.
+/// `design[i]` was touched at `measured[i]` along its normal.
+pub fn fit_correction(
+    design: &[DesignPoint],
+    measured: &[Point3],
+    plane_normal: Vec3,
+    threshold_mm: f64,
+) -> Option<Correction> {
+    let frame = Frame::of(design, plane_normal);
+    Model::MENU.iter().find_map(|&model| {
+        let c = fit_model(design, measured, frame, model)?;
+        (c.max_residual_mm <= threshold_mm).then_some(c)
+    })
+}
+
+/// Gauss-Newton on the point-to-plane gaps (three passes; the motions are
+/// small, so the linearisation converges at once).
+fn fit_model(
+    design: &[DesignPoint],
+    measured: &[Point3],
+    frame: Frame,
+    model: Model,
+) -> Option<Correction> {
+    let cols: Vec<usize> = (0..7).filter(|&k| model.uses()[k]).collect();
+    if design.len() < cols.len() + 1 || design.len() != measured.len() {
+        return None;
+    }
+    let mut params = [0.0; 7];
+    for _ in 0..3 {
+        let c = Correction {
+            model,
+            max_residual_mm: 0.0,
+            points: design.len(),
+            frame,
+            params,
+        };
+        let moved: Vec<DesignPoint> = design.iter().map(|d| c.apply(d)).collect();
+        let a = DMatrix::from_fn(design.len(), cols.len(), |i, j| {
+            frame.basis(moved[i].point, moved[i].normal)[cols[j]].dot(&moved[i].normal)
+        });
+        let b = DVector::from_fn(design.len(), |i, _| {
+            (measured[i] - moved[i].point).dot(&moved[i].normal)
+        });
+        let step = a.svd(true, true).solve(&b, 1e-12).ok()?;
+        for (j, &k) in cols.iter().enumerate() {
+            params[k] += step[j];
+        }
+    }
+    let mut c = Correction {
+        model,
+        max_residual_mm: 0.0,
+        points: design.len(),
+        frame,
+        params,
+    };
+    c.max_residual_mm = design
+        .iter()
+        .zip(measured)
+        .map(|(d, m)| {
+            let moved = c.apply(d);
+            (m - moved.point).dot(&moved.normal).abs()
+        })
+        .fold(0.0, f64::max);
+    Some(c)
+}
+
+impl Correction {
+    /// The corrected design point.
+    pub fn apply(&self, d: &DesignPoint) -> DesignPoint {
+        let [h, tx, ty, rot, s, sx, sy] = self.params;
+        let f = &self.frame;
+        let r = d.point - f.c;
+        let (a, b) = (r.dot(&f.e1), r.dot(&f.e2));
+        let w = r - f.e1 * a - f.e2 * b;
+        let (ka, kb) = ((1.0 + s) * (1.0 + sx), (1.0 + s) * (1.0 + sy));
+        let (cr, sr) = (rot.cos(), rot.sin());
+        let (a2, b2) = (ka * a, kb * b);
+        let (a3, b3) = (cr * a2 - sr * b2, sr * a2 + cr * b2);
+        // Normals: inverse-transpose of the in-plane scale, then the rotation.
+        let (na, nb) = (d.normal.dot(&f.e1) / ka, d.normal.dot(&f.e2) / kb);
+        let nw = d.normal - f.e1 * d.normal.dot(&f.e1) - f.e2 * d.normal.dot(&f.e2);
+        let normal = (f.e1 * (cr * na - sr * nb) + f.e2 * (sr * na + cr * nb) + nw)
+            .try_normalize(1e-12)
+            .unwrap_or(d.normal);
+        let point = f.c + f.e1 * (a3 + tx) + f.e2 * (b3 + ty) + w + normal * h;
+        DesignPoint { point, normal }
+    }
+}

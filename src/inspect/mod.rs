@@ -1,0 +1,111 @@
+//! Inspection: runs a validated part program on a machine (the simulator,
+//! behind the [`Cmm`] seam) and turns the measured points into a report.
+//!
+//! The supervisor ([`supervisor`]) is the method of seed 000: active
+//! design-value scanning with geometric and autonomous corrections.
+
+pub mod correction;
+mod evaluate;
+mod run;
+pub mod supervisor;
+
+pub use run::{run_program, RunError, RunOptions};
+
+use correction::{Correction, DesignPoint};
+use supervisor::SupervisorOptions;
+
+use crate::host::machine::Cmm;
+use crate::host::modes::{Attempt, HostProbe, Measured, ModeOptions, Outcome};
+use crate::math::Vec3;
+use crate::program::{Pose, ScanSettings};
+use crate::report::{AttemptReport, CorrectionReport};
+
+/// What one feature's measurement needs.
+pub struct Ctx<'c> {
+    /// The machine.
+    pub cmm: &'c mut dyn Cmm,
+    /// Probe as the host knows it.
+    pub probe: HostProbe,
+    /// Part to machine.
+    pub pose: Pose,
+    /// Section plane normal (part frame).
+    pub plane_normal: Vec3,
+    /// Scan parameters.
+    pub settings: ScanSettings,
+    /// Mode gains and thresholds.
+    pub modes: ModeOptions,
+    /// Supervisor limits.
+    pub supervisor: SupervisorOptions,
+    /// A correction learned on an earlier part, applied before the first scan.
+    pub learned: Option<Learned>,
+}
+
+/// A correction that can be carried to the next part.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Learned {
+    /// A fitted geometric correction.
+    Geometric(Correction),
+    /// Design data replaced by an autonomous scan.
+    Replaced(Vec<DesignPoint>),
+}
+
+impl Learned {
+    /// The design data after this correction.
+    pub fn apply(&self, design: &[DesignPoint]) -> Vec<DesignPoint> {
+        match self {
+            Learned::Geometric(c) => design.iter().map(|d| c.apply(d)).collect(),
+            Learned::Replaced(pts) => pts.clone(),
+        }
+    }
+
+    /// How it appears in a report when reused.
+    pub fn report(&self) -> CorrectionReport {
+        match self {
+            Learned::Geometric(c) => CorrectionReport::Geometric {
+                model: c.model.name().into(),
+                max_residual_mm: c.max_residual_mm,
+                points: c.points,
+                source: "learned",
+            },
+            Learned::Replaced(p) => CorrectionReport::Autonomous { points: p.len() },
+        }
+    }
+}
+
+/// Result of measuring one section curve.
+#[derive(Debug, Clone, Default)]
+pub struct CurveResult {
+    /// Attempts in order.
+    pub attempts: Vec<AttemptReport>,
+    /// Corrections in order.
+    pub corrections: Vec<CorrectionReport>,
+    /// Points of the last completed scan (machine frame).
+    pub points: Vec<Measured>,
+    /// Whether the last scan completed.
+    pub complete: bool,
+    /// Notes for the report.
+    pub notes: Vec<String>,
+    /// The last correction made (to carry to later parts).
+    pub learned: Option<Learned>,
+}
+
+impl CurveResult {
+    /// Records an attempt; scans (not touch points) set the final points.
+    pub fn record(&mut self, mode: &'static str, attempt: Attempt) -> Outcome {
+        let outcome = attempt.outcome;
+        self.attempts.push(AttemptReport {
+            mode,
+            outcome,
+            machine_time_s: attempt.machine_time_s,
+            points: attempt.points.len(),
+            max_trajectory_error_mm: attempt.max_trajectory_error_mm,
+        });
+        if mode != "points" {
+            self.complete = outcome == Outcome::Completed;
+            if self.complete {
+                self.points = attempt.points;
+            }
+        }
+        outcome
+    }
+}

@@ -1,0 +1,326 @@
+//! Running a whole program on the simulated CMM.
+use std::time::Instant;
+
+use super::correction::DesignPoint;
+use super::evaluate::point_reports;
+use super::supervisor::{scan_curve, SupervisorOptions};
+use super::{Ctx, CurveResult, Learned};
+use crate::host::machine::Cmm;
+use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
+use crate::math::{Point3, Vec3};
+use crate::program::{Feature, Program};
+use crate::report::{
+    FeatureReport, PartToMachine, ProbeUsed, Report, Stats, Tolerance, Verdict, REPORT_FORMAT,
+};
+use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
+use crate::world::machine::{MachineModel, MachineProfile};
+use crate::world::probe::TrueProbe;
+
+/// How to run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOptions {
+    /// Seed of every random draw.
+    pub seed: u64,
+    /// Switch off every simulated error and all noise.
+    pub ideal: bool,
+    /// Mode gains and thresholds.
+    pub modes: ModeOptions,
+    /// Supervisor limits.
+    pub supervisor: SupervisorOptions,
+    /// Corrections learned on earlier parts, by feature name and curve index.
+    pub learned: Vec<((String, usize), Learned)>,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            seed: 1,
+            ideal: false,
+            modes: ModeOptions::default(),
+            supervisor: SupervisorOptions::default(),
+            learned: Vec::new(),
+        }
+    }
+}
+
+/// Why a run could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// The simulator could not be set up.
+    #[error("{program}: cannot start the simulated machine: {source}")]
+    Machine {
+        /// Program name.
+        program: String,
+        /// The reason.
+        source: SimError,
+    },
+}
+
+/// Clearance above the part's highest point for moves, mm.
+const CLEARANCE_MM: f64 = 10.0;
+
+/// Runs every feature and evaluates the points; also returns what was
+/// learned per (feature, curve).
+pub fn run_program(
+    program: &Program,
+    opts: &RunOptions,
+) -> Result<(Report, Vec<((String, usize), Learned)>), RunError> {
+    let wall = Instant::now();
+    let truth = if opts.ideal {
+        program.as_machined.clone().without_roughness()
+    } else {
+        program.as_machined.clone()
+    };
+    let part = TruePart {
+        workpiece: &program.workpiece,
+        as_machined: &truth,
+        pose: program.placement,
+    };
+    let probe_vector = Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm);
+    let r = program.probe.tip_radius_mm;
+    let true_probe = if opts.ideal {
+        TrueProbe::ideal(probe_vector, r)
+    } else {
+        TrueProbe::realistic(probe_vector, r)
+    };
+    let profile = if opts.ideal {
+        MachineProfile::default().ideal()
+    } else {
+        MachineProfile::default()
+    };
+    let (start, top) = start_position(program);
+    let mut sim = SimulatedCmm::new(
+        part,
+        MachineModel::default_bridge(),
+        profile,
+        true_probe,
+        opts.seed,
+        start - probe_vector,
+    )
+    .map_err(|source| RunError::Machine {
+        program: program.name.clone(),
+        source,
+    })?;
+    let host_probe = HostProbe {
+        probe_vector,
+        tip_radius_mm: r,
+    };
+    let modes = ModeOptions {
+        clearance_z_mm: Some(top),
+        ..opts.modes
+    };
+    let mut learned_out = Vec::new();
+    let features: Vec<FeatureReport> = program
+        .features
+        .iter()
+        .map(|f| {
+            run_feature(
+                program,
+                &truth,
+                f,
+                &mut sim,
+                host_probe,
+                &modes,
+                opts,
+                &mut learned_out,
+            )
+        })
+        .collect();
+    let report = Report {
+        format: REPORT_FORMAT,
+        program: program.name.clone(),
+        seed: opts.seed,
+        status: overall(&features),
+        machine_time_s: sim.readings().time_s,
+        wall_time_s: wall.elapsed().as_secs_f64(),
+        part_to_machine: part_to_machine(program),
+        ideal: opts.ideal,
+        probe: ProbeUsed {
+            source: "nominal".into(),
+            tip_radius_mm: r,
+            probe_vector_mm: probe_vector.into(),
+        },
+        features,
+    };
+    Ok((report, learned_out))
+}
+
+/// Ball-centre start above the middle of the part and the clearance height.
+fn start_position(program: &Program) -> (Point3, f64) {
+    let pts: Vec<Point3> = program
+        .workpiece
+        .faces
+        .iter()
+        .flat_map(|f| {
+            f.surface
+                .homogeneous_points()
+                .iter()
+                .map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w))
+        })
+        .map(|p| program.placement.to_machine(p))
+        .collect();
+    let n = pts.len().max(1) as f64;
+    let centre = pts.iter().fold(Vec3::zeros(), |a, p| a + p.coords) / n;
+    let top = pts.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max)
+        + program.probe.tip_radius_mm
+        + CLEARANCE_MM;
+    (Point3::new(centre.x, centre.y, top), top)
+}
+
+fn part_to_machine(program: &Program) -> PartToMachine {
+    let r = program.placement.rotation;
+    PartToMachine {
+        rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
+        translation_mm: program.placement.translation.into(),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn run_feature(
+    program: &Program,
+    truth: &crate::workpiece::as_machined::AsMachined,
+    feature: &Feature,
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    modes: &ModeOptions,
+    opts: &RunOptions,
+    learned_out: &mut Vec<((String, usize), Learned)>,
+) -> FeatureReport {
+    let (results, faces, tolerance, kind) = match feature {
+        Feature::Section {
+            name,
+            plane,
+            faces,
+            curves,
+            settings,
+            tolerance,
+        } => {
+            let results: Vec<CurveResult> = curves
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    let design: Vec<DesignPoint> = c
+                        .points
+                        .iter()
+                        .map(|p| DesignPoint {
+                            point: p.point,
+                            normal: p.normal,
+                        })
+                        .collect();
+                    let key = (name.clone(), k);
+                    let learned = opts
+                        .learned
+                        .iter()
+                        .find(|(kk, _)| *kk == key)
+                        .map(|(_, l)| l.clone());
+                    let mut ctx = Ctx {
+                        cmm: &mut *cmm,
+                        probe,
+                        pose: program.placement,
+                        plane_normal: plane.normal(),
+                        settings: *settings,
+                        modes: *modes,
+                        supervisor: opts.supervisor,
+                        learned,
+                    };
+                    let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
+                    if let Some(l) = &res.learned {
+                        learned_out.push((key, l.clone()));
+                    }
+                    res
+                })
+                .collect();
+            (results, faces.clone(), *tolerance, "section_scan")
+        }
+        Feature::Touch {
+            points, tolerance, ..
+        } => {
+            let mut res = CurveResult {
+                complete: true,
+                ..CurveResult::default()
+            };
+            for p in points {
+                let (m, n) = (
+                    program.placement.to_machine(p.point),
+                    program.placement.dir_to_machine(p.normal),
+                );
+                let a = touch_point(cmm, probe, m, n, 6.0, modes);
+                let ok = a.outcome == Outcome::Completed;
+                let pts = a.points.clone();
+                res.record("points", a);
+                res.complete &= ok;
+                res.points.extend(pts);
+            }
+            (
+                vec![res],
+                (0..program.workpiece.faces.len()).collect(),
+                *tolerance,
+                "touch_points",
+            )
+        }
+    };
+    feature_report(
+        program,
+        truth,
+        feature.name(),
+        kind,
+        results,
+        &faces,
+        tolerance,
+    )
+}
+
+fn feature_report(
+    program: &Program,
+    truth: &crate::workpiece::as_machined::AsMachined,
+    name: &str,
+    kind: &'static str,
+    results: Vec<CurveResult>,
+    faces: &[usize],
+    (lower, upper): (f64, f64),
+) -> FeatureReport {
+    let complete = results.iter().all(|r| r.complete);
+    let measured: Vec<_> = results
+        .iter()
+        .flat_map(|r| r.points.iter().copied())
+        .collect();
+    let points = point_reports(program, truth, faces, &measured);
+    let in_tol = points
+        .iter()
+        .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);
+    let status = match (complete, in_tol) {
+        (false, _) => Verdict::Incomplete,
+        (true, true) => Verdict::Pass,
+        (true, false) => Verdict::Fail,
+    };
+    FeatureReport {
+        name: name.to_string(),
+        kind,
+        status,
+        attempts: results
+            .iter()
+            .flat_map(|r| r.attempts.iter().cloned())
+            .collect(),
+        corrections: results
+            .iter()
+            .flat_map(|r| r.corrections.iter().cloned())
+            .collect(),
+        deviation_mm: Stats::of(points.iter().map(|p| p.deviation_mm)),
+        tolerance_mm: Tolerance { lower, upper },
+        notes: results
+            .iter()
+            .flat_map(|r| r.notes.iter().cloned())
+            .collect(),
+        points,
+    }
+}
+
+fn overall(features: &[FeatureReport]) -> Verdict {
+    if features.iter().any(|f| f.status == Verdict::Incomplete) {
+        Verdict::Incomplete
+    } else if features.iter().any(|f| f.status == Verdict::Fail) {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    }
+}

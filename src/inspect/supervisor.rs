@@ -1,0 +1,311 @@
+//! Error-correcting design-value scanning (seed 000) of one section curve:
+//! active scanning; on a trajectory error a geometric correction from touch
+//! points (flag 0) or an autonomous correction (flag 1, or when no simple
+//! model fits); a bounded number of autonomous corrections.
+use super::correction::{fit_correction, DesignPoint};
+use super::{Ctx, CurveResult};
+use crate::host::modes::{
+    autonomous_scan, design_value_scan, touch_point, Attempt, AutonomousTask, Measured, Outcome,
+    ScanKind, ScanTargets,
+};
+use crate::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+use crate::math::{Point3, Vec3};
+use crate::program::Mode;
+use crate::report::CorrectionReport;
+
+/// Limits and thresholds of the correcting supervisor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupervisorOptions {
+    /// A geometric correction is accepted when every touch point lies within
+    /// this distance of the corrected design data, mm.
+    pub geometric_threshold_mm: f64,
+    /// Autonomous corrections allowed per curve before giving up.
+    pub max_autonomous: usize,
+    /// Touch points per geometric correction (spread by arc length).
+    pub touch_points: usize,
+    /// How far past the nominal a touch point searches for contact, mm.
+    pub touch_search_mm: f64,
+}
+
+impl Default for SupervisorOptions {
+    fn default() -> Self {
+        SupervisorOptions {
+            geometric_threshold_mm: 0.25,
+            max_autonomous: 2,
+            touch_points: 16,
+            touch_search_mm: 6.0,
+        }
+    }
+}
+
+/// Whether an outcome is a trajectory error the corrections address.
+fn correctable(o: Outcome) -> bool {
+    matches!(
+        o,
+        Outcome::TrajectoryError | Outcome::LostContact | Outcome::OverDeflection
+    )
+}
+
+/// Measures one section curve in the given mode.
+pub fn scan_curve(
+    ctx: &mut Ctx,
+    design: Vec<DesignPoint>,
+    closed: bool,
+    mode: Mode,
+) -> CurveResult {
+    let mut res = CurveResult::default();
+    match mode {
+        Mode::Active | Mode::Passive => {
+            let kind = if mode == Mode::Active {
+                ScanKind::Active
+            } else {
+                ScanKind::Passive
+            };
+            design_attempt(ctx, &design, closed, kind, &mut res);
+        }
+        Mode::Autonomous => {
+            autonomous_attempt(ctx, &design, closed, &mut res);
+        }
+        Mode::Auto => correcting(ctx, design, closed, &mut res),
+    }
+    res
+}
+
+fn correcting(ctx: &mut Ctx, mut design: Vec<DesignPoint>, closed: bool, res: &mut CurveResult) {
+    let mut flag = 0;
+    let mut autonomous = 0;
+    if let Some(learned) = ctx.learned.clone() {
+        design = learned.apply(&design);
+        res.corrections.push(learned.report());
+    }
+    loop {
+        let outcome = design_attempt(ctx, &design, closed, ScanKind::Active, res);
+        if outcome == Outcome::Completed || !correctable(outcome) {
+            return;
+        }
+        if flag == 0 {
+            if let Some(corrected) = geometric(ctx, &design, res) {
+                design = corrected;
+                flag = 1;
+                continue;
+            }
+        }
+        if autonomous >= ctx.supervisor.max_autonomous {
+            res.notes
+                .push(format!("gave up after {autonomous} autonomous corrections"));
+            return;
+        }
+        autonomous += 1;
+        match autonomous_design(ctx, &design, closed, res) {
+            Some(new_design) => design = new_design,
+            None => return,
+        }
+        flag = 0;
+    }
+}
+
+/// Ball-centre path of the design in machine coordinates.
+fn ball_path(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<BallPath> {
+    let pts: Vec<(Point3, Vec3)> = design
+        .iter()
+        .map(|d| {
+            (
+                ctx.pose.to_machine(d.point),
+                ctx.pose.dir_to_machine(d.normal),
+            )
+        })
+        .collect();
+    let offset = ctx.probe.tip_radius_mm - ctx.settings.deflection_mm;
+    BallPath::from_section(&pts, closed, offset, PathOptions::default()).ok()
+}
+
+fn design_attempt(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    kind: ScanKind,
+    res: &mut CurveResult,
+) -> Outcome {
+    let Some(path) = ball_path(ctx, design, closed) else {
+        res.notes
+            .push("could not build a scanning path from the design data".into());
+        return Outcome::Aborted;
+    };
+    let speed = SpeedOptions {
+        speed_mm_s: ctx.settings.speed_mm_s,
+        a_lat_mm_s2: ctx.modes.lateral_accel_mm_s2,
+        a_tan_mm_s2: ctx.modes.tangential_accel_mm_s2,
+        cycle_s: ctx.cmm.cycle_s(),
+        ..SpeedOptions::default()
+    };
+    let Ok(plan) = SpeedPlan::new(&path, &speed) else {
+        res.notes.push("speed planning failed".into());
+        return Outcome::Aborted;
+    };
+    let targets = ScanTargets {
+        deflection_mm: ctx.settings.deflection_mm,
+        pitch_mm: ctx.settings.pitch_mm,
+        trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
+    };
+    let attempt = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, kind, targets, &ctx.modes);
+    let mode = if kind == ScanKind::Active {
+        "active"
+    } else {
+        "passive"
+    };
+    res.record(mode, attempt)
+}
+
+/// Indices of `n` design points spread evenly by arc length.
+fn spread(design: &[DesignPoint], n: usize) -> Vec<usize> {
+    let mut acc = vec![0.0];
+    for w in design.windows(2) {
+        let last = acc.last().copied().unwrap_or(0.0);
+        acc.push(last + (w[1].point - w[0].point).norm());
+    }
+    let total = acc.last().copied().unwrap_or(0.0);
+    let mut out: Vec<usize> = (0..n)
+        .map(|k| {
+            let target = total * (k as f64 + 0.5) / n as f64;
+            acc.partition_point(|&a| a < target)
+                .min(design.len().saturating_sub(1))
+        })
+        .collect();
+    out.dedup();
+    out
+}
+
+fn geometric(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    res: &mut CurveResult,
+) -> Option<Vec<DesignPoint>> {
+    let picks = spread(design, ctx.supervisor.touch_points);
+    let mut touched = Vec::new();
+    let mut measured = Vec::new();
+    let mut attempt = Attempt {
+        outcome: Outcome::Completed,
+        points: Vec::new(),
+        machine_time_s: 0.0,
+        max_trajectory_error_mm: 0.0,
+    };
+    for &i in &picks {
+        let d = design[i];
+        let (p, n) = (
+            ctx.pose.to_machine(d.point),
+            ctx.pose.dir_to_machine(d.normal),
+        );
+        let a = touch_point(
+            ctx.cmm,
+            ctx.probe,
+            p,
+            n,
+            ctx.supervisor.touch_search_mm,
+            &ctx.modes,
+        );
+        attempt.machine_time_s += a.machine_time_s;
+        if let (Outcome::Completed, Some(m)) = (a.outcome, a.points.first()) {
+            touched.push(d);
+            measured.push(ctx.pose.to_part(m.point));
+            attempt.points.push(*m);
+        } else if a.outcome == Outcome::AxisLimit {
+            attempt.outcome = a.outcome;
+        }
+    }
+    res.record("points", attempt);
+    let fit = fit_correction(
+        &touched,
+        &measured,
+        ctx.plane_normal,
+        ctx.supervisor.geometric_threshold_mm,
+    );
+    let Some(c) = fit else {
+        res.notes.push(format!(
+            "no simple correction fits the {} touch points",
+            touched.len()
+        ));
+        return None;
+    };
+    res.corrections.push(CorrectionReport::Geometric {
+        model: c.model.name().into(),
+        max_residual_mm: c.max_residual_mm,
+        points: c.points,
+        source: "fitted",
+    });
+    res.learned = Some(super::Learned::Geometric(c.clone()));
+    Some(design.iter().map(|d| c.apply(d)).collect())
+}
+
+fn autonomous_task(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {
+    let first = design.first()?;
+    let second = design.get(1)?;
+    let last = design.last()?;
+    let m = |p: Point3| ctx.pose.to_machine(p);
+    let length: f64 = design
+        .windows(2)
+        .map(|w| (w[1].point - w[0].point).norm())
+        .sum();
+    let end_tangent = ctx
+        .pose
+        .dir_to_machine(last.point - design.get(design.len().checked_sub(2)?)?.point)
+        .try_normalize(1e-12)?;
+    Some(AutonomousTask {
+        start: m(first.point),
+        start_normal: ctx.pose.dir_to_machine(first.normal),
+        direction: (m(second.point) - m(first.point)).try_normalize(1e-12)?,
+        plane: (m(first.point), ctx.pose.dir_to_machine(ctx.plane_normal)),
+        end: (!closed).then_some((m(last.point), end_tangent)),
+        nominal_length_mm: length,
+        deflection_mm: ctx.settings.deflection_mm,
+        pitch_mm: ctx.settings.pitch_mm.min(0.5),
+    })
+}
+
+fn autonomous_attempt(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    res: &mut CurveResult,
+) -> Option<Vec<Measured>> {
+    let task = autonomous_task(ctx, design, closed)?;
+    let attempt = autonomous_scan(ctx.cmm, ctx.probe, &task, &ctx.modes);
+    let points = attempt.points.clone();
+    (res.record("autonomous", attempt) == Outcome::Completed).then_some(points)
+}
+
+/// Replaces the design data by an autonomous scan's surface points.
+fn autonomous_design(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    res: &mut CurveResult,
+) -> Option<Vec<DesignPoint>> {
+    let points = autonomous_attempt(ctx, design, closed, res)?;
+    let new: Vec<DesignPoint> = points
+        .iter()
+        .map(|m| DesignPoint {
+            point: ctx.pose.to_part(m.point),
+            normal: ctx.pose.rotation.transpose() * m.normal,
+        })
+        .collect();
+    let new = trim_overlap(new, closed, ctx.settings.pitch_mm);
+    res.corrections
+        .push(CorrectionReport::Autonomous { points: new.len() });
+    res.learned = Some(super::Learned::Replaced(new.clone()));
+    (new.len() >= 4).then_some(new)
+}
+
+/// A closed autonomous trace ends near its start: drop the overlap.
+fn trim_overlap(mut pts: Vec<DesignPoint>, closed: bool, pitch: f64) -> Vec<DesignPoint> {
+    if closed {
+        while pts.len() > 4
+            && pts
+                .last()
+                .zip(pts.first())
+                .is_some_and(|(a, b)| (a.point - b.point).norm() < 0.75 * pitch)
+        {
+            pts.pop();
+        }
+    }
+    pts
+}
