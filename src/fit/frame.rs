@@ -1,0 +1,138 @@
+//! Centring, principal axes and local frames shared by the fits.
+use crate::math::{Mat3, Point3, Vec3};
+
+use super::FitError;
+
+/// Points moved so that their centroid is the origin (fits work on these
+/// to keep round-off small; results are moved back).
+#[derive(Debug, Clone)]
+pub(crate) struct Centred {
+    /// The centroid of the input, mm.
+    pub centroid: Vec3,
+    /// The points minus the centroid, mm.
+    pub points: Vec<Vec3>,
+    /// Largest distance of a point from the centroid, mm.
+    pub extent: f64,
+}
+
+/// Checks finiteness and the point count, then centres the points.
+pub(crate) fn centre(
+    points: &[Point3],
+    element: &'static str,
+    needed: usize,
+) -> Result<Centred, FitError> {
+    if points.len() < needed {
+        let found = points.len();
+        return Err(FitError::TooFewPoints { element, needed, found });
+    }
+    let bad = points.iter().enumerate().find(|(_, p)| !crate::math::all_finite(p.coords.as_slice()));
+    if let Some((index, p)) = bad {
+        return Err(FitError::NonFinite { index, x: p.x, y: p.y, z: p.z });
+    }
+    let mean = mean_of(points);
+    let shifted: Vec<Vec3> = points.iter().map(|p| p.coords - mean).collect();
+    let centroid = mean + mean_vec(&shifted);
+    let points: Vec<Vec3> = points.iter().map(|p| p.coords - centroid).collect();
+    let extent = points.iter().map(|p| p.norm()).fold(0.0, f64::max);
+    Ok(Centred { centroid, points, extent })
+}
+
+fn mean_of(points: &[Point3]) -> Vec3 {
+    let sum: Vec3 = points.iter().map(|p| p.coords).sum();
+    sum / points.len() as f64
+}
+
+fn mean_vec(points: &[Vec3]) -> Vec3 {
+    points.iter().sum::<Vec3>() / points.len().max(1) as f64
+}
+
+/// Principal axes of centred points: unit eigenvectors of the scatter
+/// matrix, by decreasing spread, and the singular values of the centred
+/// point matrix.
+#[derive(Debug, Clone)]
+pub(crate) struct Principal {
+    /// Axes by decreasing spread.
+    pub axes: [Vec3; 3],
+    /// Singular values by decreasing size, mm.
+    pub sigma: [f64; 3],
+}
+
+/// Principal axes of centred points.
+pub(crate) fn principal(points: &[Vec3]) -> Principal {
+    let scatter: Mat3 = points.iter().map(|p| p * p.transpose()).sum();
+    let eig = scatter.symmetric_eigen();
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
+    let axes = order.map(|i| eig.eigenvectors.column(i).into_owned());
+    let sigma = order.map(|i| eig.eigenvalues[i].max(0.0).sqrt());
+    Principal { axes, sigma }
+}
+
+impl Principal {
+    /// Fails when the points coincide or lie on a line.
+    pub fn check_spread(
+        &self,
+        element: &'static str,
+        count: usize,
+        limit: f64,
+    ) -> Result<(), FitError> {
+        let spread_mm = self.sigma[0] / (count as f64).sqrt();
+        if !(spread_mm > 0.0) {
+            return Err(FitError::Coincident { element, count, spread_mm });
+        }
+        let ratio = self.sigma[1] / self.sigma[0];
+        if ratio < limit {
+            return Err(FitError::Collinear { element, count, ratio, limit });
+        }
+        Ok(())
+    }
+
+    /// Fails when the points coincide, lie on a line or in a plane.
+    pub fn check_volume(
+        &self,
+        element: &'static str,
+        count: usize,
+        limit: f64,
+    ) -> Result<(), FitError> {
+        self.check_spread(element, count, limit)?;
+        let ratio = self.sigma[2] / self.sigma[0];
+        if ratio < limit {
+            return Err(FitError::Coplanar { element, count, ratio, limit });
+        }
+        Ok(())
+    }
+}
+
+/// A right-handed orthonormal frame whose third axis is `axis`: rows of the
+/// returned matrix are (e1, e2, axis), so `m * v` gives local coordinates.
+pub(crate) fn frame_for(axis: &Vec3) -> Mat3 {
+    let a = axis.normalize();
+    let helper = if a.x.abs() <= a.y.abs() && a.x.abs() <= a.z.abs() {
+        Vec3::x()
+    } else if a.y.abs() <= a.z.abs() {
+        Vec3::y()
+    } else {
+        Vec3::z()
+    };
+    let e1 = helper.cross(&a).normalize();
+    let e2 = a.cross(&e1);
+    Mat3::from_rows(&[e1.transpose(), e2.transpose(), a.transpose()])
+}
+
+/// The direction `v` with its largest-magnitude component made positive
+/// (the first one on exact ties). This is the sign rule for line
+/// directions, plane and circle normals and cylinder axes.
+pub fn canonical_sign(v: Vec3) -> Vec3 {
+    let idx = v.iamax();
+    if v[idx] < 0.0 {
+        -v
+    } else {
+        v
+    }
+}
+
+/// Every `step`-th point so that at most `max` points remain.
+pub(crate) fn subsample(points: &[Vec3], max: usize) -> Vec<Vec3> {
+    let step = points.len().div_ceil(max.max(1)).max(1);
+    points.iter().step_by(step).copied().collect()
+}

@@ -1,0 +1,192 @@
+//! Levenberg-Marquardt (Gauss-Newton with damping) on a [`Model`].
+//!
+//! Hand-written rather than the `levenberg-marquardt` crate on purpose: that
+//! crate wants the full N x p Jacobian, while here the normal equations
+//! `J^T J` (at most 6 x 6) and `J^T r` are accumulated point by point in
+//! fixed-size chunks. A million points then need no big allocation, the
+//! chunks run on all cores, and the sums are added in chunk order so the
+//! result does not depend on the number of threads. Squaring the condition
+//! number does not cost accuracy: the iteration converges to the point
+//! where the accurately evaluated `J^T r` vanishes; the normal-equation solve
+//! only has to point downhill.
+use nalgebra::{DMatrix, DVector};
+
+use super::model::{Model, MAX_PARAMS};
+use super::{FitError, FitOptions};
+use crate::math::Vec3;
+
+/// Points per chunk of the accumulation (fixed, for reproducible sums).
+const CHUNK: usize = 1 << 14;
+/// Below this many points everything runs on one thread.
+const PARALLEL_MIN: usize = 1 << 16;
+/// Damping at which a rejected step counts as "no descent left within
+/// floating-point precision": the current model is then the minimum.
+const LAMBDA_MAX: f64 = 1e16;
+/// First damping after a rejected undamped step.
+const LAMBDA_FIRST: f64 = 1e-4;
+/// Damping below this is dropped (pure Gauss-Newton).
+const LAMBDA_MIN: f64 = 1e-12;
+
+/// Normal equations of the linearised problem at one model.
+#[derive(Debug, Clone, Copy, Default)]
+struct Normal {
+    /// Upper triangle of `J^T J`.
+    a: [[f64; MAX_PARAMS]; MAX_PARAMS],
+    /// `J^T r`.
+    g: [f64; MAX_PARAMS],
+    /// Sum of squared residuals, mm^2.
+    cost: f64,
+}
+
+impl Normal {
+    fn add(mut self, other: &Normal) -> Normal {
+        for (row, orow) in self.a.iter_mut().zip(other.a.iter()) {
+            row.iter_mut().zip(orow.iter()).for_each(|(x, y)| *x += y);
+        }
+        self.g.iter_mut().zip(other.g.iter()).for_each(|(x, y)| *x += y);
+        self.cost += other.cost;
+        self
+    }
+}
+
+/// A converged least-squares solution.
+#[derive(Debug, Clone)]
+pub(crate) struct Solved<M> {
+    /// The fitted model.
+    pub model: M,
+    /// Iterations made.
+    pub iterations: usize,
+    /// RMS residual, mm.
+    pub rms: f64,
+}
+
+fn accumulate_chunk<M: Model>(model: &M, points: &[Vec3]) -> Normal {
+    let n = M::SHAPE + 1;
+    let size = model.size();
+    let mut acc = Normal::default();
+    let mut row = [0.0; MAX_PARAMS];
+    for p in points {
+        let r = model.eval(p, &mut row) - size;
+        row[M::SHAPE] = -1.0;
+        for i in 0..n {
+            acc.g[i] += row[i] * r;
+            for j in i..n {
+                acc.a[i][j] += row[i] * row[j];
+            }
+        }
+        acc.cost += r * r;
+    }
+    acc
+}
+
+fn threads() -> usize {
+    std::thread::available_parallelism().map_or(1, |n| n.get().min(16))
+}
+
+fn normal_equations<M: Model + Sync>(model: &M, points: &[Vec3]) -> Normal {
+    let chunks: Vec<&[Vec3]> = points.chunks(CHUNK).collect();
+    let workers = threads();
+    let parts: Vec<Normal> = if points.len() < PARALLEL_MIN || workers < 2 {
+        chunks.iter().map(|c| accumulate_chunk(model, c)).collect()
+    } else {
+        parallel_parts(model, &chunks, workers)
+    };
+    parts.iter().fold(Normal::default(), |acc, p| acc.add(p))
+}
+
+fn parallel_parts<M: Model + Sync>(model: &M, chunks: &[&[Vec3]], workers: usize) -> Vec<Normal> {
+    let per = chunks.len().div_ceil(workers).max(1);
+    std::thread::scope(|s| {
+        let handles: Vec<_> = chunks
+            .chunks(per)
+            .map(|group| s.spawn(move || group.iter().map(|c| accumulate_chunk(model, c)).collect::<Vec<_>>()))
+            .collect();
+        handles
+            .into_iter()
+            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
+            .collect()
+    })
+}
+
+/// Solves `(J^T J + lambda D) delta = -J^T r`, `D` the diagonal of `J^T J`
+/// (floored so that damping always makes the matrix positive definite).
+fn solve_step(ne: &Normal, n: usize, lambda: f64) -> Option<[f64; MAX_PARAMS]> {
+    let sym = |i: usize, j: usize| if i <= j { ne.a[i][j] } else { ne.a[j][i] };
+    let max_diag = (0..n).map(|i| ne.a[i][i]).fold(0.0, f64::max);
+    let damp = |i: usize| lambda * ne.a[i][i].max(1e-12 * max_diag);
+    let m = DMatrix::from_fn(n, n, |i, j| sym(i, j) + if i == j { damp(i) } else { 0.0 });
+    let rhs = DVector::from_fn(n, |i, _| -ne.g[i]);
+    let x = m.cholesky()?.solve(&rhs);
+    let mut delta = [0.0; MAX_PARAMS];
+    delta.iter_mut().zip(x.iter()).for_each(|(d, v)| *d = *v);
+    delta.iter().all(|d| d.is_finite()).then_some(delta)
+}
+
+/// RMS change of the residuals that the linear model predicts for `delta`.
+fn predicted_rms(ne: &Normal, delta: &[f64; MAX_PARAMS], n: usize, count: usize) -> f64 {
+    let mut q = 0.0;
+    for i in 0..n {
+        q += ne.a[i][i] * delta[i] * delta[i];
+        for j in i + 1..n {
+            q += 2.0 * ne.a[i][j] * delta[i] * delta[j];
+        }
+    }
+    (q.max(0.0) / count.max(1) as f64).sqrt()
+}
+
+fn raise(lambda: f64) -> f64 {
+    if lambda == 0.0 {
+        LAMBDA_FIRST
+    } else {
+        lambda * 10.0
+    }
+}
+
+fn lower(lambda: f64) -> f64 {
+    let l = lambda * 0.1;
+    if l < LAMBDA_MIN {
+        0.0
+    } else {
+        l
+    }
+}
+
+/// Least-squares fit of `start` to centred `points` whose largest distance
+/// from the origin is `extent` mm.
+pub(crate) fn least_squares<M: Model + Sync>(
+    start: M,
+    points: &[Vec3],
+    extent: f64,
+    opts: &FitOptions,
+    element: &'static str,
+) -> Result<Solved<M>, FitError> {
+    let tol = opts.step_tolerance_mm.max(64.0 * f64::EPSILON * extent);
+    let (n, count) = (M::SHAPE + 1, points.len());
+    let mut model = start;
+    let mut ne = normal_equations(&model, points);
+    let (mut lambda, mut last) = (0.0, f64::INFINITY);
+    for iterations in 1..=opts.max_iterations {
+        let Some(delta) = solve_step(&ne, n, lambda) else {
+            lambda = raise(lambda);
+            continue;
+        };
+        last = predicted_rms(&ne, &delta, n, count);
+        let trial = model.step(&delta);
+        let trial_ne = trial.is_finite().then(|| normal_equations(&trial, points));
+        match trial_ne {
+            Some(t) if t.cost <= ne.cost => (model, ne, lambda) = (trial, t, lower(lambda)),
+            _ => lambda = raise(lambda),
+        }
+        if last <= tol || lambda > LAMBDA_MAX {
+            let rms = (ne.cost / count as f64).sqrt();
+            return Ok(Solved { model, iterations, rms });
+        }
+    }
+    Err(FitError::NoConvergence {
+        element,
+        method: "lsq",
+        iterations: opts.max_iterations,
+        last_step_mm: last,
+        tolerance_mm: tol,
+    })
+}
