@@ -15,18 +15,20 @@ pub(crate) fn kasa(points: &[Vec3], dims: usize) -> Option<(Vec3, f64)> {
     if !(scale > 0.0) {
         return None;
     }
-    let mut m = DMatrix::<f64>::zeros(n, n);
-    let mut rhs = DVector::<f64>::zeros(n);
-    let mut row = DVector::<f64>::zeros(n);
+    let (mut m, mut rhs) = ([[0.0; 4]; 4], [0.0; 4]);
+    let mut row = [0.0; 4];
     for p in points {
         let q = p / scale;
         (0..dims).for_each(|i| row[i] = q[i]);
         row[dims] = 1.0;
         let target = q.rows(0, dims).norm_squared();
-        m += &row * row.transpose();
-        rhs += &row * target;
+        for i in 0..n {
+            rhs[i] += row[i] * target;
+            (0..n).for_each(|j| m[i][j] += row[i] * row[j]);
+        }
     }
-    let x = m.lu().solve(&rhs)?;
+    let m = DMatrix::from_fn(n, n, |i, j| m[i][j]);
+    let x = m.lu().solve(&DVector::from_fn(n, |i, _| rhs[i]))?;
     let mut centre = Vec3::zeros();
     (0..dims).for_each(|i| centre[i] = x[i] / 2.0);
     let r2 = x[dims] + centre.norm_squared();

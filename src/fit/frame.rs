@@ -29,21 +29,40 @@ pub(crate) fn centre(
     if let Some((index, p)) = bad {
         return Err(FitError::NonFinite { index, x: p.x, y: p.y, z: p.z });
     }
-    let mean = mean_of(points);
-    let shifted: Vec<Vec3> = points.iter().map(|p| p.coords - mean).collect();
-    let centroid = mean + mean_vec(&shifted);
-    let points: Vec<Vec3> = points.iter().map(|p| p.coords - centroid).collect();
-    let extent = points.iter().map(|p| p.norm()).fold(0.0, f64::max);
+    let centroid = mean_of(points);
+    let mut centred = Vec::with_capacity(points.len());
+    let mut extent_sq = 0.0f64;
+    for p in points {
+        let q = p.coords - centroid;
+        extent_sq = extent_sq.max(q.norm_squared());
+        centred.push(q);
+    }
+    let (points, extent) = (centred, extent_sq.sqrt());
     Ok(Centred { centroid, points, extent })
 }
 
+/// Points per partial sum of the centroid (keeps round-off at about
+/// `log2(n / MEAN_BLOCK) + MEAN_BLOCK` additions instead of `n`).
+const MEAN_BLOCK: usize = 256;
+
+/// The centroid by blocked summation (one pass, small round-off).
 fn mean_of(points: &[Point3]) -> Vec3 {
-    let sum: Vec3 = points.iter().map(|p| p.coords).sum();
-    sum / points.len() as f64
+    let partial: Vec<Vec3> = points
+        .chunks(MEAN_BLOCK)
+        .map(|c| c.iter().map(|p| p.coords).sum::<Vec3>())
+        .collect();
+    pairwise_sum(&partial) / points.len().max(1) as f64
 }
 
-fn mean_vec(points: &[Vec3]) -> Vec3 {
-    points.iter().sum::<Vec3>() / points.len().max(1) as f64
+fn pairwise_sum(v: &[Vec3]) -> Vec3 {
+    match v {
+        [] => Vec3::zeros(),
+        [one] => *one,
+        _ => {
+            let (a, b) = v.split_at(v.len() / 2);
+            pairwise_sum(a) + pairwise_sum(b)
+        }
+    }
 }
 
 /// Principal axes of centred points: unit eigenvectors of the scatter
@@ -131,8 +150,18 @@ pub fn canonical_sign(v: Vec3) -> Vec3 {
     }
 }
 
-/// Every `step`-th point so that at most `max` points remain.
+/// At most `max` of the points, all of them when there are few enough,
+/// else a deterministic low-discrepancy pick (golden-ratio sequence of
+/// indices), which does not alias with regular scan patterns the way a
+/// fixed stride can.
 pub(crate) fn subsample(points: &[Vec3], max: usize) -> Vec<Vec3> {
-    let step = points.len().div_ceil(max.max(1)).max(1);
-    points.iter().step_by(step).copied().collect()
+    if points.len() <= max {
+        return points.to_vec();
+    }
+    const GOLDEN: f64 = 0.618_033_988_749_894_8;
+    let n = points.len() as f64;
+    (0..max)
+        .filter_map(|k| points.get(((k as f64 * GOLDEN).fract() * n) as usize))
+        .copied()
+        .collect()
 }

@@ -11,7 +11,7 @@
 //! only has to point downhill.
 use nalgebra::{DMatrix, DVector};
 
-use super::model::{Model, MAX_PARAMS};
+use super::model::{step_size_mm, Model, MAX_PARAMS};
 use super::{FitError, FitOptions};
 use crate::math::Vec3;
 
@@ -122,18 +122,6 @@ fn solve_step(ne: &Normal, n: usize, lambda: f64) -> Option<[f64; MAX_PARAMS]> {
     delta.iter().all(|d| d.is_finite()).then_some(delta)
 }
 
-/// RMS change of the residuals that the linear model predicts for `delta`.
-fn predicted_rms(ne: &Normal, delta: &[f64; MAX_PARAMS], n: usize, count: usize) -> f64 {
-    let mut q = 0.0;
-    for i in 0..n {
-        q += ne.a[i][i] * delta[i] * delta[i];
-        for j in i + 1..n {
-            q += 2.0 * ne.a[i][j] * delta[i] * delta[j];
-        }
-    }
-    (q.max(0.0) / count.max(1) as f64).sqrt()
-}
-
 fn raise(lambda: f64) -> f64 {
     if lambda == 0.0 {
         LAMBDA_FIRST
@@ -151,8 +139,83 @@ fn lower(lambda: f64) -> f64 {
     }
 }
 
+/// Relative size of the cost's round-off: a trial whose cost exceeds the
+/// current one by less than this fraction is not a worse point.
+const COST_ROUND_OFF: f64 = 1e-12;
+
+/// The tolerance in force: the option, but never below the round-off floor.
+pub(crate) fn tolerance_mm(opts: &FitOptions, extent: f64) -> f64 {
+    opts.step_tolerance_mm.max(64.0 * f64::EPSILON * extent)
+}
+
+/// How an iteration run ended.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Outcome {
+    /// The step tolerance was met (or no descent was left).
+    pub converged: bool,
+    /// Size of the last step (see [`step_size_mm`]), mm.
+    pub last_step_mm: f64,
+}
+
+/// State of one Levenberg-Marquardt run.
+struct State<M> {
+    model: M,
+    ne: Normal,
+    lambda: f64,
+}
+
+impl<M: Model + Sync> State<M> {
+    /// One iteration: `Some(step size)` after a solve, `None` when the
+    /// damped system was singular (damping raised).
+    fn advance(&mut self, points: &[Vec3], extent: f64, tol: f64) -> Option<(f64, bool)> {
+        let Some(delta) = solve_step(&self.ne, M::SHAPE + 1, self.lambda) else {
+            self.lambda = raise(self.lambda);
+            return None;
+        };
+        let size = step_size_mm::<M>(&delta, extent);
+        let trial = self.model.step(&delta);
+        if size <= tol && trial.is_finite() {
+            self.model = trial;
+            return Some((size, true));
+        }
+        let trial_ne = trial.is_finite().then(|| normal_equations(&trial, points));
+        match trial_ne {
+            Some(t) if t.cost <= self.ne.cost * (1.0 + COST_ROUND_OFF) => {
+                (self.model, self.ne, self.lambda) = (trial, t, lower(self.lambda))
+            }
+            _ => self.lambda = raise(self.lambda),
+        }
+        Some((size, self.lambda > LAMBDA_MAX))
+    }
+}
+
+/// Runs at most `limit` iterations from `start`; returns the last model
+/// whether or not it converged.
+pub(crate) fn iterate<M: Model + Sync>(
+    start: M,
+    points: &[Vec3],
+    extent: f64,
+    opts: &FitOptions,
+    limit: usize,
+) -> (Solved<M>, Outcome) {
+    let tol = tolerance_mm(opts, extent);
+    let ne = normal_equations(&start, points);
+    let mut state = State { model: start, ne, lambda: 0.0 };
+    let mut outcome = Outcome { converged: false, last_step_mm: f64::INFINITY };
+    let mut iterations = 0;
+    while iterations < limit && !outcome.converged {
+        iterations += 1;
+        if let Some((size, done)) = state.advance(points, extent, tol) {
+            outcome = Outcome { converged: done, last_step_mm: size };
+        }
+    }
+    let rms = (state.ne.cost / points.len().max(1) as f64).sqrt();
+    (Solved { model: state.model, iterations, rms }, outcome)
+}
+
 /// Least-squares fit of `start` to centred `points` whose largest distance
-/// from the origin is `extent` mm.
+/// from the origin is `extent` mm; fails when it does not converge within
+/// `opts.max_iterations`.
 pub(crate) fn least_squares<M: Model + Sync>(
     start: M,
     points: &[Vec3],
@@ -160,33 +223,16 @@ pub(crate) fn least_squares<M: Model + Sync>(
     opts: &FitOptions,
     element: &'static str,
 ) -> Result<Solved<M>, FitError> {
-    let tol = opts.step_tolerance_mm.max(64.0 * f64::EPSILON * extent);
-    let (n, count) = (M::SHAPE + 1, points.len());
-    let mut model = start;
-    let mut ne = normal_equations(&model, points);
-    let (mut lambda, mut last) = (0.0, f64::INFINITY);
-    for iterations in 1..=opts.max_iterations {
-        let Some(delta) = solve_step(&ne, n, lambda) else {
-            lambda = raise(lambda);
-            continue;
-        };
-        last = predicted_rms(&ne, &delta, n, count);
-        let trial = model.step(&delta);
-        let trial_ne = trial.is_finite().then(|| normal_equations(&trial, points));
-        match trial_ne {
-            Some(t) if t.cost <= ne.cost => (model, ne, lambda) = (trial, t, lower(lambda)),
-            _ => lambda = raise(lambda),
-        }
-        if last <= tol || lambda > LAMBDA_MAX {
-            let rms = (ne.cost / count as f64).sqrt();
-            return Ok(Solved { model, iterations, rms });
-        }
+    let (solved, outcome) = iterate(start, points, extent, opts, opts.max_iterations);
+    if outcome.converged {
+        return Ok(solved);
     }
     Err(FitError::NoConvergence {
         element,
         method: "lsq",
-        iterations: opts.max_iterations,
-        last_step_mm: last,
-        tolerance_mm: tol,
+        iterations: solved.iterations,
+        last_step_mm: outcome.last_step_mm,
+        tolerance_mm: tolerance_mm(opts, extent),
     })
 }
+

@@ -27,4 +27,18 @@ pub(crate) trait Model: Clone {
     fn with_size(&self, size: f64) -> Self;
     /// Whether the parameters are finite (a diverged step is rejected).
     fn is_finite(&self) -> bool;
+    /// Whether local parameter `k` is an angle (radians); a step of it moves
+    /// the element by up to `angle * extent` within the data.
+    fn angular(k: usize) -> bool;
+}
+
+/// Largest movement (mm) of the element within the data that a step makes:
+/// lengths as they are, angles times the data `extent`.
+pub(crate) fn step_size_mm<M: Model>(delta: &[f64; MAX_PARAMS], extent: f64) -> f64 {
+    delta
+        .iter()
+        .enumerate()
+        .take(M::SHAPE + 1)
+        .map(|(k, d)| if M::angular(k) { d.abs() * extent } else { d.abs() })
+        .fold(0.0, f64::max)
 }

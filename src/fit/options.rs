@@ -6,10 +6,11 @@
 #[derive(Debug, Clone, PartialEq)]
 pub struct FitOptions {
     /// Least squares stops when a Gauss-Newton / Levenberg-Marquardt step
-    /// would change the residuals by at most this RMS amount, mm. The
+    /// moves the element by at most this, mm: lengths (centre, axis point,
+    /// radius) directly, angles (axis tilt, cone angle) times the data
+    /// extent (largest distance of a point from the centroid). The
     /// effective tolerance is never below the floating-point floor
-    /// `64 * f64::EPSILON * extent` (extent = largest distance of a point
-    /// from the centroid), which is reached when this one cannot be.
+    /// `64 * f64::EPSILON * extent`.
     pub step_tolerance_mm: f64,
     /// Most Gauss-Newton / Levenberg-Marquardt iterations per start.
     pub max_iterations: usize,
@@ -31,7 +32,7 @@ pub struct FitOptions {
 impl Default for FitOptions {
     fn default() -> Self {
         Self {
-            step_tolerance_mm: 1e-13,
+            step_tolerance_mm: 1e-12,
             max_iterations: 200,
             zone_tolerance_mm: 1e-12,
             max_zone_iterations: 500,

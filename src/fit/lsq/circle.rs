@@ -3,7 +3,7 @@
 //! plane at the points' mean z. The in-plane circle is Gauss-Newton from the
 //! Kasa fit, which copes with partial arcs.
 use crate::fit::algebraic::kasa;
-use crate::fit::frame::{canonical_sign, centre, principal, Centred};
+use crate::fit::frame::{canonical_sign, centre, principal, subsample, Centred};
 use crate::fit::gauss_newton::{least_squares, Solved};
 use crate::fit::lsq::plane;
 use crate::fit::model::{Model, MAX_PARAMS};
@@ -24,14 +24,14 @@ impl Model for CircleModel {
 
     fn eval(&self, p: &Vec3, grad: &mut [f64; MAX_PARAMS]) -> f64 {
         let (dx, dy) = (p.x - self.center.x, p.y - self.center.y);
-        let rho = dx.hypot(dy);
+        let rho = (dx * dx + dy * dy).sqrt();
         let inv = if rho > 0.0 { 1.0 / rho } else { 0.0 };
         (grad[0], grad[1]) = (-dx * inv, -dy * inv);
         rho
     }
 
     fn value(&self, p: &Vec3) -> f64 {
-        (p.x - self.center.x).hypot(p.y - self.center.y)
+        { let (dx, dy) = (p.x - self.center.x, p.y - self.center.y); (dx * dx + dy * dy).sqrt() }
     }
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
@@ -45,6 +45,11 @@ impl Model for CircleModel {
 
     fn with_size(&self, size: f64) -> Self {
         CircleModel { radius: size, ..self.clone() }
+    }
+
+    fn angular(k: usize) -> bool {
+        let _ = k;
+        false
     }
 
     fn is_finite(&self) -> bool {
@@ -84,7 +89,7 @@ pub(crate) fn in_plane(points: &[Point3], opts: &FitOptions, flat: bool) -> Resu
 
 /// Fits the least-squares circle in the plane.
 pub(crate) fn lsq(plane: &InPlane, opts: &FitOptions, name: &'static str) -> Result<Solved<CircleModel>, FitError> {
-    let (center, radius) = kasa(&plane.local, 2).ok_or(FitError::NoStart { element: name, tried: 1 })?;
+    let (center, radius) = kasa(&subsample(&plane.local, opts.start_sample), 2).ok_or(FitError::NoStart { element: name, tried: 1 })?;
     let extent = plane.centred.extent;
     least_squares(CircleModel { center, radius }, &plane.local, extent, opts, name)
 }

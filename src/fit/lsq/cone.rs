@@ -43,7 +43,7 @@ impl Model for ConeModel {
 
     fn eval(&self, p: &Vec3, grad: &mut [f64; MAX_PARAMS]) -> f64 {
         let q = self.rot * (p - self.origin);
-        let rho = q.x.hypot(q.y);
+        let rho = (q.x * q.x + q.y * q.y).sqrt();
         let inv = if rho > 0.0 { 1.0 / rho } else { 0.0 };
         let (sn, cs) = self.psi.sin_cos();
         let (ux, uy) = (q.x * inv, q.y * inv);
@@ -58,7 +58,7 @@ impl Model for ConeModel {
     fn value(&self, p: &Vec3) -> f64 {
         let q = self.rot * (p - self.origin);
         let (sn, cs) = self.psi.sin_cos();
-        q.x.hypot(q.y) * cs - q.z * sn
+        (q.x * q.x + q.y * q.y).sqrt() * cs - q.z * sn
     }
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
@@ -74,6 +74,10 @@ impl Model for ConeModel {
         ConeModel { s: size, ..self.clone() }
     }
 
+    fn angular(k: usize) -> bool {
+        (2..=4).contains(&k)
+    }
+
     fn is_finite(&self) -> bool {
         let parts = [self.rot.as_slice(), self.origin.as_slice()];
         (self.s + self.psi).is_finite() && parts.iter().all(|s| crate::math::all_finite(s))
@@ -86,7 +90,7 @@ fn cone_start(points: &[Vec3], cyl: &CylinderModel) -> Option<ConeModel> {
     let (mut sz, mut sr, mut szz, mut szr) = (0.0, 0.0, 0.0, 0.0);
     for p in points {
         let q = cyl.rot * (p - cyl.origin);
-        let r = q.x.hypot(q.y);
+        let r = (q.x * q.x + q.y * q.y).sqrt();
         (sz, sr, szz, szr) = (sz + q.z, sr + r, szz + q.z * q.z, szr + q.z * r);
     }
     let slope = (n * szr - sz * sr) / (n * szz - sz * sz);

@@ -7,12 +7,14 @@
 //! long, short (disc-like) and partial-arc cylinders alike.
 use crate::fit::algebraic::kasa;
 use crate::fit::frame::{canonical_sign, centre, frame_for, principal, subsample, Centred};
-use crate::fit::gauss_newton::{least_squares, Solved};
+use crate::fit::gauss_newton::{iterate, least_squares, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{Cylinder, FitError, FitOptions};
 use crate::math::{Mat3, Point3, Vec3};
 
 const NAME: &str = "cylinder";
+/// Iterations given to each starting value before the best one is chosen.
+const START_ITERATIONS: usize = 12;
 
 /// A cylinder (or, with radius 0, a line) in centred coordinates.
 #[derive(Debug, Clone)]
@@ -51,7 +53,7 @@ impl Model for CylinderModel {
 
     fn eval(&self, p: &Vec3, grad: &mut [f64; MAX_PARAMS]) -> f64 {
         let q = self.rot * (p - self.origin);
-        let rho = q.x.hypot(q.y);
+        let rho = (q.x * q.x + q.y * q.y).sqrt();
         let inv = if rho > 0.0 { 1.0 / rho } else { 0.0 };
         let (cx, cy) = (-q.x * inv, -q.y * inv);
         (grad[0], grad[1], grad[2], grad[3]) = (cx, cy, cx * q.z, cy * q.z);
@@ -60,7 +62,7 @@ impl Model for CylinderModel {
 
     fn value(&self, p: &Vec3) -> f64 {
         let q = self.rot * (p - self.origin);
-        q.x.hypot(q.y)
+        (q.x * q.x + q.y * q.y).sqrt()
     }
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
@@ -74,6 +76,10 @@ impl Model for CylinderModel {
 
     fn with_size(&self, size: f64) -> Self {
         CylinderModel { radius: size, ..self.clone() }
+    }
+
+    fn angular(k: usize) -> bool {
+        k == 2 || k == 3
     }
 
     fn is_finite(&self) -> bool {
@@ -90,7 +96,8 @@ pub(crate) fn start_on_axis(points: &[Vec3], axis: &Vec3) -> Option<CylinderMode
     Some(CylinderModel::new(axis, rot.transpose() * Vec3::new(c.x, c.y, 0.0), r))
 }
 
-/// The best of the least-squares fits from several starts, on `points`.
+/// The best of several starts after at most `START_ITERATIONS` iterations
+/// each on `points` (converged or not; the winner is refined later).
 pub(crate) fn best_of<M: Model + Sync>(
     starts: Vec<M>,
     points: &[Vec3],
@@ -101,7 +108,7 @@ pub(crate) fn best_of<M: Model + Sync>(
     let tried = starts.len();
     starts
         .into_iter()
-        .filter_map(|s| least_squares(s, points, extent, opts, name).ok())
+        .map(|s| iterate(s, points, extent, opts, START_ITERATIONS).0)
         .filter(|s| s.rms.is_finite())
         .min_by(|a, b| a.rms.total_cmp(&b.rms))
         .ok_or(FitError::NoStart { element: name, tried })

@@ -53,6 +53,10 @@ impl Model for Line2dModel {
         Line2dModel { offset: size, ..self.clone() }
     }
 
+    fn angular(k: usize) -> bool {
+        k == 0
+    }
+
     fn is_finite(&self) -> bool {
         self.theta.is_finite() && self.offset.is_finite()
     }

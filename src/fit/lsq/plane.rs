@@ -52,6 +52,10 @@ impl Model for PlaneModel {
         PlaneModel { offset: size, ..self.clone() }
     }
 
+    fn angular(k: usize) -> bool {
+        k < 2
+    }
+
     fn is_finite(&self) -> bool {
         self.offset.is_finite() && crate::math::all_finite(self.rot.as_slice())
     }

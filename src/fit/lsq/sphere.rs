@@ -1,7 +1,7 @@
 //! Least-squares sphere: centre and radius by Gauss-Newton from the Kasa
 //! fit.
 use crate::fit::algebraic::kasa;
-use crate::fit::frame::{centre, principal, Centred};
+use crate::fit::frame::{centre, principal, subsample, Centred};
 use crate::fit::gauss_newton::{least_squares, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{FitError, FitOptions, Sphere};
@@ -46,6 +46,11 @@ impl Model for SphereModel {
         SphereModel { radius: size, ..self.clone() }
     }
 
+    fn angular(k: usize) -> bool {
+        let _ = k;
+        false
+    }
+
     fn is_finite(&self) -> bool {
         self.radius.is_finite() && crate::math::all_finite(self.center.as_slice())
     }
@@ -58,7 +63,7 @@ pub(crate) fn lsq(
 ) -> Result<(Centred, Solved<SphereModel>), FitError> {
     let c = centre(points, NAME, 4)?;
     principal(&c.points).check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
-    let (center, radius) = kasa(&c.points, 3).ok_or(FitError::NoStart { element: NAME, tried: 1 })?;
+    let (center, radius) = kasa(&subsample(&c.points, opts.start_sample), 3).ok_or(FitError::NoStart { element: NAME, tried: 1 })?;
     let solved = least_squares(SphereModel { center, radius }, &c.points, c.extent, opts, NAME)?;
     Ok((c, solved))
 }
