@@ -13,7 +13,7 @@ const N: usize = 1_000_000;
 /// Deterministic form error of a few micrometres (no RNG needed).
 fn wobble(i: usize) -> f64 {
     let t = i as f64;
-    0.002 * (t * 0.618_033_988_7).sin() + 0.001 * (t * 1.414_213_562).cos()
+    0.002 * (t * 0.618_033_988_7).sin() + 0.001 * (t * 1.732_05).cos()
 }
 
 fn cylinder_points() -> Vec<Point3> {
@@ -35,7 +35,9 @@ fn sphere_points() -> Vec<Point3> {
             let az = std::f64::consts::TAU * (i % 1000) as f64 / 1000.0;
             let pol = 0.05 + 1.5 * (i / 1000) as f64 / 1000.0;
             let r = 12.5 + wobble(i);
-            Point3::from(centre + Vec3::new(pol.sin() * az.cos(), pol.sin() * az.sin(), pol.cos()) * r)
+            Point3::from(
+                centre + Vec3::new(pol.sin() * az.cos(), pol.sin() * az.sin(), pol.cos()) * r,
+            )
         })
         .collect()
 }
@@ -43,10 +45,15 @@ fn sphere_points() -> Vec<Point3> {
 fn bench(c: &mut Criterion) {
     let opts = FitOptions::default();
     let mut group = c.benchmark_group("lsq_1e6_points");
-    group.sample_size(10).warm_up_time(Duration::from_millis(500)).measurement_time(Duration::from_secs(3));
+    group
+        .sample_size(10)
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(3));
     let cyl = cylinder_points();
     group.bench_function("cylinder", |b| {
-        b.iter(|| fit(ElementKind::Cylinder, Method::Lsq, black_box(&cyl), &opts).map(|r| r.form_mm))
+        b.iter(|| {
+            fit(ElementKind::Cylinder, Method::Lsq, black_box(&cyl), &opts).map(|r| r.form_mm)
+        })
     });
     let sph = sphere_points();
     group.bench_function("sphere", |b| {

@@ -27,9 +27,21 @@ fn line_3d_with_balanced_offsets() {
         })
         .collect();
     let r = lsq(ElementKind::Line, &pts);
-    let Element::Line(l) = r.element else { panic!("not a line") };
-    close("direction", dir_error(&l.direction, &pose.dir(Vec3::z())), 0.0, TOL);
-    close("point on line", line_distance(&l.point, &pose.origin(), &l.direction), 0.0, TOL);
+    let Element::Line(l) = r.element else {
+        panic!("not a line")
+    };
+    close(
+        "direction",
+        dir_error(&l.direction, &pose.dir(Vec3::z())),
+        0.0,
+        TOL,
+    );
+    close(
+        "point on line",
+        line_distance(&l.point, &pose.origin(), &l.direction),
+        0.0,
+        TOL,
+    );
     close("rms", r.residuals.rms, e, TOL);
     close("straightness", r.form_mm, 2.0 * e, TOL);
     let idx = l.direction.iamax();
@@ -38,18 +50,29 @@ fn line_3d_with_balanced_offsets() {
 
 #[test]
 fn line_2d_signed_residuals() {
-    let pts: Vec<Point3> = (0..10).map(|i| Point3::new(i as f64, 2.0 * i as f64 + alt(i) * 0.05, 4.0)).collect();
+    let pts: Vec<Point3> = (0..10)
+        .map(|i| Point3::new(i as f64, 2.0 * i as f64 + alt(i) * 0.05, 4.0))
+        .collect();
     let r = lsq(ElementKind::Line2d, &pts);
-    let Element::Line2d(l) = r.element else { panic!("not a 2-D line") };
+    let Element::Line2d(l) = r.element else {
+        panic!("not a 2-D line")
+    };
     // y = 2x with alternating vertical +-0.05 over an even count: the vertical
     // offsets sum to zero and are uncorrelated with x only in the mean; check
     // the orthogonal normal equations instead through symmetric data below.
     assert!(l.direction.z == 0.0 && (l.direction.norm() - 1.0).abs() < 1e-15);
-    assert!(r.residuals.min < 0.0 && r.residuals.max > 0.0, "residuals are signed");
+    assert!(
+        r.residuals.min < 0.0 && r.residuals.max > 0.0,
+        "residuals are signed"
+    );
     // Offsets even in x: they sum to zero and are uncorrelated with x.
-    let sym: Vec<Point3> = (0..8).map(|i| Point3::new(i as f64 - 3.5, alt(i.min(7 - i)) * 0.1 + 1.0, 0.0)).collect();
+    let sym: Vec<Point3> = (0..8)
+        .map(|i| Point3::new(i as f64 - 3.5, alt(i.min(7 - i)) * 0.1 + 1.0, 0.0))
+        .collect();
     let r = lsq(ElementKind::Line2d, &sym);
-    let Element::Line2d(l) = r.element else { panic!("not a 2-D line") };
+    let Element::Line2d(l) = r.element else {
+        panic!("not a 2-D line")
+    };
     close("point y", l.point.y, 1.0, TOL);
     close("direction y", l.direction.y, 0.0, TOL);
     close("rms", r.residuals.rms, 0.1, TOL);
@@ -68,9 +91,21 @@ fn plane_with_balanced_offsets() {
         }
     }
     let r = lsq(ElementKind::Plane, &pts);
-    let Element::Plane(pl) = r.element else { panic!("not a plane") };
-    close("normal", dir_error(&pl.normal, &pose.dir(Vec3::z())), 0.0, TOL);
-    close("point in plane", (pl.point - pose.origin()).dot(&pl.normal), 0.0, TOL);
+    let Element::Plane(pl) = r.element else {
+        panic!("not a plane")
+    };
+    close(
+        "normal",
+        dir_error(&pl.normal, &pose.dir(Vec3::z())),
+        0.0,
+        TOL,
+    );
+    close(
+        "point in plane",
+        (pl.point - pose.origin()).dot(&pl.normal),
+        0.0,
+        TOL,
+    );
     close("rms", r.residuals.rms, e, TOL);
     close("flatness", r.form_mm, 2.0 * e, TOL);
 }
@@ -86,10 +121,17 @@ fn circle_full_with_alternating_radii() {
         })
         .collect();
     let r = lsq(ElementKind::Circle, &pts);
-    let Element::Circle(c) = r.element else { panic!("not a circle") };
+    let Element::Circle(c) = r.element else {
+        panic!("not a circle")
+    };
     close_pt("center", &c.center, &pose.origin(), TOL);
     close("radius", c.radius, rad, TOL);
-    close("normal", dir_error(&c.normal, &pose.dir(Vec3::z())), 0.0, TOL);
+    close(
+        "normal",
+        dir_error(&c.normal, &pose.dir(Vec3::z())),
+        0.0,
+        TOL,
+    );
     close("roundness", r.form_mm, 2.0 * e, TOL);
     close("min residual", r.residuals.min, -e, TOL);
 }
@@ -103,7 +145,9 @@ fn circle_30_degree_arc_exact() {
         .map(|a| pose.point(rad * a.cos(), rad * a.sin(), 0.0))
         .collect();
     let r = lsq(ElementKind::Circle, &pts);
-    let Element::Circle(c) = r.element else { panic!("not a circle") };
+    let Element::Circle(c) = r.element else {
+        panic!("not a circle")
+    };
     close_pt("center", &c.center, &pose.origin(), TOL);
     close("radius", c.radius, rad, TOL);
 }
@@ -116,7 +160,9 @@ fn circle2d_ignores_z_and_uses_mean_height() {
         .map(|(i, a)| Point3::new(3.0 + 5.0 * a.cos(), -2.0 + 5.0 * a.sin(), alt(i)))
         .collect();
     let r = lsq(ElementKind::Circle2d, &pts);
-    let Element::Circle(c) = r.element else { panic!("not a circle") };
+    let Element::Circle(c) = r.element else {
+        panic!("not a circle")
+    };
     close_pt("center", &c.center, &Point3::new(3.0, -2.0, 0.0), TOL);
     close("radius", c.radius, 5.0, TOL);
     assert_eq!(c.normal, Vec3::z());
@@ -144,7 +190,9 @@ fn sphere_cube_octahedron() {
     let pose = Pose::generic();
     let (rad, e) = (25.0, 0.007);
     let r = lsq(ElementKind::Sphere, &cube_octahedron(&pose, rad, e));
-    let Element::Sphere(s) = r.element else { panic!("not a sphere") };
+    let Element::Sphere(s) = r.element else {
+        panic!("not a sphere")
+    };
     close_pt("center", &s.center, &pose.origin(), TOL);
     close("radius", s.radius, rad + e / 7.0, TOL);
 }
@@ -162,25 +210,49 @@ fn sphere_small_cap_exact() {
         }
     }
     let r = lsq(ElementKind::Sphere, &pts);
-    let Element::Sphere(s) = r.element else { panic!("not a sphere") };
+    let Element::Sphere(s) = r.element else {
+        panic!("not a sphere")
+    };
     close_pt("center", &s.center, &pose.origin(), TOL);
     close("radius", s.radius, rad, TOL);
 }
 
 fn check_cylinder(r: &FitReport, pose: &Pose, rad: f64) {
-    let Element::Cylinder(c) = r.element else { panic!("not a cylinder") };
-    close("axis direction", dir_error(&c.axis_direction, &pose.dir(Vec3::z())), 0.0, TOL);
-    close("axis position", line_distance(&pose.origin(), &c.axis_point, &c.axis_direction), 0.0, TOL);
+    let Element::Cylinder(c) = r.element else {
+        panic!("not a cylinder")
+    };
+    close(
+        "axis direction",
+        dir_error(&c.axis_direction, &pose.dir(Vec3::z())),
+        0.0,
+        TOL,
+    );
+    close(
+        "axis position",
+        line_distance(&pose.origin(), &c.axis_point, &c.axis_direction),
+        0.0,
+        TOL,
+    );
     close("radius", c.radius, rad, TOL);
     let idx = c.axis_direction.iamax();
-    assert!(c.axis_direction[idx] > 0.0, "largest component must be positive");
+    assert!(
+        c.axis_direction[idx] > 0.0,
+        "largest component must be positive"
+    );
 }
 
 #[test]
 fn cylinder_balanced_offsets() {
     let pose = Pose::generic();
     let e = 0.004;
-    let pts = cylinder_points(&pose, 8.0, (-30.0, 30.0), (0.1, std::f64::consts::TAU), (5, 12), |_, k| alt(k) * e);
+    let pts = cylinder_points(
+        &pose,
+        8.0,
+        (-30.0, 30.0),
+        (0.1, std::f64::consts::TAU),
+        (5, 12),
+        |_, k| alt(k) * e,
+    );
     let r = lsq(ElementKind::Cylinder, &pts);
     check_cylinder(&r, &pose, 8.0);
     close("cylindricity", r.form_mm, 2.0 * e, TOL);
@@ -190,7 +262,14 @@ fn cylinder_balanced_offsets() {
 fn cylinder_short_disc() {
     let pose = Pose::generic();
     let e = 0.002;
-    let pts = cylinder_points(&pose, 50.0, (-0.5, 0.5), (0.0, std::f64::consts::TAU), (2, 36), |_, k| alt(k) * e);
+    let pts = cylinder_points(
+        &pose,
+        50.0,
+        (-0.5, 0.5),
+        (0.0, std::f64::consts::TAU),
+        (2, 36),
+        |_, k| alt(k) * e,
+    );
     check_cylinder(&lsq(ElementKind::Cylinder, &pts), &pose, 50.0);
 }
 
@@ -203,9 +282,16 @@ fn cylinder_partial_arc_exact() {
 }
 
 fn check_cone(r: &FitReport, pose: &Pose, psi: f64) {
-    let Element::Cone(c) = r.element else { panic!("not a cone") };
+    let Element::Cone(c) = r.element else {
+        panic!("not a cone")
+    };
     close_pt("apex", &c.apex, &pose.origin(), TOL);
-    close("axis", (c.axis_direction - pose.dir(Vec3::z())).norm(), 0.0, TOL);
+    close(
+        "axis",
+        (c.axis_direction - pose.dir(Vec3::z())).norm(),
+        0.0,
+        TOL,
+    );
     close("half angle", c.half_angle_rad, psi, TOL);
 }
 
@@ -214,7 +300,14 @@ fn cone_balanced_offsets() {
     let pose = Pose::generic();
     let psi = 15f64.to_radians();
     let e = 0.003;
-    let pts = cone_points(&pose, psi, &[10.0, 14.0, 21.0], (0.2, std::f64::consts::TAU), 12, |_, k| alt(k) * e);
+    let pts = cone_points(
+        &pose,
+        psi,
+        &[10.0, 14.0, 21.0],
+        (0.2, std::f64::consts::TAU),
+        12,
+        |_, k| alt(k) * e,
+    );
     let r = lsq(ElementKind::Cone, &pts);
     check_cone(&r, &pose, psi);
     close("conicity", r.form_mm, 2.0 * e, TOL);
@@ -233,10 +326,24 @@ fn cone_axis_points_towards_growing_radius() {
     let pose = Pose::generic();
     let psi = 5f64.to_radians();
     // Heights below the apex: the nappe opens towards local -z.
-    let pts = cone_points(&pose, -psi, &[-40.0, -25.0, -10.0], (0.0, std::f64::consts::TAU), 10, |_, _| 0.0);
+    let pts = cone_points(
+        &pose,
+        -psi,
+        &[-40.0, -25.0, -10.0],
+        (0.0, std::f64::consts::TAU),
+        10,
+        |_, _| 0.0,
+    );
     let r = lsq(ElementKind::Cone, &pts);
-    let Element::Cone(c) = r.element else { panic!("not a cone") };
-    close("axis", (c.axis_direction + pose.dir(Vec3::z())).norm(), 0.0, TOL);
+    let Element::Cone(c) = r.element else {
+        panic!("not a cone")
+    };
+    close(
+        "axis",
+        (c.axis_direction + pose.dir(Vec3::z())).norm(),
+        0.0,
+        TOL,
+    );
     close_pt("apex", &c.apex, &pose.origin(), 1e-8);
     close("half angle", c.half_angle_rad, psi, TOL);
 }
@@ -252,18 +359,49 @@ fn err(kind: ElementKind, pts: &[Point3]) -> FitError {
 fn degenerate_inputs_are_named() {
     let p = |x: f64, y: f64, z: f64| Point3::new(x, y, z);
     let few = [p(0.0, 0.0, 0.0), p(1.0, 0.0, 0.0), p(0.0, 1.0, 0.0)];
-    assert!(matches!(err(ElementKind::Sphere, &few), FitError::TooFewPoints { needed: 4, found: 3, .. }));
+    assert!(matches!(
+        err(ElementKind::Sphere, &few),
+        FitError::TooFewPoints {
+            needed: 4,
+            found: 3,
+            ..
+        }
+    ));
     let line: Vec<Point3> = (0..5).map(|i| p(i as f64, 2.0 * i as f64, 1.0)).collect();
-    assert!(matches!(err(ElementKind::Plane, &line), FitError::Collinear { count: 5, .. }));
-    assert!(matches!(err(ElementKind::Circle, &line), FitError::Collinear { .. }));
+    assert!(matches!(
+        err(ElementKind::Plane, &line),
+        FitError::Collinear { count: 5, .. }
+    ));
+    assert!(matches!(
+        err(ElementKind::Circle, &line),
+        FitError::Collinear { .. }
+    ));
     let same = vec![p(1.0, 2.0, 3.0); 6];
-    assert!(matches!(err(ElementKind::Line, &same), FitError::Coincident { count: 6, .. }));
-    let ring: Vec<Point3> = (0..9).map(|i| turn(i, 9)).map(|a| p(a.cos(), a.sin(), 0.0)).collect();
-    assert!(matches!(err(ElementKind::Sphere, &ring), FitError::Coplanar { .. }));
-    assert!(matches!(err(ElementKind::Cylinder, &ring), FitError::Coplanar { .. }));
+    assert!(matches!(
+        err(ElementKind::Line, &same),
+        FitError::Coincident { count: 6, .. }
+    ));
+    let ring: Vec<Point3> = (0..9)
+        .map(|i| turn(i, 9))
+        .map(|a| p(a.cos(), a.sin(), 0.0))
+        .collect();
+    assert!(matches!(
+        err(ElementKind::Sphere, &ring),
+        FitError::Coplanar { .. }
+    ));
+    assert!(matches!(
+        err(ElementKind::Cylinder, &ring),
+        FitError::Coplanar { .. }
+    ));
     let mut nan = ring.clone();
     nan[4].y = f64::NAN;
-    assert!(matches!(err(ElementKind::Circle, &nan), FitError::NonFinite { index: 4, .. }));
+    assert!(matches!(
+        err(ElementKind::Circle, &nan),
+        FitError::NonFinite { index: 4, .. }
+    ));
     let msg = err(ElementKind::Cone, &few).to_string();
-    assert!(msg.contains("cone") && msg.contains('6') && msg.contains('3'), "{msg}");
+    assert!(
+        msg.contains("cone") && msg.contains('6') && msg.contains('3'),
+        "{msg}"
+    );
 }

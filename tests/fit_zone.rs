@@ -26,11 +26,22 @@ fn straightness_2d_is_hull_width() {
         .collect();
     let want = 3.0 / 101f64.sqrt();
     let lsq = run(ElementKind::Line2d, Method::Lsq, &pts);
-    assert!(lsq.form_mm > want + 1e-3, "lsq zone {} should exceed {want}", lsq.form_mm);
+    assert!(
+        lsq.form_mm > want + 1e-3,
+        "lsq zone {} should exceed {want}",
+        lsq.form_mm
+    );
     let r = run(ElementKind::Line2d, Method::MinimumZone, &pts);
     close("straightness", r.form_mm, want, TOL);
-    let Element::Line2d(l) = r.element else { panic!("not a 2-D line") };
-    close("direction", dir_error(&l.direction, &Vec3::new(10.0, 1.0, 0.0)), 0.0, TOL);
+    let Element::Line2d(l) = r.element else {
+        panic!("not a 2-D line")
+    };
+    close(
+        "direction",
+        dir_error(&l.direction, &Vec3::new(10.0, 1.0, 0.0)),
+        0.0,
+        TOL,
+    );
     close("symmetric zone", r.residuals.max, -r.residuals.min, TOL);
 }
 
@@ -46,8 +57,15 @@ fn straightness_3d_is_cylinder_diameter() {
         .collect();
     let r = run(ElementKind::Line, Method::MinimumZone, &pts);
     close("straightness", r.form_mm, 2.0 * e, TOL);
-    let Element::Line(l) = r.element else { panic!("not a line") };
-    close("direction", dir_error(&l.direction, &pose.dir(Vec3::z())), 0.0, 1e-8);
+    let Element::Line(l) = r.element else {
+        panic!("not a line")
+    };
+    close(
+        "direction",
+        dir_error(&l.direction, &pose.dir(Vec3::z())),
+        0.0,
+        1e-8,
+    );
 }
 
 #[test]
@@ -55,10 +73,15 @@ fn flatness_is_hull_width() {
     // Corners of a square at +-h in a saddle, interior points inside the zone,
     // and one point pulling the least-squares plane.
     let h = 0.01;
-    let mut pts: Vec<Point3> = [(1.0, 1.0, h), (-1.0, -1.0, h), (1.0, -1.0, -h), (-1.0, 1.0, -h)]
-        .iter()
-        .map(|&(x, y, z)| Point3::new(x * 50.0, y * 50.0, z))
-        .collect();
+    let mut pts: Vec<Point3> = [
+        (1.0, 1.0, h),
+        (-1.0, -1.0, h),
+        (1.0, -1.0, -h),
+        (-1.0, 1.0, -h),
+    ]
+    .iter()
+    .map(|&(x, y, z)| Point3::new(x * 50.0, y * 50.0, z))
+    .collect();
     pts.extend((0..9).map(|i| Point3::new(-40.0 + 10.0 * i as f64, 5.0, 0.9 * h)));
     let lsq = run(ElementKind::Plane, Method::Lsq, &pts);
     assert!(lsq.form_mm > 2.0 * h + 1e-4, "lsq flatness {}", lsq.form_mm);
@@ -132,9 +155,15 @@ fn sphericity_cube_octahedron() {
         v[axis % 3] = if axis < 3 { rad - e } else { e - rad };
         pts.push(pose.point(v.x, v.y, v.z));
     }
-    for (method, want_r) in [(Method::MinimumZone, rad), (Method::MinCircumscribed, rad + e), (Method::MaxInscribed, rad - e)] {
+    for (method, want_r) in [
+        (Method::MinimumZone, rad),
+        (Method::MinCircumscribed, rad + e),
+        (Method::MaxInscribed, rad - e),
+    ] {
         let r = run(ElementKind::Sphere, method, &pts);
-        let Element::Sphere(s) = r.element else { panic!("not a sphere") };
+        let Element::Sphere(s) = r.element else {
+            panic!("not a sphere")
+        };
         close_pt(method.name(), &s.center, &pose.origin(), TOL);
         close(method.name(), s.radius, want_r, TOL);
         close(method.name(), r.form_mm, 2.0 * e, TOL);
@@ -149,11 +178,27 @@ fn cylindricity_three_lobes() {
         .iter()
         .flat_map(|&z| three_lobe(&pose, rad, a, z))
         .collect();
-    for (method, want_r) in [(Method::MinimumZone, rad), (Method::MinCircumscribed, rad + a), (Method::MaxInscribed, rad - a)] {
+    for (method, want_r) in [
+        (Method::MinimumZone, rad),
+        (Method::MinCircumscribed, rad + a),
+        (Method::MaxInscribed, rad - a),
+    ] {
         let r = run(ElementKind::Cylinder, method, &pts);
-        let Element::Cylinder(c) = r.element else { panic!("not a cylinder") };
-        close(method.name(), dir_error(&c.axis_direction, &pose.dir(Vec3::z())), 0.0, TOL);
-        close(method.name(), line_distance(&pose.origin(), &c.axis_point, &c.axis_direction), 0.0, TOL);
+        let Element::Cylinder(c) = r.element else {
+            panic!("not a cylinder")
+        };
+        close(
+            method.name(),
+            dir_error(&c.axis_direction, &pose.dir(Vec3::z())),
+            0.0,
+            TOL,
+        );
+        close(
+            method.name(),
+            line_distance(&pose.origin(), &c.axis_point, &c.axis_direction),
+            0.0,
+            TOL,
+        );
         close(method.name(), c.radius, want_r, TOL);
         close(method.name(), r.form_mm, 2.0 * a, TOL);
     }
@@ -164,16 +209,41 @@ fn cone_minimum_zone_balanced() {
     let pose = Pose::generic();
     let psi = 20f64.to_radians();
     let e = 0.004;
-    let pts = cone_points(&pose, psi, &[8.0, 12.0, 16.0], (0.0, std::f64::consts::TAU), 6, |_, k| alt(k) * e);
+    let pts = cone_points(
+        &pose,
+        psi,
+        &[8.0, 12.0, 16.0],
+        (0.0, std::f64::consts::TAU),
+        6,
+        |_, k| alt(k) * e,
+    );
     let r = run(ElementKind::Cone, Method::MinimumZone, &pts);
     close("zone", r.form_mm, 2.0 * e, TOL);
-    let Element::Cone(c) = r.element else { panic!("not a cone") };
+    let Element::Cone(c) = r.element else {
+        panic!("not a cone")
+    };
     close("half angle", c.half_angle_rad, psi, 1e-8);
 }
 
 #[test]
 fn unsupported_methods_are_refused() {
-    let pts: Vec<Point3> = (0..6).map(|i| Point3::new(i as f64, (i * i) as f64, 0.0)).collect();
-    let e = fit(ElementKind::Plane, Method::MaxInscribed, &pts, &FitOptions::default());
-    assert!(matches!(e, Err(FitError::UnsupportedMethod { element: "plane", .. })), "{e:?}");
+    let pts: Vec<Point3> = (0..6)
+        .map(|i| Point3::new(i as f64, (i * i) as f64, 0.0))
+        .collect();
+    let e = fit(
+        ElementKind::Plane,
+        Method::MaxInscribed,
+        &pts,
+        &FitOptions::default(),
+    );
+    assert!(
+        matches!(
+            e,
+            Err(FitError::UnsupportedMethod {
+                element: "plane",
+                ..
+            })
+        ),
+        "{e:?}"
+    );
 }

@@ -116,7 +116,11 @@ pub fn run(args: &FitArgs) -> Result<Status, CliError> {
     if let Some((radius, s)) = probe {
         report = fit::compensate_probe(report, radius, s)?;
     }
-    let text = if args.json { json_text(&report, probe) } else { human_text(&report, probe) };
+    let text = if args.json {
+        json_text(&report, probe)
+    } else {
+        human_text(&report, probe)
+    };
     emit(&text, args.out.as_deref())?;
     Ok(Status::Pass)
 }
@@ -132,7 +136,9 @@ fn vec(v: &Vec3) -> Value {
 /// The element's parameters under the DESIGN.md 6.6 keys.
 fn element_fields(e: &Element) -> Vec<(&'static str, Value)> {
     match e {
-        Element::Line(l) | Element::Line2d(l) => vec![("point", pt(&l.point)), ("direction", vec(&l.direction))],
+        Element::Line(l) | Element::Line2d(l) => {
+            vec![("point", pt(&l.point)), ("direction", vec(&l.direction))]
+        }
         Element::Plane(p) => vec![("point", pt(&p.point)), ("normal", vec(&p.normal))],
         Element::Circle(c) => vec![
             ("center", pt(&c.center)),
@@ -168,13 +174,19 @@ fn json_text(r: &FitReport, probe: Option<(f64, Side)>) -> String {
         m.insert(k.into(), v);
     }
     let res = &r.residuals;
-    m.insert("residuals_mm".into(), json!({ "rms": res.rms, "min": res.min, "max": res.max }));
+    m.insert(
+        "residuals_mm".into(),
+        json!({ "rms": res.rms, "min": res.min, "max": res.max }),
+    );
     m.insert("form_mm".into(), json!(r.form_mm));
     m.insert("point_count".into(), json!(r.point_count));
     m.insert("iterations".into(), json!(r.iterations));
     m.insert("converged".into(), json!(true));
     if let Some((radius, s)) = probe {
-        m.insert("probe_compensation".into(), json!({ "radius_mm": radius, "side": s.name() }));
+        m.insert(
+            "probe_compensation".into(),
+            json!({ "radius_mm": radius, "side": s.name() }),
+        );
     }
     format!("{}\n", Value::Object(m))
 }
@@ -182,7 +194,9 @@ fn json_text(r: &FitReport, probe: Option<(f64, Side)>) -> String {
 fn human_value(v: &Value) -> String {
     match v {
         Value::Array(items) => items.iter().map(human_value).collect::<Vec<_>>().join(" "),
-        Value::Number(n) => n.as_f64().map_or_else(|| n.to_string(), |x| format!("{x:.9}")),
+        Value::Number(n) => n
+            .as_f64()
+            .map_or_else(|| n.to_string(), |x| format!("{x:.9}")),
         other => other.to_string(),
     }
 }
@@ -196,13 +210,19 @@ fn human_text(r: &FitReport, probe: Option<(f64, Side)>) -> String {
         r.iterations
     );
     if let Some((radius, s)) = probe {
-        out += &format!("probe compensation: ball radius {radius} mm, probed from {}\n", s.name());
+        out += &format!(
+            "probe compensation: ball radius {radius} mm, probed from {}\n",
+            s.name()
+        );
     }
     for (k, v) in element_fields(&r.element) {
         out += &format!("  {k:<15} {}\n", human_value(&v));
     }
     let res = &r.residuals;
-    out += &format!("residuals (mm): rms {:.9}  min {:.9}  max {:.9}\n", res.rms, res.min, res.max);
+    out += &format!(
+        "residuals (mm): rms {:.9}  min {:.9}  max {:.9}\n",
+        res.rms, res.min, res.max
+    );
     out += &format!("form error (mm): {:.9}\n", r.form_mm);
     out
 }

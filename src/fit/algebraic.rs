@@ -12,7 +12,7 @@ use crate::math::Vec3;
 pub(crate) fn kasa(points: &[Vec3], dims: usize) -> Option<(Vec3, f64)> {
     let n = dims + 1;
     let scale = points.iter().map(|p| p.norm()).fold(0.0, f64::max);
-    if !(scale > 0.0) {
+    if scale.is_nan() || scale <= 0.0 {
         return None;
     }
     let (mut m, mut rhs) = ([[0.0; 4]; 4], [0.0; 4]);

@@ -39,7 +39,11 @@ fn sized(radius: f64, probe: f64, side: Side) -> Result<f64, FitError> {
     if compensated_mm > 0.0 {
         Ok(compensated_mm)
     } else {
-        Err(FitError::CompensationTooLarge { probe_radius_mm: probe, radius_mm: radius, compensated_mm })
+        Err(FitError::CompensationTooLarge {
+            probe_radius_mm: probe,
+            radius_mm: radius,
+            compensated_mm,
+        })
     }
 }
 
@@ -47,24 +51,45 @@ fn sized(radius: f64, probe: f64, side: Side) -> Result<f64, FitError> {
 /// along the axis by `probe / sin(half angle)`.
 fn cone(c: &Cone, probe: f64, side: Side) -> Cone {
     let shift = -side.sign() * probe / c.half_angle_rad.sin();
-    Cone { apex: c.apex + c.axis_direction * shift, ..*c }
+    Cone {
+        apex: c.apex + c.axis_direction * shift,
+        ..*c
+    }
 }
 
 /// The surface element for a fit made to ball centres of a probe of radius
 /// `probe_radius_mm`, probed from `side`.
-pub fn compensate_probe(mut report: FitReport, probe_radius_mm: f64, side: Side) -> Result<FitReport, FitError> {
+pub fn compensate_probe(
+    mut report: FitReport,
+    probe_radius_mm: f64,
+    side: Side,
+) -> Result<FitReport, FitError> {
     let r = probe_radius_mm;
     if !(r.is_finite() && r >= 0.0) {
         return Err(FitError::BadProbeRadius { radius_mm: r });
     }
     report.element = match report.element {
-        Element::Circle(mut c) => Element::Circle({ c.radius = sized(c.radius, r, side)?; c }),
-        Element::Sphere(mut s) => Element::Sphere({ s.radius = sized(s.radius, r, side)?; s }),
-        Element::Cylinder(mut c) => Element::Cylinder({ c.radius = sized(c.radius, r, side)?; c }),
+        Element::Circle(mut c) => Element::Circle({
+            c.radius = sized(c.radius, r, side)?;
+            c
+        }),
+        Element::Sphere(mut s) => Element::Sphere({
+            s.radius = sized(s.radius, r, side)?;
+            s
+        }),
+        Element::Cylinder(mut c) => Element::Cylinder({
+            c.radius = sized(c.radius, r, side)?;
+            c
+        }),
         Element::Cone(c) => Element::Cone(cone(&c, r, side)),
-        Element::Plane(mut p) => Element::Plane({ p.point += p.normal * (side.sign() * r); p }),
+        Element::Plane(mut p) => Element::Plane({
+            p.point += p.normal * (side.sign() * r);
+            p
+        }),
         Element::Line(_) | Element::Line2d(_) => {
-            return Err(FitError::NoCompensation { element: report.kind.name() })
+            return Err(FitError::NoCompensation {
+                element: report.kind.name(),
+            })
         }
     };
     Ok(report)

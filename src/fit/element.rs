@@ -134,9 +134,14 @@ pub struct ResidualStats {
 /// Statistics of the residuals of `points` from `element`.
 pub fn residual_stats(element: &Element, points: &[Point3]) -> ResidualStats {
     let init = (0.0, f64::INFINITY, f64::NEG_INFINITY);
-    let (sq, min, max) = points.iter().map(|p| element.residual(p)).fold(init, |(s, lo, hi), r| {
-        (s + r * r, lo.min(r), hi.max(r))
+    let parts = super::parallel::map_chunks(points, |c| {
+        c.iter()
+            .map(|p| element.residual(p))
+            .fold(init, |(s, lo, hi), r| (s + r * r, lo.min(r), hi.max(r)))
     });
+    let (sq, min, max) = parts
+        .iter()
+        .fold(init, |(s, lo, hi), p| (s + p.0, lo.min(p.1), hi.max(p.2)));
     let rms = (sq / points.len().max(1) as f64).sqrt();
     ResidualStats { rms, min, max }
 }

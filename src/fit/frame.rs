@@ -23,11 +23,23 @@ pub(crate) fn centre(
 ) -> Result<Centred, FitError> {
     if points.len() < needed {
         let found = points.len();
-        return Err(FitError::TooFewPoints { element, needed, found });
+        return Err(FitError::TooFewPoints {
+            element,
+            needed,
+            found,
+        });
     }
-    let bad = points.iter().enumerate().find(|(_, p)| !crate::math::all_finite(p.coords.as_slice()));
+    let bad = points
+        .iter()
+        .enumerate()
+        .find(|(_, p)| !crate::math::all_finite(p.coords.as_slice()));
     if let Some((index, p)) = bad {
-        return Err(FitError::NonFinite { index, x: p.x, y: p.y, z: p.z });
+        return Err(FitError::NonFinite {
+            index,
+            x: p.x,
+            y: p.y,
+            z: p.z,
+        });
     }
     let centroid = mean_of(points);
     let mut centred = Vec::with_capacity(points.len());
@@ -38,7 +50,11 @@ pub(crate) fn centre(
         centred.push(q);
     }
     let (points, extent) = (centred, extent_sq.sqrt());
-    Ok(Centred { centroid, points, extent })
+    Ok(Centred {
+        centroid,
+        points,
+        extent,
+    })
 }
 
 /// Points per partial sum of the centroid (keeps round-off at about
@@ -47,10 +63,13 @@ const MEAN_BLOCK: usize = 256;
 
 /// The centroid by blocked summation (one pass, small round-off).
 fn mean_of(points: &[Point3]) -> Vec3 {
-    let partial: Vec<Vec3> = points
-        .chunks(MEAN_BLOCK)
-        .map(|c| c.iter().map(|p| p.coords).sum::<Vec3>())
-        .collect();
+    let partial = super::parallel::map_chunks(points, |chunk| {
+        let blocks: Vec<Vec3> = chunk
+            .chunks(MEAN_BLOCK)
+            .map(|c| c.iter().map(|p| p.coords).sum())
+            .collect();
+        pairwise_sum(&blocks)
+    });
     pairwise_sum(&partial) / points.len().max(1) as f64
 }
 
@@ -78,7 +97,10 @@ pub(crate) struct Principal {
 
 /// Principal axes of centred points.
 pub(crate) fn principal(points: &[Vec3]) -> Principal {
-    let scatter: Mat3 = points.iter().map(|p| p * p.transpose()).sum();
+    let parts = super::parallel::map_chunks(points, |c| {
+        c.iter().map(|p| p * p.transpose()).sum::<Mat3>()
+    });
+    let scatter: Mat3 = parts.iter().sum();
     let eig = scatter.symmetric_eigen();
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));
@@ -96,12 +118,21 @@ impl Principal {
         limit: f64,
     ) -> Result<(), FitError> {
         let spread_mm = self.sigma[0] / (count as f64).sqrt();
-        if !(spread_mm > 0.0) {
-            return Err(FitError::Coincident { element, count, spread_mm });
+        if spread_mm.is_nan() || spread_mm <= 0.0 {
+            return Err(FitError::Coincident {
+                element,
+                count,
+                spread_mm,
+            });
         }
         let ratio = self.sigma[1] / self.sigma[0];
         if ratio < limit {
-            return Err(FitError::Collinear { element, count, ratio, limit });
+            return Err(FitError::Collinear {
+                element,
+                count,
+                ratio,
+                limit,
+            });
         }
         Ok(())
     }
@@ -116,7 +147,12 @@ impl Principal {
         self.check_spread(element, count, limit)?;
         let ratio = self.sigma[2] / self.sigma[0];
         if ratio < limit {
-            return Err(FitError::Coplanar { element, count, ratio, limit });
+            return Err(FitError::Coplanar {
+                element,
+                count,
+                ratio,
+                limit,
+            });
         }
         Ok(())
     }

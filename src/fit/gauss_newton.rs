@@ -4,7 +4,7 @@
 //! crate wants the full N x p Jacobian, while here the normal equations
 //! `J^T J` (at most 6 x 6) and `J^T r` are accumulated point by point in
 //! fixed-size chunks. A million points then need no big allocation, the
-//! chunks run on all cores, and the sums are added in chunk order so the
+//! chunks run on all cores (see `parallel`), and the sums are added in chunk order so the
 //! result does not depend on the number of threads. Squaring the condition
 //! number does not cost accuracy: the iteration converges to the point
 //! where the accurately evaluated `J^T r` vanishes; the normal-equation solve
@@ -15,10 +15,6 @@ use super::model::{step_size_mm, Model, MAX_PARAMS};
 use super::{FitError, FitOptions};
 use crate::math::Vec3;
 
-/// Points per chunk of the accumulation (fixed, for reproducible sums).
-const CHUNK: usize = 1 << 14;
-/// Below this many points everything runs on one thread.
-const PARALLEL_MIN: usize = 1 << 16;
 /// Damping at which a rejected step counts as "no descent left within
 /// floating-point precision": the current model is then the minimum.
 const LAMBDA_MAX: f64 = 1e16;
@@ -43,7 +39,10 @@ impl Normal {
         for (row, orow) in self.a.iter_mut().zip(other.a.iter()) {
             row.iter_mut().zip(orow.iter()).for_each(|(x, y)| *x += y);
         }
-        self.g.iter_mut().zip(other.g.iter()).for_each(|(x, y)| *x += y);
+        self.g
+            .iter_mut()
+            .zip(other.g.iter())
+            .for_each(|(x, y)| *x += y);
         self.cost += other.cost;
         self
     }
@@ -79,33 +78,9 @@ fn accumulate_chunk<M: Model>(model: &M, points: &[Vec3]) -> Normal {
     acc
 }
 
-fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get().min(16))
-}
-
 fn normal_equations<M: Model + Sync>(model: &M, points: &[Vec3]) -> Normal {
-    let chunks: Vec<&[Vec3]> = points.chunks(CHUNK).collect();
-    let workers = threads();
-    let parts: Vec<Normal> = if points.len() < PARALLEL_MIN || workers < 2 {
-        chunks.iter().map(|c| accumulate_chunk(model, c)).collect()
-    } else {
-        parallel_parts(model, &chunks, workers)
-    };
+    let parts = super::parallel::map_chunks(points, |c| accumulate_chunk(model, c));
     parts.iter().fold(Normal::default(), |acc, p| acc.add(p))
-}
-
-fn parallel_parts<M: Model + Sync>(model: &M, chunks: &[&[Vec3]], workers: usize) -> Vec<Normal> {
-    let per = chunks.len().div_ceil(workers).max(1);
-    std::thread::scope(|s| {
-        let handles: Vec<_> = chunks
-            .chunks(per)
-            .map(|group| s.spawn(move || group.iter().map(|c| accumulate_chunk(model, c)).collect::<Vec<_>>()))
-            .collect();
-        handles
-            .into_iter()
-            .flat_map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e)))
-            .collect()
-    })
 }
 
 /// Solves `(J^T J + lambda D) delta = -J^T r`, `D` the diagonal of `J^T J`
@@ -200,17 +175,34 @@ pub(crate) fn iterate<M: Model + Sync>(
 ) -> (Solved<M>, Outcome) {
     let tol = tolerance_mm(opts, extent);
     let ne = normal_equations(&start, points);
-    let mut state = State { model: start, ne, lambda: 0.0 };
-    let mut outcome = Outcome { converged: false, last_step_mm: f64::INFINITY };
+    let mut state = State {
+        model: start,
+        ne,
+        lambda: 0.0,
+    };
+    let mut outcome = Outcome {
+        converged: false,
+        last_step_mm: f64::INFINITY,
+    };
     let mut iterations = 0;
     while iterations < limit && !outcome.converged {
         iterations += 1;
         if let Some((size, done)) = state.advance(points, extent, tol) {
-            outcome = Outcome { converged: done, last_step_mm: size };
+            outcome = Outcome {
+                converged: done,
+                last_step_mm: size,
+            };
         }
     }
     let rms = (state.ne.cost / points.len().max(1) as f64).sqrt();
-    (Solved { model: state.model, iterations, rms }, outcome)
+    (
+        Solved {
+            model: state.model,
+            iterations,
+            rms,
+        },
+        outcome,
+    )
 }
 
 /// Least-squares fit of `start` to centred `points` whose largest distance
@@ -235,4 +227,3 @@ pub(crate) fn least_squares<M: Model + Sync>(
         tolerance_mm: tolerance_mm(opts, extent),
     })
 }
-

@@ -96,13 +96,22 @@ struct Row {
     grad: [f64; MAX_PARAMS],
 }
 
-fn rows<M: Model>(model: &M, points: &[Vec3], idx: &[usize], extreme: f64, radius: f64) -> Vec<Row> {
+fn rows<M: Model>(
+    model: &M,
+    points: &[Vec3],
+    idx: &[usize],
+    extreme: f64,
+    radius: f64,
+) -> Vec<Row> {
     let mut grad = [0.0; MAX_PARAMS];
     idx.iter()
         .filter_map(|&i| points.get(i))
         .map(|p| {
             let v = model.eval(p, &mut grad);
-            Row { offset: (v - extreme) / radius, grad }
+            Row {
+                offset: (v - extreme) / radius,
+                grad,
+            }
         })
         .collect()
 }
@@ -111,7 +120,10 @@ fn rows<M: Model>(model: &M, points: &[Vec3], idx: &[usize], extreme: f64, radiu
 fn scales(rows: &[&[Row]], n: usize) -> [f64; MAX_PARAMS] {
     let mut sc = [0.0f64; MAX_PARAMS];
     for row in rows.iter().flat_map(|r| r.iter()) {
-        sc.iter_mut().zip(row.grad.iter()).take(n).for_each(|(s, g)| *s = s.max(g.abs()));
+        sc.iter_mut()
+            .zip(row.grad.iter())
+            .take(n)
+            .for_each(|(s, g)| *s = s.max(g.abs()));
     }
     sc
 }
@@ -134,7 +146,11 @@ fn new_lp(obj: Objective, sc: &[f64; MAX_PARAMS], n: usize) -> Lp {
     let mut problem = Problem::new(OptimizationDirection::Minimize);
     let ys = (0..n)
         .map(|k| {
-            let b = if sc.get(k).is_some_and(|&s| s > 0.0) { 1.0 } else { 0.0 };
+            let b = if sc.get(k).is_some_and(|&s| s > 0.0) {
+                1.0
+            } else {
+                0.0
+            };
             problem.add_var(0.0, (-b, b))
         })
         .collect();
@@ -143,7 +159,12 @@ fn new_lp(obj: Objective, sc: &[f64; MAX_PARAMS], n: usize) -> Lp {
     let free = (f64::NEG_INFINITY, f64::INFINITY);
     let upper = problem.add_var(cu, free);
     let lower = problem.add_var(cl, free);
-    Lp { problem, ys, upper, lower }
+    Lp {
+        problem,
+        ys,
+        upper,
+        lower,
+    }
 }
 
 fn add_rows(lp: &mut Lp, rows: &[Row], sc: &[f64; MAX_PARAMS], top: bool) {
@@ -157,7 +178,11 @@ fn add_rows(lp: &mut Lp, rows: &[Row], sc: &[f64; MAX_PARAMS], top: bool) {
             .map(|(y, (g, s))| (*y, g / s))
             .collect();
         terms.push((bound, -1.0));
-        let op = if top { ComparisonOp::Le } else { ComparisonOp::Ge };
+        let op = if top {
+            ComparisonOp::Le
+        } else {
+            ComparisonOp::Ge
+        };
         lp.problem.add_constraint(terms, op, -row.offset);
     }
 }
@@ -174,15 +199,24 @@ fn solve_lp(lin: &Linearised, obj: Objective, n: usize, radius: f64) -> Result<L
     add_rows(&mut lp, &lin.top, &sc, true);
     add_rows(&mut lp, &lin.bottom, &sc, false);
     let solution = lp.problem.solve().map_err(|e| e.to_string())?;
-    let solution = solution.into_solution().map_err(|_| "interrupted".to_string())?;
+    let solution = solution
+        .into_solution()
+        .map_err(|_| "interrupted".to_string())?;
     let mut delta = [0.0; MAX_PARAMS];
     for (k, y) in lp.ys.iter().enumerate().take(n) {
         let s = sc.get(k).copied().unwrap_or(0.0);
         if let Some(d) = delta.get_mut(k) {
-            *d = if s > 0.0 { solution.var_value(*y) * radius / s } else { 0.0 };
+            *d = if s > 0.0 {
+                solution.var_value(*y) * radius / s
+            } else {
+                0.0
+            };
         }
     }
-    Ok(LpStep { delta, predicted: solution.objective() * radius })
+    Ok(LpStep {
+        delta,
+        predicted: solution.objective() * radius,
+    })
 }
 
 fn linearise<M: Model>(model: &M, points: &[Vec3], obj: Objective, radius: f64) -> Linearised {
@@ -229,15 +263,19 @@ pub(crate) fn chebyshev<M: Model>(
     let mut radius = max_radius / 4.0;
     for iteration in 1..=opts.max_zone_iterations {
         let lin = linearise(&model, points, obj, radius);
-        let step = solve_lp(&lin, obj, M::SHAPE, radius).map_err(|reason| FitError::LinearProgram {
-            element: names.element,
-            method: names.method,
-            iteration,
-            reason,
-        })?;
+        let step =
+            solve_lp(&lin, obj, M::SHAPE, radius).map_err(|reason| FitError::LinearProgram {
+                element: names.element,
+                method: names.method,
+                iteration,
+                reason,
+            })?;
         if -step.predicted <= tol || radius <= tol {
             let model = model.with_size(obj.size(lo, hi));
-            return Ok(ZoneFit { model, iterations: iteration });
+            return Ok(ZoneFit {
+                model,
+                iterations: iteration,
+            });
         }
         let trial = model.step(&step.delta);
         let (ft, tlo, thi) = objective_of(&trial, points, obj);
@@ -245,7 +283,13 @@ pub(crate) fn chebyshev<M: Model>(
         if trial.is_finite() && ft < f {
             (model, f, lo, hi) = (trial, ft, tlo, thi);
         }
-        radius *= if ratio > 0.75 { GROW } else if ratio > 0.25 { 1.0 } else { SHRINK };
+        radius *= if ratio > 0.75 {
+            GROW
+        } else if ratio > 0.25 {
+            1.0
+        } else {
+            SHRINK
+        };
         radius = radius.min(max_radius);
     }
     Err(FitError::NoConvergence {

@@ -27,10 +27,13 @@ mod lsq;
 pub mod minimum_zone;
 mod model;
 mod options;
+mod parallel;
 mod zone;
 
 pub use compensation::{compensate_probe, Side};
-pub use element::{form_error, residual_stats, Circle, Cone, Cylinder, Element, Line, Plane, ResidualStats, Sphere};
+pub use element::{
+    form_error, residual_stats, Circle, Cone, Cylinder, Element, Line, Plane, ResidualStats, Sphere,
+};
 pub use error::FitError;
 pub use frame::canonical_sign;
 pub use options::FitOptions;
@@ -132,10 +135,22 @@ pub fn fit(
     let residuals = residual_stats(&element, points);
     let form_mm = form_error(&element, &residuals);
     let point_count = points.len();
-    Ok(FitReport { kind, method, element, residuals, form_mm, iterations, point_count })
+    Ok(FitReport {
+        kind,
+        method,
+        element,
+        residuals,
+        form_mm,
+        iterations,
+        point_count,
+    })
 }
 
-fn fit_lsq(kind: ElementKind, points: &[Point3], opts: &FitOptions) -> Result<(Element, usize), FitError> {
+fn fit_lsq(
+    kind: ElementKind,
+    points: &[Point3],
+    opts: &FitOptions,
+) -> Result<(Element, usize), FitError> {
     use lsq::{circle, cone, cylinder, line, plane, sphere};
     Ok(match kind {
         ElementKind::Line => {
@@ -144,7 +159,10 @@ fn fit_lsq(kind: ElementKind, points: &[Point3], opts: &FitOptions) -> Result<(E
         }
         ElementKind::Line2d => {
             let (c, s) = line::lsq_2d(points, opts)?;
-            (Element::Line2d(line::to_element_2d(&c, &s.model)), s.iterations)
+            (
+                Element::Line2d(line::to_element_2d(&c, &s.model)),
+                s.iterations,
+            )
         }
         ElementKind::Plane => {
             let (p, it) = plane::fit(points, opts)?;
@@ -153,15 +171,24 @@ fn fit_lsq(kind: ElementKind, points: &[Point3], opts: &FitOptions) -> Result<(E
         ElementKind::Circle | ElementKind::Circle2d => {
             let pl = circle::in_plane(points, opts, kind == ElementKind::Circle2d)?;
             let s = circle::lsq(&pl, opts, kind.name())?;
-            (Element::Circle(circle::to_element(&pl, &s.model)), s.iterations)
+            (
+                Element::Circle(circle::to_element(&pl, &s.model)),
+                s.iterations,
+            )
         }
         ElementKind::Sphere => {
             let (c, s) = sphere::lsq(points, opts)?;
-            (Element::Sphere(sphere::to_element(&c, &s.model)), s.iterations)
+            (
+                Element::Sphere(sphere::to_element(&c, &s.model)),
+                s.iterations,
+            )
         }
         ElementKind::Cylinder => {
             let (c, s) = cylinder::lsq(points, opts)?;
-            (Element::Cylinder(cylinder::to_element(&c, &s.model)), s.iterations)
+            (
+                Element::Cylinder(cylinder::to_element(&c, &s.model)),
+                s.iterations,
+            )
         }
         ElementKind::Cone => {
             let (c, s) = cone::lsq(points, opts)?;

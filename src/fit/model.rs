@@ -39,6 +39,12 @@ pub(crate) fn step_size_mm<M: Model>(delta: &[f64; MAX_PARAMS], extent: f64) -> 
         .iter()
         .enumerate()
         .take(M::SHAPE + 1)
-        .map(|(k, d)| if M::angular(k) { d.abs() * extent } else { d.abs() })
+        .map(|(k, d)| {
+            if M::angular(k) {
+                d.abs() * extent
+            } else {
+                d.abs()
+            }
+        })
         .fold(0.0, f64::max)
 }

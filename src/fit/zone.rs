@@ -10,7 +10,11 @@ use crate::math::Point3;
 pub(crate) type Fitted = (Element, usize);
 
 fn unsupported(kind: ElementKind, method: Method, available: &'static str) -> FitError {
-    FitError::UnsupportedMethod { element: kind.name(), method: method.name(), available }
+    FitError::UnsupportedMethod {
+        element: kind.name(),
+        method: method.name(),
+        available,
+    }
 }
 
 fn objective(kind: ElementKind, method: Method) -> Result<Objective, FitError> {
@@ -34,7 +38,10 @@ pub(crate) fn fit(
     opts: &FitOptions,
 ) -> Result<Fitted, FitError> {
     let obj = objective(kind, method)?;
-    let names = Names { element: kind.name(), method: method.name() };
+    let names = Names {
+        element: kind.name(),
+        method: method.name(),
+    };
     match kind {
         ElementKind::Line => line_3d(points, opts, names),
         ElementKind::Line2d => line_2d(points, obj, opts, names),
@@ -53,20 +60,39 @@ fn line_3d(points: &[Point3], opts: &FitOptions, names: Names) -> Result<Fitted,
     let start = cylinder::CylinderModel::new(&dir, crate::math::Vec3::zeros(), 0.0);
     let z = chebyshev(start, &c.points, Objective::Circumscribed, opts, names)?;
     let cyl = cylinder::to_element(&c, &z.model);
-    let line = super::Line { point: cyl.axis_point, direction: cyl.axis_direction };
+    let line = super::Line {
+        point: cyl.axis_point,
+        direction: cyl.axis_direction,
+    };
     Ok((Element::Line(line), z.iterations))
 }
 
-fn line_2d(points: &[Point3], obj: Objective, opts: &FitOptions, names: Names) -> Result<Fitted, FitError> {
+fn line_2d(
+    points: &[Point3],
+    obj: Objective,
+    opts: &FitOptions,
+    names: Names,
+) -> Result<Fitted, FitError> {
     let (c, solved) = line::lsq_2d(points, opts)?;
     let z = chebyshev(solved.model, &c.points, obj, opts, names)?;
-    Ok((Element::Line2d(line::to_element_2d(&c, &z.model)), z.iterations))
+    Ok((
+        Element::Line2d(line::to_element_2d(&c, &z.model)),
+        z.iterations,
+    ))
 }
 
-fn plane_zone(points: &[Point3], obj: Objective, opts: &FitOptions, names: Names) -> Result<Fitted, FitError> {
+fn plane_zone(
+    points: &[Point3],
+    obj: Objective,
+    opts: &FitOptions,
+    names: Names,
+) -> Result<Fitted, FitError> {
     let (c, solved) = plane::lsq(points, opts, names.element)?;
     let z = chebyshev(solved.model, &c.points, obj, opts, names)?;
-    Ok((Element::Plane(plane::to_element(&c, &z.model)), z.iterations))
+    Ok((
+        Element::Plane(plane::to_element(&c, &z.model)),
+        z.iterations,
+    ))
 }
 
 fn circle_zone(
@@ -79,22 +105,46 @@ fn circle_zone(
     let pl = circle::in_plane(points, opts, flat)?;
     let solved = circle::lsq(&pl, opts, names.element)?;
     let z = chebyshev(solved.model, &pl.local, obj, opts, names)?;
-    Ok((Element::Circle(circle::to_element(&pl, &z.model)), z.iterations))
+    Ok((
+        Element::Circle(circle::to_element(&pl, &z.model)),
+        z.iterations,
+    ))
 }
 
-fn sphere_zone(points: &[Point3], obj: Objective, opts: &FitOptions, names: Names) -> Result<Fitted, FitError> {
+fn sphere_zone(
+    points: &[Point3],
+    obj: Objective,
+    opts: &FitOptions,
+    names: Names,
+) -> Result<Fitted, FitError> {
     let (c, solved) = sphere::lsq(points, opts)?;
     let z = chebyshev(solved.model, &c.points, obj, opts, names)?;
-    Ok((Element::Sphere(sphere::to_element(&c, &z.model)), z.iterations))
+    Ok((
+        Element::Sphere(sphere::to_element(&c, &z.model)),
+        z.iterations,
+    ))
 }
 
-fn cylinder_zone(points: &[Point3], obj: Objective, opts: &FitOptions, names: Names) -> Result<Fitted, FitError> {
+fn cylinder_zone(
+    points: &[Point3],
+    obj: Objective,
+    opts: &FitOptions,
+    names: Names,
+) -> Result<Fitted, FitError> {
     let (c, solved) = cylinder::lsq(points, opts)?;
     let z = chebyshev(solved.model, &c.points, obj, opts, names)?;
-    Ok((Element::Cylinder(cylinder::to_element(&c, &z.model)), z.iterations))
+    Ok((
+        Element::Cylinder(cylinder::to_element(&c, &z.model)),
+        z.iterations,
+    ))
 }
 
-fn cone_zone(points: &[Point3], obj: Objective, opts: &FitOptions, names: Names) -> Result<Fitted, FitError> {
+fn cone_zone(
+    points: &[Point3],
+    obj: Objective,
+    opts: &FitOptions,
+    names: Names,
+) -> Result<Fitted, FitError> {
     let (c, solved) = cone::lsq(points, opts)?;
     let z = chebyshev(solved.model, &c.points, obj, opts, names)?;
     Ok((Element::Cone(cone::to_element(&c, &z.model)?), z.iterations))

@@ -14,7 +14,10 @@ pub struct Pose {
 impl Pose {
     /// A tilted pose far from the origin.
     pub fn generic() -> Self {
-        Pose { rot: rotation_xyz_deg([17.0, -33.0, 51.0]), shift: Vec3::new(120.5, -48.25, 310.125) }
+        Pose {
+            rot: rotation_xyz_deg([17.0, -33.0, 51.0]),
+            shift: Vec3::new(120.5, -48.25, 310.125),
+        }
     }
 
     /// Maps a local point to the world.
@@ -35,7 +38,7 @@ impl Pose {
 
 /// `+1` for even `i`, `-1` for odd.
 pub fn alt(i: usize) -> f64 {
-    if i % 2 == 0 {
+    if i.is_multiple_of(2) {
         1.0
     } else {
         -1.0
@@ -60,13 +63,19 @@ pub fn line_distance(p: &Point3, q: &Point3, d: &Vec3) -> f64 {
 /// Asserts `|a - b| <= tol` with a readable message.
 #[track_caller]
 pub fn close(what: &str, a: f64, b: f64, tol: f64) {
-    assert!((a - b).abs() <= tol, "{what}: got {a:.17e}, want {b:.17e} (tolerance {tol:e})");
+    assert!(
+        (a - b).abs() <= tol,
+        "{what}: got {a:.17e}, want {b:.17e} (tolerance {tol:e})"
+    );
 }
 
 /// Asserts two points agree within `tol`.
 #[track_caller]
 pub fn close_pt(what: &str, a: &Point3, b: &Point3, tol: f64) {
-    assert!((a - b).norm() <= tol, "{what}: got {a:?}, want {b:?} (tolerance {tol:e})");
+    assert!(
+        (a - b).norm() <= tol,
+        "{what}: got {a:?}, want {b:?} (tolerance {tol:e})"
+    );
 }
 
 /// Points on a cylinder of radius `r` about the local z axis: `rings` rings

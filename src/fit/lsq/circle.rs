@@ -31,12 +31,18 @@ impl Model for CircleModel {
     }
 
     fn value(&self, p: &Vec3) -> f64 {
-        { let (dx, dy) = (p.x - self.center.x, p.y - self.center.y); (dx * dx + dy * dy).sqrt() }
+        {
+            let (dx, dy) = (p.x - self.center.x, p.y - self.center.y);
+            (dx * dx + dy * dy).sqrt()
+        }
     }
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
         let center = self.center + Vec3::new(delta[0], delta[1], 0.0);
-        CircleModel { center, radius: self.radius + delta[2] }
+        CircleModel {
+            center,
+            radius: self.radius + delta[2],
+        }
     }
 
     fn size(&self) -> f64 {
@@ -44,7 +50,10 @@ impl Model for CircleModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        CircleModel { radius: size, ..self.clone() }
+        CircleModel {
+            radius: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -72,7 +81,11 @@ pub(crate) struct InPlane {
 }
 
 /// The plane of a 3-D circle (least squares) or of a 2-D circle (xy).
-pub(crate) fn in_plane(points: &[Point3], opts: &FitOptions, flat: bool) -> Result<InPlane, FitError> {
+pub(crate) fn in_plane(
+    points: &[Point3],
+    opts: &FitOptions,
+    flat: bool,
+) -> Result<InPlane, FitError> {
     let name = if flat { "circle2d" } else { "circle" };
     let (centred, rot, height) = if flat {
         let c = centre(points, name, 3)?;
@@ -84,14 +97,33 @@ pub(crate) fn in_plane(points: &[Point3], opts: &FitOptions, flat: bool) -> Resu
     let local: Vec<Vec3> = centred.points.iter().map(|p| rot * p).collect();
     let flat_pts: Vec<Vec3> = local.iter().map(|p| Vec3::new(p.x, p.y, 0.0)).collect();
     principal(&flat_pts).check_spread(name, local.len(), opts.degenerate_ratio)?;
-    Ok(InPlane { centred, rot, height, local })
+    Ok(InPlane {
+        centred,
+        rot,
+        height,
+        local,
+    })
 }
 
 /// Fits the least-squares circle in the plane.
-pub(crate) fn lsq(plane: &InPlane, opts: &FitOptions, name: &'static str) -> Result<Solved<CircleModel>, FitError> {
-    let (center, radius) = kasa(&subsample(&plane.local, opts.start_sample), 2).ok_or(FitError::NoStart { element: name, tried: 1 })?;
+pub(crate) fn lsq(
+    plane: &InPlane,
+    opts: &FitOptions,
+    name: &'static str,
+) -> Result<Solved<CircleModel>, FitError> {
+    let (center, radius) =
+        kasa(&subsample(&plane.local, opts.start_sample), 2).ok_or(FitError::NoStart {
+            element: name,
+            tried: 1,
+        })?;
     let extent = plane.centred.extent;
-    least_squares(CircleModel { center, radius }, &plane.local, extent, opts, name)
+    least_squares(
+        CircleModel { center, radius },
+        &plane.local,
+        extent,
+        opts,
+        name,
+    )
 }
 
 /// The circle of a model.
@@ -99,5 +131,9 @@ pub(crate) fn to_element(plane: &InPlane, m: &CircleModel) -> Circle {
     let local = Vec3::new(m.center.x, m.center.y, plane.height);
     let center = Point3::from(plane.centred.centroid + plane.rot.transpose() * local);
     let normal = canonical_sign(plane.rot.row(2).transpose());
-    Circle { center, normal, radius: m.radius }
+    Circle {
+        center,
+        normal,
+        radius: m.radius,
+    }
 }

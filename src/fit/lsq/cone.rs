@@ -34,7 +34,12 @@ impl ConeModel {
         let axis = axis.normalize();
         let t = -axis.dot(&origin);
         let rot = crate::fit::frame::frame_for(&axis);
-        ConeModel { rot, origin: origin + axis * t, psi, s: s + t * psi.sin() }
+        ConeModel {
+            rot,
+            origin: origin + axis * t,
+            psi,
+            s: s + t * psi.sin(),
+        }
     }
 }
 
@@ -71,7 +76,10 @@ impl Model for ConeModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        ConeModel { s: size, ..self.clone() }
+        ConeModel {
+            s: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -101,7 +109,10 @@ fn cone_start(points: &[Vec3], cyl: &CylinderModel) -> Option<ConeModel> {
 }
 
 /// Checks and centres the points, then fits the least-squares cone.
-pub(crate) fn lsq(points: &[Point3], opts: &FitOptions) -> Result<(Centred, Solved<ConeModel>), FitError> {
+pub(crate) fn lsq(
+    points: &[Point3],
+    opts: &FitOptions,
+) -> Result<(Centred, Solved<ConeModel>), FitError> {
     let c = centre(points, NAME, 6)?;
     let pa = principal(&c.points);
     pa.check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
@@ -115,18 +126,34 @@ pub(crate) fn lsq(points: &[Point3], opts: &FitOptions) -> Result<(Centred, Solv
     let best = best_of(starts, &sample, c.extent, opts, NAME)?;
     let solved = least_squares(best.model, &c.points, c.extent, opts, NAME)?;
     let iterations = solved.iterations + best.iterations;
-    Ok((c, Solved { iterations, ..solved }))
+    Ok((
+        c,
+        Solved {
+            iterations,
+            ..solved
+        },
+    ))
 }
 
 /// The cone of a model in the frame of `c`: axis turned towards growing
 /// radius, apex where the radius vanishes.
 pub(crate) fn to_element(c: &Centred, m: &ConeModel) -> Result<Cone, FitError> {
     let axis = m.rot.row(2).transpose();
-    let (axis, psi) = if m.psi < 0.0 { (-axis, -m.psi) } else { (axis, m.psi) };
+    let (axis, psi) = if m.psi < 0.0 {
+        (-axis, -m.psi)
+    } else {
+        (axis, m.psi)
+    };
     let sin = psi.sin();
-    if !(sin > f64::EPSILON) {
-        return Err(FitError::DegenerateCone { half_angle_deg: psi.to_degrees() });
+    if sin.is_nan() || sin <= f64::EPSILON {
+        return Err(FitError::DegenerateCone {
+            half_angle_deg: psi.to_degrees(),
+        });
     }
     let apex = c.centroid + m.origin - axis * (m.s / sin);
-    Ok(Cone { apex: Point3::from(apex), axis_direction: axis, half_angle_rad: psi })
+    Ok(Cone {
+        apex: Point3::from(apex),
+        axis_direction: axis,
+        half_angle_rad: psi,
+    })
 }

@@ -32,7 +32,11 @@ impl CylinderModel {
     pub fn new(axis: &Vec3, origin: Vec3, radius: f64) -> Self {
         let axis = axis.normalize();
         let origin = origin - axis * axis.dot(&origin);
-        CylinderModel { rot: frame_for(&axis), origin, radius }
+        CylinderModel {
+            rot: frame_for(&axis),
+            origin,
+            radius,
+        }
     }
 
     /// The unit axis.
@@ -75,7 +79,10 @@ impl Model for CylinderModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        CylinderModel { radius: size, ..self.clone() }
+        CylinderModel {
+            radius: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -93,7 +100,11 @@ pub(crate) fn start_on_axis(points: &[Vec3], axis: &Vec3) -> Option<CylinderMode
     let rot = frame_for(axis);
     let local: Vec<Vec3> = points.iter().map(|p| rot * p).collect();
     let (c, r) = kasa(&local, 2)?;
-    Some(CylinderModel::new(axis, rot.transpose() * Vec3::new(c.x, c.y, 0.0), r))
+    Some(CylinderModel::new(
+        axis,
+        rot.transpose() * Vec3::new(c.x, c.y, 0.0),
+        r,
+    ))
 }
 
 /// The best of several starts after at most `START_ITERATIONS` iterations
@@ -111,20 +122,36 @@ pub(crate) fn best_of<M: Model + Sync>(
         .map(|s| iterate(s, points, extent, opts, START_ITERATIONS).0)
         .filter(|s| s.rms.is_finite())
         .min_by(|a, b| a.rms.total_cmp(&b.rms))
-        .ok_or(FitError::NoStart { element: name, tried })
+        .ok_or(FitError::NoStart {
+            element: name,
+            tried,
+        })
 }
 
 /// Checks and centres the points, then fits the least-squares cylinder.
-pub(crate) fn lsq(points: &[Point3], opts: &FitOptions) -> Result<(Centred, Solved<CylinderModel>), FitError> {
+pub(crate) fn lsq(
+    points: &[Point3],
+    opts: &FitOptions,
+) -> Result<(Centred, Solved<CylinderModel>), FitError> {
     let c = centre(points, NAME, 5)?;
     let pa = principal(&c.points);
     pa.check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
     let sample = subsample(&c.points, opts.start_sample);
-    let starts = pa.axes.iter().filter_map(|a| start_on_axis(&sample, a)).collect();
+    let starts = pa
+        .axes
+        .iter()
+        .filter_map(|a| start_on_axis(&sample, a))
+        .collect();
     let best = best_of(starts, &sample, c.extent, opts, NAME)?;
     let solved = least_squares(best.model, &c.points, c.extent, opts, NAME)?;
     let iterations = solved.iterations + best.iterations;
-    Ok((c, Solved { iterations, ..solved }))
+    Ok((
+        c,
+        Solved {
+            iterations,
+            ..solved
+        },
+    ))
 }
 
 /// The cylinder of a model in the frame of `c`.

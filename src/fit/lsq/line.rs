@@ -42,7 +42,10 @@ impl Model for Line2dModel {
     }
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
-        Line2dModel { theta: self.theta + delta[0], offset: self.offset + delta[1] }
+        Line2dModel {
+            theta: self.theta + delta[0],
+            offset: self.offset + delta[1],
+        }
     }
 
     fn size(&self) -> f64 {
@@ -50,7 +53,10 @@ impl Model for Line2dModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        Line2dModel { offset: size, ..self.clone() }
+        Line2dModel {
+            offset: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -72,7 +78,10 @@ pub(crate) fn lsq_2d(
     let pa = principal(&c.points);
     pa.check_spread("line2d", c.points.len(), 0.0)?;
     c.centroid.z = mean_z(points);
-    let start = Line2dModel { theta: pa.axes[0].y.atan2(pa.axes[0].x), offset: 0.0 };
+    let start = Line2dModel {
+        theta: pa.axes[0].y.atan2(pa.axes[0].x),
+        offset: 0.0,
+    };
     let solved = least_squares(start, &c.points, c.extent, opts, "line2d")?;
     Ok((c, solved))
 }
@@ -84,7 +93,10 @@ fn mean_z(points: &[Point3]) -> f64 {
 /// The 2-D line of a model in the frame of `c`.
 pub(crate) fn to_element_2d(c: &Centred, m: &Line2dModel) -> Line {
     let point = Point3::from(c.centroid + m.left() * m.offset);
-    Line { point, direction: canonical_sign(m.direction()) }
+    Line {
+        point,
+        direction: canonical_sign(m.direction()),
+    }
 }
 
 /// Least-squares 3-D line: returns the centred points, the unit direction
@@ -123,5 +135,8 @@ fn regression_step(points: &[Vec3], dir: &Vec3) -> (Vec3, f64) {
 
 /// The 3-D line through the centroid of `c` along `dir`.
 pub(crate) fn to_element_3d(c: &Centred, dir: &Vec3) -> Line {
-    Line { point: Point3::from(c.centroid), direction: canonical_sign(*dir) }
+    Line {
+        point: Point3::from(c.centroid),
+        direction: canonical_sign(*dir),
+    }
 }

@@ -41,7 +41,10 @@ impl Model for PlaneModel {
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
         let n = self.rot.transpose() * Vec3::new(delta[0], delta[1], 1.0).normalize();
-        PlaneModel { rot: frame_for(&n), offset: self.offset + delta[2] }
+        PlaneModel {
+            rot: frame_for(&n),
+            offset: self.offset + delta[2],
+        }
     }
 
     fn size(&self) -> f64 {
@@ -49,7 +52,10 @@ impl Model for PlaneModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        PlaneModel { offset: size, ..self.clone() }
+        PlaneModel {
+            offset: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -70,7 +76,10 @@ pub(crate) fn lsq(
     let c = centre(points, element, 3)?;
     let pa = principal(&c.points);
     pa.check_spread(element, c.points.len(), opts.degenerate_ratio)?;
-    let start = PlaneModel { rot: frame_for(&pa.axes[2]), offset: 0.0 };
+    let start = PlaneModel {
+        rot: frame_for(&pa.axes[2]),
+        offset: 0.0,
+    };
     let solved = least_squares(start, &c.points, c.extent, opts, element)?;
     Ok((c, solved))
 }

@@ -35,7 +35,10 @@ impl Model for SphereModel {
 
     fn step(&self, delta: &[f64; MAX_PARAMS]) -> Self {
         let center = self.center + Vec3::new(delta[0], delta[1], delta[2]);
-        SphereModel { center, radius: self.radius + delta[3] }
+        SphereModel {
+            center,
+            radius: self.radius + delta[3],
+        }
     }
 
     fn size(&self) -> f64 {
@@ -43,7 +46,10 @@ impl Model for SphereModel {
     }
 
     fn with_size(&self, size: f64) -> Self {
-        SphereModel { radius: size, ..self.clone() }
+        SphereModel {
+            radius: size,
+            ..self.clone()
+        }
     }
 
     fn angular(k: usize) -> bool {
@@ -63,12 +69,25 @@ pub(crate) fn lsq(
 ) -> Result<(Centred, Solved<SphereModel>), FitError> {
     let c = centre(points, NAME, 4)?;
     principal(&c.points).check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
-    let (center, radius) = kasa(&subsample(&c.points, opts.start_sample), 3).ok_or(FitError::NoStart { element: NAME, tried: 1 })?;
-    let solved = least_squares(SphereModel { center, radius }, &c.points, c.extent, opts, NAME)?;
+    let (center, radius) =
+        kasa(&subsample(&c.points, opts.start_sample), 3).ok_or(FitError::NoStart {
+            element: NAME,
+            tried: 1,
+        })?;
+    let solved = least_squares(
+        SphereModel { center, radius },
+        &c.points,
+        c.extent,
+        opts,
+        NAME,
+    )?;
     Ok((c, solved))
 }
 
 /// The sphere of a model in the frame of `c`.
 pub(crate) fn to_element(c: &Centred, m: &SphereModel) -> Sphere {
-    Sphere { center: Point3::from(m.center + c.centroid), radius: m.radius }
+    Sphere {
+        center: Point3::from(m.center + c.centroid),
+        radius: m.radius,
+    }
 }
