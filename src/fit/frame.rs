@@ -21,40 +21,41 @@ pub(crate) fn centre(
     element: &'static str,
     needed: usize,
 ) -> Result<Centred, FitError> {
-    if points.len() < needed {
-        let found = points.len();
+    check_input(points, element, needed)?;
+    let centroid = mean_of(points);
+    let points: Vec<Vec3> = points.iter().map(|p| p.coords - centroid).collect();
+    let extent = points
+        .iter()
+        .map(|q| q.norm_squared())
+        .fold(0.0, f64::max)
+        .sqrt();
+    Ok(Centred {
+        centroid,
+        points,
+        extent,
+    })
+}
+
+/// Fails on too few points or a non-finite coordinate.
+fn check_input(points: &[Point3], element: &'static str, needed: usize) -> Result<(), FitError> {
+    let found = points.len();
+    if found < needed {
         return Err(FitError::TooFewPoints {
             element,
             needed,
             found,
         });
     }
-    let bad = points
-        .iter()
-        .enumerate()
-        .find(|(_, p)| !crate::math::all_finite(p.coords.as_slice()));
-    if let Some((index, p)) = bad {
-        return Err(FitError::NonFinite {
+    let finite = |p: &&Point3| crate::math::all_finite(p.coords.as_slice());
+    match points.iter().enumerate().find(|(_, p)| !finite(p)) {
+        Some((index, p)) => Err(FitError::NonFinite {
             index,
             x: p.x,
             y: p.y,
             z: p.z,
-        });
+        }),
+        None => Ok(()),
     }
-    let centroid = mean_of(points);
-    let mut centred = Vec::with_capacity(points.len());
-    let mut extent_sq = 0.0f64;
-    for p in points {
-        let q = p.coords - centroid;
-        extent_sq = extent_sq.max(q.norm_squared());
-        centred.push(q);
-    }
-    let (points, extent) = (centred, extent_sq.sqrt());
-    Ok(Centred {
-        centroid,
-        points,
-        extent,
-    })
 }
 
 /// Points per partial sum of the centroid (keeps round-off at about

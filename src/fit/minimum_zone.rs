@@ -18,8 +18,9 @@ use crate::math::Vec3;
 
 /// Most points per side (upper, lower) in one linear program.
 pub const MAX_CANDIDATES: usize = 1500;
-/// Trust region growth on a good step, shrink on a poor or rejected one.
+/// Trust region growth on a good step.
 const GROW: f64 = 2.0;
+/// Trust region shrink on a poor or rejected step.
 const SHRINK: f64 = 0.25;
 
 /// What a Chebyshev fit minimises.
@@ -66,6 +67,29 @@ pub(crate) struct Names {
     pub element: &'static str,
     /// Method.
     pub method: &'static str,
+}
+
+impl Names {
+    fn lp_error(self, iteration: usize, reason: String) -> FitError {
+        let (element, method) = (self.element, self.method);
+        FitError::LinearProgram {
+            element,
+            method,
+            iteration,
+            reason,
+        }
+    }
+
+    fn no_convergence(self, iterations: usize, last_step_mm: f64, tolerance_mm: f64) -> FitError {
+        let (element, method) = (self.element, self.method);
+        FitError::NoConvergence {
+            element,
+            method,
+            iterations,
+            last_step_mm,
+            tolerance_mm,
+        }
+    }
 }
 
 fn min_max<M: Model>(model: &M, points: &[Vec3]) -> (Vec<f64>, f64, f64) {
@@ -247,6 +271,44 @@ pub(crate) struct ZoneFit<M> {
     pub iterations: usize,
 }
 
+/// Trust-region radius factor after a step whose actual over predicted
+/// improvement is `ratio`.
+fn radius_factor(ratio: f64) -> f64 {
+    if ratio > 0.75 {
+        GROW
+    } else if ratio > 0.25 {
+        1.0
+    } else {
+        SHRINK
+    }
+}
+
+/// The current iterate: model, objective and extreme shape values.
+struct Iterate<M> {
+    model: M,
+    f: f64,
+    lo: f64,
+    hi: f64,
+}
+
+impl<M: Model> Iterate<M> {
+    fn new(model: M, points: &[Vec3], obj: Objective) -> Self {
+        let (f, lo, hi) = objective_of(&model, points, obj);
+        Iterate { model, f, lo, hi }
+    }
+
+    /// Tries `step`; keeps it if the objective improves. Returns the ratio
+    /// of actual to predicted improvement.
+    fn try_step(&mut self, step: &LpStep, points: &[Vec3], obj: Objective) -> f64 {
+        let trial = Iterate::new(self.model.step(&step.delta), points, obj);
+        let ratio = (self.f - trial.f) / -step.predicted;
+        if trial.model.is_finite() && trial.f < self.f {
+            *self = trial;
+        }
+        ratio
+    }
+}
+
 /// Chebyshev fit of `start` (usually the least-squares solution) to
 /// centred `points`.
 pub(crate) fn chebyshev<M: Model>(
@@ -257,46 +319,22 @@ pub(crate) fn chebyshev<M: Model>(
     names: Names,
 ) -> Result<ZoneFit<M>, FitError> {
     let tol = opts.zone_tolerance_mm;
-    let mut model = start;
-    let (mut f, mut lo, mut hi) = objective_of(&model, points, obj);
-    let max_radius = 4.0 * (hi - lo).max(1e3 * tol);
+    let mut it = Iterate::new(start, points, obj);
+    let max_radius = 4.0 * (it.hi - it.lo).max(1e3 * tol);
     let mut radius = max_radius / 4.0;
     for iteration in 1..=opts.max_zone_iterations {
-        let lin = linearise(&model, points, obj, radius);
-        let step =
-            solve_lp(&lin, obj, M::SHAPE, radius).map_err(|reason| FitError::LinearProgram {
-                element: names.element,
-                method: names.method,
-                iteration,
-                reason,
-            })?;
+        let lin = linearise(&it.model, points, obj, radius);
+        let step = solve_lp(&lin, obj, M::SHAPE, radius)
+            .map_err(|reason| names.lp_error(iteration, reason))?;
         if -step.predicted <= tol || radius <= tol {
-            let model = model.with_size(obj.size(lo, hi));
+            let model = it.model.with_size(obj.size(it.lo, it.hi));
             return Ok(ZoneFit {
                 model,
                 iterations: iteration,
             });
         }
-        let trial = model.step(&step.delta);
-        let (ft, tlo, thi) = objective_of(&trial, points, obj);
-        let ratio = (f - ft) / -step.predicted;
-        if trial.is_finite() && ft < f {
-            (model, f, lo, hi) = (trial, ft, tlo, thi);
-        }
-        radius *= if ratio > 0.75 {
-            GROW
-        } else if ratio > 0.25 {
-            1.0
-        } else {
-            SHRINK
-        };
-        radius = radius.min(max_radius);
+        let ratio = it.try_step(&step, points, obj);
+        radius = (radius * radius_factor(ratio)).min(max_radius);
     }
-    Err(FitError::NoConvergence {
-        element: names.element,
-        method: names.method,
-        iterations: opts.max_zone_iterations,
-        last_step_mm: radius,
-        tolerance_mm: tol,
-    })
+    Err(names.no_convergence(opts.max_zone_iterations, radius, tol))
 }

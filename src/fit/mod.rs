@@ -129,7 +129,7 @@ pub fn fit(
     opts: &FitOptions,
 ) -> Result<FitReport, FitError> {
     let (element, iterations) = match method {
-        Method::Lsq => fit_lsq(kind, points, opts)?,
+        Method::Lsq => lsq::fit(kind, points, opts)?,
         _ => zone::fit(kind, method, points, opts)?,
     };
     let residuals = residual_stats(&element, points);
@@ -143,56 +143,5 @@ pub fn fit(
         form_mm,
         iterations,
         point_count,
-    })
-}
-
-fn fit_lsq(
-    kind: ElementKind,
-    points: &[Point3],
-    opts: &FitOptions,
-) -> Result<(Element, usize), FitError> {
-    use lsq::{circle, cone, cylinder, line, plane, sphere};
-    Ok(match kind {
-        ElementKind::Line => {
-            let (c, dir, it) = line::lsq_3d(points, opts)?;
-            (Element::Line(line::to_element_3d(&c, &dir)), it)
-        }
-        ElementKind::Line2d => {
-            let (c, s) = line::lsq_2d(points, opts)?;
-            (
-                Element::Line2d(line::to_element_2d(&c, &s.model)),
-                s.iterations,
-            )
-        }
-        ElementKind::Plane => {
-            let (p, it) = plane::fit(points, opts)?;
-            (Element::Plane(p), it)
-        }
-        ElementKind::Circle | ElementKind::Circle2d => {
-            let pl = circle::in_plane(points, opts, kind == ElementKind::Circle2d)?;
-            let s = circle::lsq(&pl, opts, kind.name())?;
-            (
-                Element::Circle(circle::to_element(&pl, &s.model)),
-                s.iterations,
-            )
-        }
-        ElementKind::Sphere => {
-            let (c, s) = sphere::lsq(points, opts)?;
-            (
-                Element::Sphere(sphere::to_element(&c, &s.model)),
-                s.iterations,
-            )
-        }
-        ElementKind::Cylinder => {
-            let (c, s) = cylinder::lsq(points, opts)?;
-            (
-                Element::Cylinder(cylinder::to_element(&c, &s.model)),
-                s.iterations,
-            )
-        }
-        ElementKind::Cone => {
-            let (c, s) = cone::lsq(points, opts)?;
-            (Element::Cone(cone::to_element(&c, &s.model)?), s.iterations)
-        }
     })
 }
