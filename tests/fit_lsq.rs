@@ -405,3 +405,50 @@ fn degenerate_inputs_are_named() {
         "{msg}"
     );
 }
+
+/// Radial offset weights at angles 0, +-a, +-b (a = 7.5, b = 15 degrees) that
+/// sum to zero and have zero first moments in cos and sin: the true element
+/// is then a stationary point of the least-squares cost, with a non-zero
+/// residual on a badly conditioned 30-degree arc.
+fn balanced_arc() -> Vec<(f64, f64)> {
+    let (a, b) = (7.5f64.to_radians(), 15f64.to_radians());
+    let s2 = -(1.0 - a.cos()) / (1.0 - b.cos());
+    let s0 = -2.0 - 2.0 * s2;
+    vec![(0.0, s0), (a, 1.0), (-a, 1.0), (b, s2), (-b, s2)]
+}
+
+#[test]
+fn short_cylinder_30_degree_arc_with_residuals() {
+    let pose = Pose::generic();
+    let (rad, e, h) = (40.0, 0.005, 2.0);
+    let mut pts = Vec::new();
+    for z in [-h, -h / 3.0, h / 3.0, h] {
+        for (t, s) in balanced_arc() {
+            let r = rad + e * s;
+            pts.push(pose.point(r * t.cos(), r * t.sin(), z));
+        }
+    }
+    let r = lsq(ElementKind::Cylinder, &pts);
+    check_cylinder(&r, &pose, rad);
+    assert!(
+        r.residuals.rms > 1e-3,
+        "the construction has real residuals"
+    );
+}
+
+#[test]
+fn circle_30_degree_arc_with_residuals() {
+    let pose = Pose::generic();
+    let (rad, e) = (25.0, 0.004);
+    let pts: Vec<Point3> = balanced_arc()
+        .into_iter()
+        .map(|(t, s)| (t, rad + e * s))
+        .map(|(t, r)| pose.point(r * t.cos(), r * t.sin(), 0.0))
+        .collect();
+    let r = lsq(ElementKind::Circle, &pts);
+    let Element::Circle(c) = r.element else {
+        panic!("not a circle")
+    };
+    close_pt("center", &c.center, &pose.origin(), TOL);
+    close("radius", c.radius, rad, TOL);
+}

@@ -117,6 +117,10 @@ fn lower(lambda: f64) -> f64 {
 /// Relative size of the cost's round-off: a trial whose cost exceeds the
 /// current one by less than this fraction is not a worse point.
 const COST_ROUND_OFF: f64 = 1e-12;
+/// A Gauss-Newton step whose predicted cost reduction is below this
+/// fraction of the cost cannot be checked against the evaluated cost (the
+/// residuals' own round-off is larger); it is taken as it is.
+const UNCHECKABLE_REDUCTION: f64 = 1e-9;
 
 /// The tolerance in force: the option, but never below the round-off floor.
 pub(crate) fn tolerance_mm(opts: &FitOptions, extent: f64) -> f64 {
@@ -140,19 +144,33 @@ struct State<M> {
 }
 
 impl<M: Model + Sync> State<M> {
-    /// One iteration: `Some(step size)` after a solve, `None` when the
-    /// damped system was singular (damping raised).
+    /// One iteration: `Some((step size, converged))` after a solve, `None`
+    /// when the damped system was singular (damping raised). Convergence is
+    /// judged on the undamped Gauss-Newton step, never on a damped one.
     fn advance(&mut self, points: &[Vec3], extent: f64, tol: f64) -> Option<(f64, bool)> {
+        if let Some(gn) = solve_step(&self.ne, M::SHAPE + 1, 0.0) {
+            let size = step_size_mm::<M>(&gn, extent);
+            let reduction = -(0..=M::SHAPE).map(|k| self.ne.g[k] * gn[k]).sum::<f64>();
+            let trial = self.model.step(&gn);
+            if trial.is_finite() && size <= tol {
+                self.model = trial;
+                return Some((size, true));
+            }
+            if trial.is_finite() && reduction <= UNCHECKABLE_REDUCTION * self.ne.cost {
+                (self.ne, self.model, self.lambda) = (normal_equations(&trial, points), trial, 0.0);
+                return Some((size, false));
+            }
+        }
+        self.damped(points, extent)
+    }
+
+    /// A Levenberg-Marquardt step, kept only if the cost does not rise.
+    fn damped(&mut self, points: &[Vec3], extent: f64) -> Option<(f64, bool)> {
         let Some(delta) = solve_step(&self.ne, M::SHAPE + 1, self.lambda) else {
             self.lambda = raise(self.lambda);
             return None;
         };
-        let size = step_size_mm::<M>(&delta, extent);
         let trial = self.model.step(&delta);
-        if size <= tol && trial.is_finite() {
-            self.model = trial;
-            return Some((size, true));
-        }
         let trial_ne = trial.is_finite().then(|| normal_equations(&trial, points));
         match trial_ne {
             Some(t) if t.cost <= self.ne.cost * (1.0 + COST_ROUND_OFF) => {
@@ -160,7 +178,7 @@ impl<M: Model + Sync> State<M> {
             }
             _ => self.lambda = raise(self.lambda),
         }
-        Some((size, self.lambda > LAMBDA_MAX))
+        Some((step_size_mm::<M>(&delta, extent), self.lambda > LAMBDA_MAX))
     }
 }
 
