@@ -247,3 +247,13 @@ fn unsupported_methods_are_refused() {
         "{e:?}"
     );
 }
+
+#[test]
+fn inscribed_circle_of_an_arc_is_unbounded() {
+    let pts: Vec<Point3> = (0..10)
+        .map(|i| (i as f64 * 5.0).to_radians())
+        .map(|t| Point3::new(20.0 * t.cos(), 20.0 * t.sin(), 0.0))
+        .collect();
+    let r = fit(ElementKind::Circle, Method::MaxInscribed, &pts, &FitOptions::default());
+    assert!(matches!(r, Err(FitError::Unbounded { element: "circle", .. })), "{r:?}");
+}

@@ -79,6 +79,21 @@ pub enum FitError {
         /// Tolerance in force, mm.
         tolerance_mm: f64,
     },
+    /// A maximum-inscribed fit kept growing: the points do not enclose the
+    /// element (partial data such as an arc or a cap).
+    #[error(
+        "{element} {method} fit is unbounded: the element kept growing for {iterations} iterations (radius change {growth_mm:e} mm); the points do not enclose it (partial arc or cap?)"
+    )]
+    Unbounded {
+        /// Element kind name.
+        element: &'static str,
+        /// Method name.
+        method: &'static str,
+        /// Iterations made.
+        iterations: usize,
+        /// How much the inscribed size grew over the iterations, mm.
+        growth_mm: f64,
+    },
     /// No starting value led to a finite solution.
     #[error("{element} fit: none of the {tried} starting values gave a finite solution")]
     NoStart {

@@ -322,6 +322,7 @@ pub(crate) fn chebyshev<M: Model>(
     let mut it = Iterate::new(start, points, obj);
     let max_radius = 4.0 * (it.hi - it.lo).max(1e3 * tol);
     let mut radius = max_radius / 4.0;
+    let start_size = obj.size(it.lo, it.hi);
     for iteration in 1..=opts.max_zone_iterations {
         let lin = linearise(&it.model, points, obj, radius);
         let step = solve_lp(&lin, obj, M::SHAPE, radius)
@@ -335,6 +336,16 @@ pub(crate) fn chebyshev<M: Model>(
         }
         let ratio = it.try_step(&step, points, obj);
         radius = (radius * radius_factor(ratio)).min(max_radius);
+    }
+    let growth_mm = obj.size(it.lo, it.hi) - start_size;
+    if obj == Objective::Inscribed && growth_mm > max_radius {
+        let (element, method, iterations) = (names.element, names.method, opts.max_zone_iterations);
+        return Err(FitError::Unbounded {
+            element,
+            method,
+            iterations,
+            growth_mm,
+        });
     }
     Err(names.no_convergence(opts.max_zone_iterations, radius, tol))
 }
