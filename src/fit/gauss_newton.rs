@@ -12,7 +12,7 @@
 use nalgebra::{DMatrix, DVector};
 
 use super::model::{step_size_mm, Model, MAX_PARAMS};
-use super::{FitError, FitOptions};
+use super::{FitError, FitOptions, ResidualStats};
 use crate::math::Vec3;
 
 /// Damping at which a rejected step counts as "no descent left within
@@ -23,8 +23,9 @@ const LAMBDA_FIRST: f64 = 1e-4;
 /// Damping below this is dropped (pure Gauss-Newton).
 const LAMBDA_MIN: f64 = 1e-12;
 
-/// Normal equations of the linearised problem at one model.
-#[derive(Debug, Clone, Copy, Default)]
+/// Normal equations of the linearised problem at one model, with the
+/// residual statistics of that model (so no extra pass is needed for them).
+#[derive(Debug, Clone, Copy)]
 struct Normal {
     /// Upper triangle of `J^T J`.
     a: [[f64; MAX_PARAMS]; MAX_PARAMS],
@@ -32,10 +33,37 @@ struct Normal {
     g: [f64; MAX_PARAMS],
     /// Sum of squared residuals, mm^2.
     cost: f64,
+    /// Smallest residual, mm.
+    lo: f64,
+    /// Largest residual, mm.
+    hi: f64,
+}
+
+impl Default for Normal {
+    fn default() -> Self {
+        let (a, g) = ([[0.0; MAX_PARAMS]; MAX_PARAMS], [0.0; MAX_PARAMS]);
+        Normal {
+            a,
+            g,
+            cost: 0.0,
+            lo: f64::INFINITY,
+            hi: f64::NEG_INFINITY,
+        }
+    }
 }
 
 impl Normal {
+    fn stats(&self, count: usize) -> ResidualStats {
+        let rms = (self.cost / count.max(1) as f64).sqrt();
+        ResidualStats {
+            rms,
+            min: self.lo,
+            max: self.hi,
+        }
+    }
+
     fn add(mut self, other: &Normal) -> Normal {
+        (self.lo, self.hi) = (self.lo.min(other.lo), self.hi.max(other.hi));
         for (row, orow) in self.a.iter_mut().zip(other.a.iter()) {
             row.iter_mut().zip(orow.iter()).for_each(|(x, y)| *x += y);
         }
@@ -57,6 +85,8 @@ pub(crate) struct Solved<M> {
     pub iterations: usize,
     /// RMS residual, mm.
     pub rms: f64,
+    /// Residual statistics of `model` (shape value minus size), mm.
+    pub stats: ResidualStats,
 }
 
 fn accumulate_chunk<M: Model>(model: &M, points: &[Vec3]) -> Normal {
@@ -74,6 +104,7 @@ fn accumulate_chunk<M: Model>(model: &M, points: &[Vec3]) -> Normal {
             }
         }
         acc.cost += r * r;
+        (acc.lo, acc.hi) = (acc.lo.min(r), acc.hi.max(r));
     }
     acc
 }
@@ -153,7 +184,8 @@ impl<M: Model + Sync> State<M> {
             let reduction = -(0..=M::SHAPE).map(|k| self.ne.g[k] * gn[k]).sum::<f64>();
             let trial = self.model.step(&gn);
             if trial.is_finite() && size <= tol {
-                self.model = trial;
+                // The evaluated model is within `tol` of the solution; keep it
+                // so that the statistics of this pass belong to it.
                 return Some((size, true));
             }
             if trial.is_finite() && reduction <= UNCHECKABLE_REDUCTION * self.ne.cost {
@@ -212,15 +244,14 @@ pub(crate) fn iterate<M: Model + Sync>(
             };
         }
     }
-    let rms = (state.ne.cost / points.len().max(1) as f64).sqrt();
-    (
-        Solved {
-            model: state.model,
-            iterations,
-            rms,
-        },
-        outcome,
-    )
+    let stats = state.ne.stats(points.len());
+    let solved = Solved {
+        model: state.model,
+        iterations,
+        rms: stats.rms,
+        stats,
+    };
+    (solved, outcome)
 }
 
 /// Least-squares fit of `start` to centred `points` whose largest distance

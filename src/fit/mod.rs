@@ -128,11 +128,17 @@ pub fn fit(
     points: &[Point3],
     opts: &FitOptions,
 ) -> Result<FitReport, FitError> {
-    let (element, iterations) = match method {
-        Method::Lsq => lsq::fit(kind, points, opts)?,
-        _ => zone::fit(kind, method, points, opts)?,
+    let (element, iterations, stats) = match method {
+        Method::Lsq => {
+            let f = lsq::fit(kind, points, opts)?;
+            (f.element, f.iterations, f.stats)
+        }
+        _ => {
+            let (element, iterations) = zone::fit(kind, method, points, opts)?;
+            (element, iterations, None)
+        }
     };
-    let residuals = residual_stats(&element, points);
+    let residuals = stats.unwrap_or_else(|| residual_stats(&element, points));
     let form_mm = form_error(&element, &residuals);
     let point_count = points.len();
     Ok(FitReport {
