@@ -52,8 +52,28 @@ pub enum SideArg {
     Outside,
 }
 
+/// Conventions printed under `cmm fit --help`.
+const CONVENTIONS: &str = "\
+Conventions (all lengths mm):
+  Least squares minimises orthogonal distances; a 3-D circle is the circle in
+  the least-squares plane of its points; line2d/circle2d use x and y only.
+  Directions (line direction, plane/circle normal, cylinder axis) have their
+  largest-magnitude component positive; a cone axis points towards growing
+  radius; apex_angle_deg is the full angle.
+  point / axis_point: the foot of the points' centroid on the line or axis.
+  Residuals are signed: positive outside the material for circle, sphere,
+  cylinder and cone, along the normal for a plane, left of the direction for
+  line2d; unsigned distances for a 3-D line.
+  form_mm: max - min residual (minimum zone: the zone width); for a 3-D line
+  the diameter 2 * max of the cylinder about it holding all points.
+  Probe compensation (--probe-radius R --side S): the points are ball centres;
+  inside (bore) adds R to the radius, outside (shaft) subtracts it; a cone's
+  apex moves along the axis by R / sin(half angle); for a plane, outside
+  means the material lies behind the normal (surface at point - R * normal).";
+
 /// Arguments of `cmm fit`.
 #[derive(Debug, clap::Args)]
+#[command(after_long_help = CONVENTIONS)]
 pub struct FitArgs {
     /// Element kind.
     #[arg(long, value_enum)]
