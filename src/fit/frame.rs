@@ -24,11 +24,9 @@ pub(crate) fn centre(
     check_input(points, element, needed)?;
     let centroid = mean_of(points);
     let points: Vec<Vec3> = points.iter().map(|p| p.coords - centroid).collect();
-    let extent = points
-        .iter()
-        .map(|q| q.norm_squared())
-        .fold(0.0, f64::max)
-        .sqrt();
+    let max_sq = |c: &[Vec3]| c.iter().map(|q| q.norm_squared()).fold(0.0, f64::max);
+    let parts = super::parallel::map_chunks(&points, max_sq);
+    let extent = parts.into_iter().fold(0.0, f64::max).sqrt();
     Ok(Centred {
         centroid,
         points,
