@@ -140,13 +140,14 @@ fn rows<M: Model>(
         .collect()
 }
 
-/// Parameter scales: largest gradient magnitude of each parameter.
+/// Parameter scales: largest finite gradient magnitude of each parameter.
 fn scales(rows: &[&[Row]], n: usize) -> [f64; MAX_PARAMS] {
     let mut sc = [0.0f64; MAX_PARAMS];
     for row in rows.iter().flat_map(|r| r.iter()) {
         sc.iter_mut()
             .zip(row.grad.iter())
             .take(n)
+            .filter(|(_, g)| g.is_finite())
             .for_each(|(s, g)| *s = s.max(g.abs()));
     }
     sc
@@ -202,6 +203,10 @@ fn add_rows(lp: &mut Lp, rows: &[Row], sc: &[f64; MAX_PARAMS], top: bool) {
             .map(|(y, (g, s))| (*y, g / s))
             .collect();
         terms.push((bound, -1.0));
+        // microlp refuses non-finite data by panicking: never hand it any.
+        if !row.offset.is_finite() || terms.iter().any(|(_, c)| !c.is_finite()) {
+            continue;
+        }
         let op = if top {
             ComparisonOp::Le
         } else {
