@@ -254,6 +254,20 @@ fn inscribed_circle_of_an_arc_is_unbounded() {
         .map(|i| (i as f64 * 5.0).to_radians())
         .map(|t| Point3::new(20.0 * t.cos(), 20.0 * t.sin(), 0.0))
         .collect();
-    let r = fit(ElementKind::Circle, Method::MaxInscribed, &pts, &FitOptions::default());
-    assert!(matches!(r, Err(FitError::Unbounded { element: "circle", .. })), "{r:?}");
+    let r = fit(
+        ElementKind::Circle,
+        Method::MaxInscribed,
+        &pts,
+        &FitOptions::default(),
+    );
+    assert!(
+        matches!(
+            r,
+            Err(FitError::Unbounded {
+                element: "circle",
+                ..
+            })
+        ),
+        "{r:?}"
+    );
 }
