@@ -254,6 +254,22 @@ pub(crate) fn iterate<M: Model + Sync>(
     (solved, outcome)
 }
 
+/// Iterations given to a starting value on a sample of the points.
+pub(crate) const START_ITERATIONS: usize = 12;
+
+/// `start` refined on `sample` (a subset of the points), and the iterations
+/// used: from the sample's solution the fit on all points needs only about
+/// two passes over them.
+pub(crate) fn presolve<M: Model + Sync>(
+    start: M,
+    sample: &[Vec3],
+    extent: f64,
+    opts: &FitOptions,
+) -> (M, usize) {
+    let solved = iterate(start, sample, extent, opts, START_ITERATIONS).0;
+    (solved.model, solved.iterations)
+}
+
 /// Least-squares fit of `start` to centred `points` whose largest distance
 /// from the origin is `extent` mm; fails when it does not converge within
 /// `opts.max_iterations`.

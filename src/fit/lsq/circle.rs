@@ -4,7 +4,7 @@
 //! Kasa fit, which copes with partial arcs.
 use crate::fit::algebraic::kasa;
 use crate::fit::frame::{canonical_sign, centre, principal, subsample, Centred};
-use crate::fit::gauss_newton::{least_squares, Solved};
+use crate::fit::gauss_newton::{least_squares, presolve, Solved};
 use crate::fit::lsq::plane;
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{Circle, FitError, FitOptions};
@@ -111,19 +111,20 @@ pub(crate) fn lsq(
     opts: &FitOptions,
     name: &'static str,
 ) -> Result<Solved<CircleModel>, FitError> {
-    let (center, radius) =
-        kasa(&subsample(&plane.local, opts.start_sample), 2).ok_or(FitError::NoStart {
-            element: name,
-            tried: 1,
-        })?;
+    let sample = subsample(&plane.local, opts.start_sample);
+    let no_start = FitError::NoStart {
+        element: name,
+        tried: 1,
+    };
+    let (center, radius) = kasa(&sample, 2).ok_or(no_start)?;
     let extent = plane.centred.extent;
-    least_squares(
-        CircleModel { center, radius },
-        &plane.local,
-        extent,
-        opts,
-        name,
-    )
+    let (start, pre) = presolve(CircleModel { center, radius }, &sample, extent, opts);
+    let solved = least_squares(start, &plane.local, extent, opts, name)?;
+    let iterations = solved.iterations + pre;
+    Ok(Solved {
+        iterations,
+        ..solved
+    })
 }
 
 /// The circle of a model.

@@ -7,14 +7,12 @@
 //! long, short (disc-like) and partial-arc cylinders alike.
 use crate::fit::algebraic::kasa;
 use crate::fit::frame::{canonical_sign, centre, frame_for, principal, subsample, Centred};
-use crate::fit::gauss_newton::{iterate, least_squares, Solved};
+use crate::fit::gauss_newton::{iterate, least_squares, Solved, START_ITERATIONS};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{Cylinder, FitError, FitOptions};
 use crate::math::{Mat3, Point3, Vec3};
 
 const NAME: &str = "cylinder";
-/// Iterations given to each starting value before the best one is chosen.
-const START_ITERATIONS: usize = 12;
 
 /// A cylinder (or, with radius 0, a line) in centred coordinates.
 #[derive(Debug, Clone)]

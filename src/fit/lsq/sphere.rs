@@ -2,7 +2,7 @@
 //! fit.
 use crate::fit::algebraic::kasa;
 use crate::fit::frame::{centre, principal, subsample, Centred};
-use crate::fit::gauss_newton::{least_squares, Solved};
+use crate::fit::gauss_newton::{least_squares, presolve, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{FitError, FitOptions, Sphere};
 use crate::math::{Point3, Vec3};
@@ -69,19 +69,22 @@ pub(crate) fn lsq(
 ) -> Result<(Centred, Solved<SphereModel>), FitError> {
     let c = centre(points, NAME, 4)?;
     principal(&c.points).check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
-    let (center, radius) =
-        kasa(&subsample(&c.points, opts.start_sample), 3).ok_or(FitError::NoStart {
-            element: NAME,
-            tried: 1,
-        })?;
-    let solved = least_squares(
-        SphereModel { center, radius },
-        &c.points,
-        c.extent,
-        opts,
-        NAME,
-    )?;
-    Ok((c, solved))
+    let sample = subsample(&c.points, opts.start_sample);
+    let no_start = FitError::NoStart {
+        element: NAME,
+        tried: 1,
+    };
+    let (center, radius) = kasa(&sample, 3).ok_or(no_start)?;
+    let (start, pre) = presolve(SphereModel { center, radius }, &sample, c.extent, opts);
+    let solved = least_squares(start, &c.points, c.extent, opts, NAME)?;
+    let iterations = solved.iterations + pre;
+    Ok((
+        c,
+        Solved {
+            iterations,
+            ..solved
+        },
+    ))
 }
 
 /// The sphere of a model in the frame of `c`.
