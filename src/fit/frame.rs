@@ -13,6 +13,15 @@ pub(crate) struct Centred {
     pub points: Vec<Vec3>,
     /// Largest distance of a point from the centroid, mm.
     pub extent: f64,
+    /// Scatter matrix `sum p p^T` of the centred points, mm^2.
+    pub scatter: Mat3,
+}
+
+impl Centred {
+    /// Principal axes of the centred points (from the stored scatter).
+    pub fn principal(&self) -> Principal {
+        principal_of(self.scatter)
+    }
 }
 
 /// Checks finiteness and the point count, then centres the points.
@@ -24,14 +33,24 @@ pub(crate) fn centre(
     check_input(points, element, needed)?;
     let centroid = mean_of(points);
     let points: Vec<Vec3> = points.iter().map(|p| p.coords - centroid).collect();
-    let max_sq = |c: &[Vec3]| c.iter().map(|q| q.norm_squared()).fold(0.0, f64::max);
-    let parts = super::parallel::map_chunks(&points, max_sq);
-    let extent = parts.into_iter().fold(0.0, f64::max).sqrt();
+    let parts = super::parallel::map_chunks(&points, extent_and_scatter);
+    let init = (0.0f64, Mat3::zeros());
+    let (max_sq, scatter) = parts
+        .iter()
+        .fold(init, |(m, s), (pm, ps)| (m.max(*pm), s + ps));
+    let extent = max_sq.sqrt();
     Ok(Centred {
         centroid,
         points,
         extent,
+        scatter,
     })
+}
+
+/// Largest squared norm and scatter matrix `sum p p^T` of a chunk.
+fn extent_and_scatter(chunk: &[Vec3]) -> (f64, Mat3) {
+    let max_sq = chunk.iter().map(|q| q.norm_squared()).fold(0.0, f64::max);
+    (max_sq, chunk.iter().map(|p| p * p.transpose()).sum())
 }
 
 /// Fails on too few points or a non-finite coordinate.
@@ -99,7 +118,11 @@ pub(crate) fn principal(points: &[Vec3]) -> Principal {
     let parts = super::parallel::map_chunks(points, |c| {
         c.iter().map(|p| p * p.transpose()).sum::<Mat3>()
     });
-    let scatter: Mat3 = parts.iter().sum();
+    principal_of(parts.iter().sum())
+}
+
+/// Principal axes from a scatter matrix.
+fn principal_of(scatter: Mat3) -> Principal {
     let eig = scatter.symmetric_eigen();
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eig.eigenvalues[b].total_cmp(&eig.eigenvalues[a]));

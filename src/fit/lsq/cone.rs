@@ -6,7 +6,7 @@
 //! Starting values: for each principal axis, the Kasa circle of the
 //! projected points gives the axis, a straight-line fit of radius against
 //! height gives psi and s; the best start after refinement on a sample wins.
-use crate::fit::frame::{centre, principal, subsample, Centred};
+use crate::fit::frame::{centre, subsample, Centred};
 use crate::fit::gauss_newton::{least_squares, Solved};
 use crate::fit::lsq::cylinder::{best_of, start_on_axis, step_axis, CylinderModel};
 use crate::fit::model::{Model, MAX_PARAMS};
@@ -114,7 +114,7 @@ pub(crate) fn lsq(
     opts: &FitOptions,
 ) -> Result<(Centred, Solved<ConeModel>), FitError> {
     let c = centre(points, NAME, 6)?;
-    let pa = principal(&c.points);
+    let pa = c.principal();
     pa.check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
     let sample = subsample(&c.points, opts.start_sample);
     let starts = pa

@@ -6,7 +6,7 @@
 //! refined on a sample and the best is refined on all points. This handles
 //! long, short (disc-like) and partial-arc cylinders alike.
 use crate::fit::algebraic::kasa;
-use crate::fit::frame::{canonical_sign, centre, frame_for, principal, subsample, Centred};
+use crate::fit::frame::{canonical_sign, centre, frame_for, subsample, Centred};
 use crate::fit::gauss_newton::{iterate, least_squares, Solved, START_ITERATIONS};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{Cylinder, FitError, FitOptions};
@@ -132,7 +132,7 @@ pub(crate) fn lsq(
     opts: &FitOptions,
 ) -> Result<(Centred, Solved<CylinderModel>), FitError> {
     let c = centre(points, NAME, 5)?;
-    let pa = principal(&c.points);
+    let pa = c.principal();
     pa.check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
     let sample = subsample(&c.points, opts.start_sample);
     let starts = pa

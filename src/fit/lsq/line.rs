@@ -1,7 +1,7 @@
 //! Least-squares lines. 3-D: the centroid and the principal axis, refined
 //! by linearised regressions in the line's frame. 2-D (xy plane, z
 //! ignored): Gauss-Newton on the angle and the offset.
-use crate::fit::frame::{canonical_sign, centre, frame_for, principal, Centred};
+use crate::fit::frame::{canonical_sign, centre, frame_for, Centred};
 use crate::fit::gauss_newton::{least_squares, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{FitError, FitOptions, Line};
@@ -75,7 +75,7 @@ pub(crate) fn lsq_2d(
 ) -> Result<(Centred, Solved<Line2dModel>), FitError> {
     let flat: Vec<Point3> = points.iter().map(|p| Point3::new(p.x, p.y, 0.0)).collect();
     let mut c = centre(&flat, "line2d", 2)?;
-    let pa = principal(&c.points);
+    let pa = c.principal();
     pa.check_spread("line2d", c.points.len(), 0.0)?;
     c.centroid.z = mean_z(points);
     let start = Line2dModel {
@@ -106,7 +106,7 @@ pub(crate) fn lsq_3d(
     opts: &FitOptions,
 ) -> Result<(Centred, Vec3, usize), FitError> {
     let c = centre(points, "line", 2)?;
-    let pa = principal(&c.points);
+    let pa = c.principal();
     pa.check_spread("line", c.points.len(), 0.0)?;
     let mut dir = pa.axes[0];
     for pass in 1..=LINE_PASSES {

@@ -1,7 +1,7 @@
 //! Least-squares plane: the normal is the least principal axis of the
 //! centred points, refined by Gauss-Newton (tilt about the centroid plus
 //! offset along the normal).
-use crate::fit::frame::{canonical_sign, centre, frame_for, principal, Centred};
+use crate::fit::frame::{canonical_sign, centre, frame_for, Centred};
 use crate::fit::gauss_newton::{least_squares, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{FitError, FitOptions, Plane};
@@ -74,7 +74,7 @@ pub(crate) fn lsq(
     element: &'static str,
 ) -> Result<(Centred, Solved<PlaneModel>), FitError> {
     let c = centre(points, element, 3)?;
-    let pa = principal(&c.points);
+    let pa = c.principal();
     pa.check_spread(element, c.points.len(), opts.degenerate_ratio)?;
     let start = PlaneModel {
         rot: frame_for(&pa.axes[2]),

@@ -1,7 +1,7 @@
 //! Least-squares sphere: centre and radius by Gauss-Newton from the Kasa
 //! fit.
 use crate::fit::algebraic::kasa;
-use crate::fit::frame::{centre, principal, subsample, Centred};
+use crate::fit::frame::{centre, subsample, Centred};
 use crate::fit::gauss_newton::{least_squares, presolve, Solved};
 use crate::fit::model::{Model, MAX_PARAMS};
 use crate::fit::{FitError, FitOptions, Sphere};
@@ -68,7 +68,8 @@ pub(crate) fn lsq(
     opts: &FitOptions,
 ) -> Result<(Centred, Solved<SphereModel>), FitError> {
     let c = centre(points, NAME, 4)?;
-    principal(&c.points).check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
+    c.principal()
+        .check_volume(NAME, c.points.len(), opts.degenerate_ratio)?;
     let sample = subsample(&c.points, opts.start_sample);
     let no_start = FitError::NoStart {
         element: NAME,
