@@ -85,7 +85,8 @@ pub(crate) struct Solved<M> {
     pub iterations: usize,
     /// RMS residual, mm.
     pub rms: f64,
-    /// Residual statistics of `model` (shape value minus size), mm.
+    /// Residual statistics (shape value minus size) of the last evaluated
+    /// iterate, within the step tolerance of `model`'s, mm.
     pub stats: ResidualStats,
 }
 
@@ -184,8 +185,10 @@ impl<M: Model + Sync> State<M> {
             let reduction = -(0..=M::SHAPE).map(|k| self.ne.g[k] * gn[k]).sum::<f64>();
             let trial = self.model.step(&gn);
             if trial.is_finite() && size <= tol {
-                // The evaluated model is within `tol` of the solution; keep it
-                // so that the statistics of this pass belong to it.
+                // The last (tiny) step is taken without another pass: the
+                // statistics stay those of the previous iterate, which differ
+                // from the returned model's by at most `tol`.
+                self.model = trial;
                 return Some((size, true));
             }
             if trial.is_finite() && reduction <= UNCHECKABLE_REDUCTION * self.ne.cost {
