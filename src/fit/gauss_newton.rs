@@ -4,11 +4,11 @@
 //! crate wants the full N x p Jacobian, while here the normal equations
 //! `J^T J` (at most 6 x 6) and `J^T r` are accumulated point by point in
 //! fixed-size chunks. A million points then need no big allocation, the
-//! chunks run on all cores (see `parallel`), and the sums are added in chunk order so the
-//! result does not depend on the number of threads. Squaring the condition
-//! number does not cost accuracy: the iteration converges to the point
-//! where the accurately evaluated `J^T r` vanishes; the normal-equation solve
-//! only has to point downhill.
+//! chunks run on all cores (see `parallel`), and the sums are added in
+//! chunk order so the result does not depend on the number of threads.
+//! Squaring the condition number does not cost accuracy: the iteration
+//! converges to the point where the accurately evaluated `J^T r` vanishes;
+//! the normal-equation solve only has to point downhill.
 use nalgebra::{DMatrix, DVector};
 
 use super::model::{step_size_mm, Model, MAX_PARAMS};
