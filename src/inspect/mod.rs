@@ -40,6 +40,10 @@ pub struct Ctx<'c> {
     pub learned: Option<Learned>,
 }
 
+/// Corrections learned per (feature name, curve index), carried from part
+/// to part.
+pub type LearnedSet = Vec<((String, usize), Learned)>;
+
 /// A correction that can be carried to the next part.
 #[derive(Debug, Clone, PartialEq)]
 pub enum Learned {

@@ -4,7 +4,7 @@ use std::time::Instant;
 use super::correction::DesignPoint;
 use super::evaluate::point_reports;
 use super::supervisor::{scan_curve, SupervisorOptions};
-use super::{Ctx, CurveResult, Learned};
+use super::{Ctx, CurveResult, LearnedSet};
 use crate::host::machine::Cmm;
 use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
 use crate::math::{Point3, Vec3};
@@ -28,7 +28,7 @@ pub struct RunOptions {
     /// Supervisor limits.
     pub supervisor: SupervisorOptions,
     /// Corrections learned on earlier parts, by feature name and curve index.
-    pub learned: Vec<((String, usize), Learned)>,
+    pub learned: LearnedSet,
 }
 
 impl Default for RunOptions {
@@ -64,7 +64,7 @@ const CLEARANCE_MM: f64 = 10.0;
 pub fn run_program(
     program: &Program,
     opts: &RunOptions,
-) -> Result<(Report, Vec<((String, usize), Learned)>), RunError> {
+) -> Result<(Report, LearnedSet), RunError> {
     let wall = Instant::now();
     let truth = if opts.ideal {
         program.as_machined.clone().without_roughness()
@@ -184,7 +184,7 @@ fn run_feature(
     probe: HostProbe,
     modes: &ModeOptions,
     opts: &RunOptions,
-    learned_out: &mut Vec<((String, usize), Learned)>,
+    learned_out: &mut LearnedSet,
 ) -> FeatureReport {
     let (results, faces, tolerance, kind) = match feature {
         Feature::Section {
