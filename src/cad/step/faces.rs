@@ -2,6 +2,7 @@
 use super::access::{has_record, type_name, Ctx};
 use super::parser::Instance;
 use super::pcurves::pcurve_trim;
+use super::projected::projected_trim;
 use super::surfaces::{curve_to_nurbs, surface, SurfaceKind};
 use super::topology::{EdgeSampler, FaceData};
 use crate::cad::convert::analytic::NaturalSurface;
@@ -11,7 +12,7 @@ use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::SurfaceSpec;
+use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 
 /// A converted face.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,9 +46,8 @@ pub fn convert_face(
         SurfaceKind::Analytic(a) => (analytic_face(&a, &loops()?, face.same_sense, ext)?, None),
         SurfaceKind::Spline(mut s) => {
             s.reversed = !face.same_sense;
-            let trim = pcurve_trim(ctx, sampler, face, &s, opts);
-            let note = trim.as_ref().err().cloned();
-            s.trim = trim.ok();
+            let (trim, note) = spline_trim(ctx, sampler, face, &s, opts);
+            s.trim = trim;
             (s, note)
         }
         SurfaceKind::Revolution(c, o, axis) => (
@@ -61,6 +61,24 @@ pub fn convert_face(
         surface_type,
         untrimmed,
     })
+}
+
+/// PCURVE trim, else projection-based trim; the reasons when neither works.
+fn spline_trim(
+    ctx: &Ctx,
+    sampler: &mut EdgeSampler,
+    face: &FaceData,
+    spec: &SurfaceSpec,
+    opts: &ImportOptions,
+) -> (Option<TrimSpec>, Option<String>) {
+    let pcurve_reason = match pcurve_trim(ctx, sampler, face, spec, opts) {
+        Ok(t) => return (Some(t), None),
+        Err(reason) => reason,
+    };
+    match projected_trim(ctx, face, spec, opts) {
+        Ok(t) => (Some(t), None),
+        Err(why) => (None, Some(format!("{pcurve_reason}; projection: {why}"))),
+    }
 }
 
 /// The surface's type; complex B-spline instances are named

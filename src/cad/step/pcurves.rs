@@ -23,10 +23,16 @@ pub fn pcurve_trim(
     for b in face.bounds.iter().filter(|b| !b.edges.is_empty()) {
         loops.push((b.outer, bound_uv(ctx, b, face.surface, spec, opts)?));
     }
+    assemble(&loops)
+}
+
+/// A trim from `(is outer bound, loop)` pairs: the FACE_OUTER_BOUND (or the
+/// largest loop) is the outer loop, the others are holes.
+pub fn assemble(loops: &[(bool, Vec<P2>)]) -> Result<TrimSpec, String> {
     let outer_k = loops
         .iter()
         .position(|l| l.0)
-        .or_else(|| largest(&loops))
+        .or_else(|| largest(loops))
         .ok_or("face has no edge loops")?;
     let outer = loops.get(outer_k).map(|l| l.1.clone()).unwrap_or_default();
     let holes = loops
