@@ -9,7 +9,7 @@ use crate::cad::convert::analytic::NaturalSurface;
 use crate::cad::convert::swept::Swept;
 use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
 use crate::cad::geom::{Curve, Frame};
-use crate::cad::nurbs::NurbsCurve;
+use crate::cad::nurbs::{kernel_surface, NurbsCurve};
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
@@ -71,11 +71,15 @@ fn spline_trim(
     spec: &SurfaceSpec,
     opts: &ImportOptions,
 ) -> (Option<TrimSpec>, Option<String>) {
-    let pcurve_reason = match pcurve_trim(ctx, sampler, face, spec, opts) {
+    let surface = match kernel_surface(spec) {
+        Ok(s) => s,
+        Err(e) => return (None, Some(format!("surface cannot be evaluated: {e}"))),
+    };
+    let pcurve_reason = match pcurve_trim(ctx, sampler, face, &surface, opts) {
         Ok(t) => return (Some(t), None),
         Err(reason) => reason,
     };
-    match projected_trim(ctx, face, spec, opts) {
+    match projected_trim(ctx, face, &surface, opts) {
         Ok(t) => (Some(t), None),
         Err(why) => (None, Some(format!("{pcurve_reason}; projection: {why}"))),
     }
@@ -148,11 +152,11 @@ fn line_range(
     margin: f64,
 ) -> Result<NurbsCurve, String> {
     let Curve::Line { origin, dir } = c else {
-        return Ok(curve_to_nurbs(c, (0.0, 0.0)));
+        return curve_to_nurbs(c, (0.0, 0.0));
     };
     let (lo, hi) = extent(loops);
     let loose = projected_range(loops, *origin, *dir, (hi - lo).norm() + margin)?;
-    let provisional = make(curve_to_nurbs(c, loose));
+    let provisional = make(curve_to_nurbs(c, loose)?);
     let ts: Vec<f64> = all_points(loops)
         .map(|p| pick(provisional.natural(*p, 0.0), axis))
         .collect();
@@ -162,7 +166,7 @@ fn line_range(
             (a.min(*t), b.max(*t))
         });
     let m = margin / dir.norm();
-    Ok(curve_to_nurbs(c, (t0 - m, t1 + m)))
+    curve_to_nurbs(c, (t0 - m, t1 + m))
 }
 
 fn pick((u, v): (Option<f64>, f64), axis: usize) -> f64 {

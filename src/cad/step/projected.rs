@@ -12,7 +12,7 @@ use crate::cad::sample::adaptive;
 use crate::geometry::projection::project_from;
 use crate::geometry::{NurbsSurface, Projection, ProjectionIndex, ProjectionOptions};
 use crate::math::{Point3, Vec2};
-use crate::workpiece::format::{SurfaceSpec, TrimSpec};
+use crate::workpiece::format::TrimSpec;
 
 type P2 = [f64; 2];
 
@@ -29,10 +29,10 @@ const PERIOD_SLACK: f64 = 1e-9;
 pub fn projected_trim(
     ctx: &Ctx,
     face: &FaceData,
-    spec: &SurfaceSpec,
+    surface: &NurbsSurface,
     opts: &ImportOptions,
 ) -> Result<TrimSpec, String> {
-    let target = Target::new(spec, opts)?;
+    let target = Target::new(surface, opts);
     let mut loops = Vec::new();
     for b in face.bounds.iter().filter(|b| !b.edges.is_empty()) {
         let raw = bound_uv(ctx, &target, b, opts)?;
@@ -42,8 +42,8 @@ pub fn projected_trim(
 }
 
 /// The face's surface prepared for projection.
-struct Target {
-    surface: NurbsSurface,
+struct Target<'s> {
+    surface: &'s NurbsSurface,
     index: ProjectionIndex,
     popts: ProjectionOptions,
     /// Period of each closed direction (the domain width), `None` if open.
@@ -59,34 +59,25 @@ struct Sample {
     uv: P2,
 }
 
-impl Target {
-    fn new(spec: &SurfaceSpec, opts: &ImportOptions) -> Result<Target, String> {
-        let surface = NurbsSurface::try_new(
-            spec.degree,
-            spec.knots_u.clone(),
-            spec.knots_v.clone(),
-            &spec.control_points,
-            spec.weights.as_deref(),
-            spec.reversed,
-        )
-        .map_err(|e| format!("surface cannot be projected onto: {e}"))?;
+impl<'s> Target<'s> {
+    fn new(surface: &'s NurbsSurface, opts: &ImportOptions) -> Target<'s> {
         let popts = ProjectionOptions::default();
-        let index = ProjectionIndex::new(&surface, &popts);
-        let periods = [0, 1].map(|axis| period(&surface, axis, opts.seam_tolerance_mm));
-        Ok(Target {
+        let index = ProjectionIndex::new(surface, &popts);
+        let periods = [0, 1].map(|axis| period(surface, axis, opts.seam_tolerance_mm));
+        Target {
             surface,
             index,
             popts,
             periods,
             tol: opts.projection_tolerance_mm,
-        })
+        }
     }
 
     /// Global projection of `p`: (u, v) and miss in mm.
     fn cold(&self, p: Point3) -> Result<(P2, f64), String> {
         let pr = self
             .index
-            .project(&self.surface, p)
+            .project(self.surface, p)
             .map_err(|e| e.to_string())?;
         Ok(foot(&pr))
     }
@@ -95,7 +86,7 @@ impl Target {
     fn warm(&self, p: Point3, hint: P2) -> Result<(P2, f64), String> {
         let [u, v] = self.wrapped(hint);
         let start = self.surface.clamp(Vec2::new(u, v));
-        let warm = project_from(&self.surface, p, start, &self.popts)
+        let warm = project_from(self.surface, p, start, &self.popts)
             .map(|pr| foot(&pr))
             .map_err(|e| e.to_string())?;
         let best = if warm.1 > self.tol {
@@ -165,7 +156,7 @@ fn period(s: &NurbsSurface, axis: usize, tol: f64) -> Option<f64> {
 
 /// One edge being traced: its curve and the samples so far.
 struct Trace<'a> {
-    target: &'a Target,
+    target: &'a Target<'a>,
     curve: &'a Curve,
     samples: Vec<Sample>,
     /// Largest miss of a projected sample, mm.
@@ -274,7 +265,7 @@ fn sub(a: P2, b: P2) -> P2 {
     [a[0] - b[0], a[1] - b[1]]
 }
 
-impl Target {
+impl Target<'_> {
     /// Checks that a loop closes (it does not wind around a closed
     /// direction) and shifts it by whole periods into the domain.
     fn normalise(&self, mut pts: Vec<P2>, loop_id: u64) -> Result<Vec<P2>, String> {
