@@ -165,9 +165,9 @@ struct Trace<'a> {
 }
 
 impl Trace<'_> {
-    /// Projects the 3-D point at `t` warm from `hint` and records its miss.
-    fn project(&mut self, t: f64, hint: P2) -> Result<Sample, String> {
-        let (uv, miss) = self.target.warm(self.curve.eval(t), hint)?;
+    /// Projects `p` (the point at `t`) warm from `hint` and records its miss.
+    fn project(&mut self, t: f64, p: Point3, hint: P2) -> Result<Sample, String> {
+        let (uv, miss) = self.target.warm(p, hint)?;
         self.miss = self.miss.max(miss);
         Ok(Sample { t, uv })
     }
@@ -178,8 +178,9 @@ impl Trace<'_> {
         let tm = 0.5 * (a.t + b.t);
         let mid = [0.5 * (a.uv[0] + b.uv[0]), 0.5 * (a.uv[1] + b.uv[1])];
         let room = depth < MAX_REFINE_DEPTH && self.samples.len() < self.max_samples;
-        if room && self.target.gap(mid, self.curve.eval(tm)) > self.target.tol {
-            let m = self.project(tm, mid)?;
+        let pm = self.curve.eval(tm);
+        if room && self.target.gap(mid, pm) > self.target.tol {
+            let m = self.project(tm, pm, mid)?;
             self.refine(a, m, depth + 1)?;
             return self.refine(m, b, depth + 1);
         }
@@ -200,7 +201,8 @@ fn edge_uv(
     let f = |t: f64| ends.curve.eval(t);
     let initial = initial_segments(&ends.curve, t0, t1);
     let tol = opts.chord_tolerance_mm;
-    let pts = adaptive(&f, t0, t1, initial, tol, opts.max_edge_samples);
+    let mut pts = adaptive(&f, t0, t1, initial, tol, opts.max_edge_samples);
+    snap_ends(&mut pts, ends.from, ends.to);
     let mut trace = Trace {
         target,
         curve: &ends.curve,
@@ -222,6 +224,17 @@ fn edge_uv(
     Ok(uv)
 }
 
+/// Puts the edge's vertices at the ends of its samples (files place vertices
+/// within their modelling tolerance of the curve ends, not exactly on them).
+fn snap_ends(pts: &mut [(f64, Point3)], from: Point3, to: Point3) {
+    if let Some(first) = pts.first_mut() {
+        first.1 = from;
+    }
+    if let Some(last) = pts.last_mut() {
+        last.1 = to;
+    }
+}
+
 /// Projects the 3-D samples in order (the first cold) and refines between them.
 fn trace_samples(trace: &mut Trace, pts: &[(f64, Point3)]) -> Result<(), String> {
     let Some(&(t_first, p_first)) = pts.first() else {
@@ -231,8 +244,8 @@ fn trace_samples(trace: &mut Trace, pts: &[(f64, Point3)]) -> Result<(), String>
     trace.miss = trace.miss.max(miss);
     let mut prev = Sample { t: t_first, uv };
     trace.samples.push(prev);
-    for &(t, _) in pts.iter().skip(1) {
-        let next = trace.project(t, prev.uv)?;
+    for &(t, p) in pts.iter().skip(1) {
+        let next = trace.project(t, p, prev.uv)?;
         trace.refine(prev, next, 0)?;
         prev = next;
     }
