@@ -1,11 +1,12 @@
 //! B-spline geometry of the reader is the geometry kernel's: curves are
-//! [`crate::geometry::NurbsCurve`] and surfaces are evaluated as
-//! [`NurbsSurface`]. These helpers build them from file data and read the
-//! control points and weights back for the swept-surface constructions.
+//! [`crate::geometry::NurbsCurve`], surfaces are evaluated as
+//! [`crate::geometry::NurbsSurface`] (built with
+//! [`crate::workpiece::SurfaceSpec::to_surface`]). These helpers build curves
+//! from file data and read control points and weights back for the
+//! swept-surface constructions.
 pub use crate::geometry::NurbsCurve;
-use crate::geometry::{NurbsError, NurbsSurface};
+use crate::geometry::NurbsError;
 use crate::math::Point3;
-use crate::workpiece::format::SurfaceSpec;
 
 /// A curve from degree, full knot vector, control points and weights.
 pub fn new_curve(
@@ -34,16 +35,4 @@ pub fn weights(c: &NurbsCurve) -> Vec<f64> {
 /// The distinct knots inside the domain (span boundaries), both ends included.
 pub fn breaks(c: &NurbsCurve) -> Vec<f64> {
     c.knots().breakpoints()
-}
-
-/// The kernel surface of a spec (for evaluation and projection).
-pub fn kernel_surface(spec: &SurfaceSpec) -> Result<NurbsSurface, NurbsError> {
-    NurbsSurface::try_new(
-        spec.degree,
-        spec.knots_u.clone(),
-        spec.knots_v.clone(),
-        &spec.control_points,
-        spec.weights.as_deref(),
-        spec.reversed,
-    )
 }

@@ -7,7 +7,6 @@ pub mod records;
 
 use super::error::CadResult;
 use super::geom::EPS_UV;
-use super::nurbs::kernel_surface;
 use super::options::ImportOptions;
 use super::sample::adaptive;
 use super::step::lexer::Pos;
@@ -87,7 +86,8 @@ fn face(
         ));
     }
     let (mut spec, [u0, u1, v0, v1]) = surface128(m, base).map_err(|x| x.to_string())?;
-    let trim = kernel_surface(&spec)
+    let trim = spec
+        .to_surface()
         .map_err(|e| format!("surface cannot be evaluated: {e}"))
         .and_then(|s| trim144(m, &f, &s, [u0, u1, v0, v1], opts));
     let note = trim.as_ref().err().cloned();

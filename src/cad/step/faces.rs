@@ -9,7 +9,7 @@ use crate::cad::convert::analytic::NaturalSurface;
 use crate::cad::convert::swept::Swept;
 use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
 use crate::cad::geom::{Curve, Frame};
-use crate::cad::nurbs::{kernel_surface, NurbsCurve};
+use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
@@ -71,7 +71,7 @@ fn spline_trim(
     spec: &SurfaceSpec,
     opts: &ImportOptions,
 ) -> (Option<TrimSpec>, Option<String>) {
-    let surface = match kernel_surface(spec) {
+    let surface = match spec.to_surface() {
         Ok(s) => s,
         Err(e) => return (None, Some(format!("surface cannot be evaluated: {e}"))),
     };
