@@ -356,3 +356,25 @@ fn step_without_faces_is_an_error() {
     let err = Workpiece::from_path(&empty).unwrap_err().to_string();
     assert!(err.contains("empty.stp:"), "{err}");
 }
+
+#[test]
+fn part_program_may_name_a_step_workpiece() {
+    let Some(src) = shared("io1-cm-214.stp") else {
+        return;
+    };
+    let dir = tempfile::tempdir().unwrap();
+    let prog = dir.path().join("p.json");
+    let text = serde_json::json!({
+        "format": "cmm-program/1", "name": "io1", "workpiece": s(&src),
+        "placement": { "translate_mm": [350, 500, 150], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "features": [ { "name": "mid", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 5], "normal": [0, 0, 1] },
+            "tolerance_mm": [-0.1, 0.1] } ]
+    });
+    std::fs::write(&prog, text.to_string()).unwrap();
+    let run = cmm(&["check", s(&prog)]);
+    let stdout = String::from_utf8_lossy(&run.stdout);
+    assert_eq!(run.status.code(), Some(0), "{stdout}");
+    assert!(stdout.contains("(29 surfaces)"), "{stdout}");
+}
