@@ -5,7 +5,7 @@
 //! back onto the edge, and unwrapped across the seams of closed directions.
 use super::access::Ctx;
 use super::pcurves::assemble;
-use super::topology::{edge_ends, initial_segments, Bound, FaceData};
+use super::topology::{edge_ends, initial_segments, Bound, EdgeEnds, FaceData};
 use crate::cad::geom::Curve;
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
@@ -89,15 +89,9 @@ impl<'s> Target<'s> {
         let warm = project_from(self.surface, p, start, &self.popts)
             .map(|pr| foot(&pr))
             .map_err(|e| e.to_string())?;
-        let best = if warm.1 > self.tol {
-            let cold = self.cold(p)?;
-            if cold.1 < warm.1 {
-                cold
-            } else {
-                warm
-            }
-        } else {
-            warm
+        let best = match warm.1 > self.tol {
+            true => Some(self.cold(p)?).filter(|c| c.1 < warm.1).unwrap_or(warm),
+            false => warm,
         };
         Ok((self.near(best.0, hint), best.1))
     }
@@ -197,12 +191,7 @@ fn edge_uv(
     opts: &ImportOptions,
 ) -> Result<Vec<P2>, String> {
     let ends = edge_ends(ctx, edge, opts).map_err(|e| e.to_string())?;
-    let (t0, t1) = ends.range;
-    let f = |t: f64| ends.curve.eval(t);
-    let initial = initial_segments(&ends.curve, t0, t1);
-    let tol = opts.chord_tolerance_mm;
-    let mut pts = adaptive(&f, t0, t1, initial, tol, opts.max_edge_samples);
-    snap_ends(&mut pts, ends.from, ends.to);
+    let pts = edge_samples(&ends, opts);
     let mut trace = Trace {
         target,
         curve: &ends.curve,
@@ -224,15 +213,22 @@ fn edge_uv(
     Ok(uv)
 }
 
-/// Puts the edge's vertices at the ends of its samples (files place vertices
-/// within their modelling tolerance of the curve ends, not exactly on them).
-fn snap_ends(pts: &mut [(f64, Point3)], from: Point3, to: Point3) {
+/// The edge's curve sampled to the chord tolerance in the curve's
+/// direction, its vertices put at the ends (files place vertices within
+/// their modelling tolerance of the curve ends, not exactly on them).
+fn edge_samples(ends: &EdgeEnds, opts: &ImportOptions) -> Vec<(f64, Point3)> {
+    let (t0, t1) = ends.range;
+    let f = |t: f64| ends.curve.eval(t);
+    let initial = initial_segments(&ends.curve, t0, t1);
+    let tol = opts.chord_tolerance_mm;
+    let mut pts = adaptive(&f, t0, t1, initial, tol, opts.max_edge_samples);
     if let Some(first) = pts.first_mut() {
-        first.1 = from;
+        first.1 = ends.from;
     }
     if let Some(last) = pts.last_mut() {
-        last.1 = to;
+        last.1 = ends.to;
     }
+    pts
 }
 
 /// Projects the 3-D samples in order (the first cold) and refines between them.
@@ -285,26 +281,35 @@ impl Target<'_> {
         let (Some(&first), Some(&last)) = (pts.first(), pts.last()) else {
             return Err(format!("loop #{loop_id} has no points"));
         };
-        let shift = sub(self.near(last, first), last);
-        let names = ["u", "v"];
-        for (axis, per) in self.periods.iter().enumerate() {
-            if let (Some(per), Some(s)) = (per, shift.get(axis)) {
-                if s.abs() > 0.5 * per {
-                    let name = names.get(axis).unwrap_or(&"?");
-                    return Err(format!(
-                        "loop #{loop_id} winds around the closed {name} direction"
-                    ));
-                }
-            }
+        if let Some(name) = self.winding(first, last) {
+            return Err(format!(
+                "loop #{loop_id} winds around the closed {name} direction"
+            ));
         }
         let centre = self.loop_shift(&pts);
         pts.iter_mut()
             .for_each(|p| *p = [p[0] + centre[0], p[1] + centre[1]]);
-        if pts.len() > 1 && sub(first, last).iter().all(|d| d.abs() <= f64::EPSILON) {
+        if pts.len() > 1 && first == last {
             pts.pop();
         }
         self.check_inside(&pts, loop_id)?;
         Ok(pts)
+    }
+
+    /// The closed direction (`"u"` or `"v"`) in which a loop from `first`
+    /// to `last` does not close but goes once around.
+    fn winding(&self, first: P2, last: P2) -> Option<&'static str> {
+        let shift = sub(self.near(last, first), last);
+        let winds = |axis: usize| {
+            let per = self.periods.get(axis).copied().flatten();
+            per.zip(shift.get(axis))
+                .is_some_and(|(p, s)| s.abs() > 0.5 * p)
+        };
+        ["u", "v"]
+            .into_iter()
+            .enumerate()
+            .find(|(axis, _)| winds(*axis))
+            .map(|(_, n)| n)
     }
 
     /// Whole periods that bring the loop's bounding-box centre into the domain.
