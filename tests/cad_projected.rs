@@ -4,20 +4,11 @@
 //! circles and seam, and the trim must cover the whole (u, v) domain.
 mod cad_common;
 
-use cad_common::eval;
+use cad_common::{eval, shoelace, wrap};
 use cmm::cad::{step::import_step, DiagnosticKind, ImportOptions};
 
 /// Agreement of mapped trim points with the exact edges, mm.
 const EDGE_TOL_MM: f64 = 1e-6;
-
-fn wrap(data: &str) -> String {
-    format!(
-        "ISO-10303-21;\nHEADER;\nFILE_NAME('t','',(''),(''),'','','');\nENDSEC;\nDATA;\n{data}\
-#900=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
-#901=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#900))REPRESENTATION_CONTEXT('',''));\n\
-ENDSEC;\nEND-ISO-10303-21;\n"
-    )
-}
 
 /// The cylinder as #100 (control points #101..#118), full circle in u.
 fn cylinder() -> String {
@@ -61,17 +52,6 @@ const EDGES: &str = "#1=DIRECTION('',(0.,0.,1.));\n#2=DIRECTION('',(1.,0.,0.));\
 #30=CARTESIAN_POINT('',(0.,0.,5.));\n#31=AXIS2_PLACEMENT_3D('',#30,#1,#2);\n#33=CIRCLE('',#31,10.);\n\
 #35=CARTESIAN_POINT('',(10.,0.,5.));\n#36=VERTEX_POINT('',#35);\n#37=EDGE_CURVE('',#36,#36,#33,.T.);\n\
 #44=VECTOR('',#1,5.);\n#45=LINE('',#25,#44);\n#47=EDGE_CURVE('',#26,#36,#45,.T.);\n";
-
-fn shoelace(pts: &[[f64; 2]]) -> f64 {
-    let n = pts.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (pts[k], pts[(k + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        / 2.0
-}
 
 #[test]
 fn seam_loop_becomes_the_whole_domain() {
