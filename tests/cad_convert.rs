@@ -2,7 +2,7 @@
 //! cylinder band bounded by two full circles, a spherical cap closed at the
 //! pole, surfaces of revolution and extrusion.
 mod cad_common;
-use cad_common::eval;
+use cad_common::{eval, shoelace, wrap};
 use cmm::cad::convert::arc::Arc;
 use cmm::cad::{step::import_step, ImportOptions};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
@@ -42,15 +42,6 @@ fn arc_parameter_of_an_angle_is_exact() {
     }
 }
 
-fn wrap(data: &str) -> String {
-    format!(
-        "ISO-10303-21;\nHEADER;\nFILE_NAME('t','',(''),(''),'','','');\nENDSEC;\nDATA;\n{data}\
-#900=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
-#901=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#900))REPRESENTATION_CONTEXT('',''));\n\
-ENDSEC;\nEND-ISO-10303-21;\n"
-    )
-}
-
 /// Frame at (0,0,z) with axis +z, a circle of radius r there, a vertex on it
 /// at angle 0 and an edge loop of that one closed edge; ids from `base`.
 fn circle_loop(base: u32, z: f64, r: f64, bound: &str, forward: &str) -> String {
@@ -69,17 +60,6 @@ const AXIS: &str = "#1=CARTESIAN_POINT('',(0.,0.,0.));\n#2=DIRECTION('',(0.,0.,1
 
 fn import(text: &str) -> cmm::cad::Import {
     import_step(text, "t.step", "t", &ImportOptions::default()).expect("imports")
-}
-
-fn shoelace(pts: &[[f64; 2]]) -> f64 {
-    let n = pts.len();
-    (0..n)
-        .map(|k| {
-            let (a, b) = (pts[k], pts[(k + 1) % n]);
-            a[0] * b[1] - b[0] * a[1]
-        })
-        .sum::<f64>()
-        / 2.0
 }
 
 #[test]

@@ -7,15 +7,7 @@ use cmm::math::{Point3, Vec3};
 use common::*;
 
 fn build(spec: &cmm::workpiece::SurfaceSpec) -> NurbsSurface {
-    NurbsSurface::try_new(
-        spec.degree,
-        spec.knots_u.clone(),
-        spec.knots_v.clone(),
-        &spec.control_points,
-        spec.weights.as_deref(),
-        spec.reversed,
-    )
-    .unwrap()
+    spec.to_surface().unwrap()
 }
 
 #[test]

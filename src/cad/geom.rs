@@ -1,5 +1,5 @@
 //! Frames and the curve types edges are built from.
-use super::nurbs::NurbsCurve;
+use super::nurbs::{breaks, NurbsCurve};
 use crate::math::{Point3, Vec3};
 use std::f64::consts::TAU;
 
@@ -103,7 +103,7 @@ impl Curve {
             Curve::Line { origin, dir } => origin + dir * t,
             Curve::Circle { frame, radius } => frame.world(radius * t.cos(), radius * t.sin(), 0.0),
             Curve::Ellipse { frame, a, b } => frame.world(a * t.cos(), b * t.sin(), 0.0),
-            Curve::Nurbs(n) => n.eval(t),
+            Curve::Nurbs(n) => n.point(t),
         }
     }
 
@@ -136,7 +136,7 @@ pub fn angle(y: f64, x: f64) -> f64 {
 }
 
 fn closest_param(n: &NurbsCurve, p: Point3) -> f64 {
-    closest_on(&|t| n.eval(t), &n.breaks(), p)
+    closest_on(&|t| n.point(t), &breaks(n), p)
 }
 
 /// The parameter in `[breaks.first, breaks.last]` where `f` comes closest to

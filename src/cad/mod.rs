@@ -15,8 +15,11 @@
 //!   surfaces (simple and rational complex form) are taken as they are.
 //!   Trims: elementary and swept faces map their sampled edges to (u, v)
 //!   analytically ([`convert::trim`]); B-spline faces use PCURVEs (checked
-//!   against the vertices, [`ImportOptions::pcurve_tolerance_mm`]) and are
-//!   otherwise left `trim: None` with a diagnostic.
+//!   against the vertices, [`ImportOptions::pcurve_tolerance_mm`]), else
+//!   their 3-D edges projected onto the surface with the geometry kernel
+//!   ([`step::projected`], every sample within
+//!   [`ImportOptions::projection_tolerance_mm`] of the surface), else they
+//!   are left `trim: None` with a diagnostic giving the miss in mm.
 //! * IGES 5.3: 144 trimmed surfaces on 128 rational B-spline surfaces with
 //!   parameter-space boundaries (142 -> 102 / 110 / 100 / 126), 124
 //!   transformations, units from the Global section; free 128s untrimmed.
@@ -30,9 +33,10 @@
 //! MAPPED_ITEM), ORIENTED_FACE flips, offset / rectangular-trimmed / Bezier /
 //! uniform B-spline surfaces (reported as skipped), compressed IGES.
 //!
-//! Speed (`cargo bench --bench cad`, 2-core shared machine): parse of
-//! linkrods.step (1.8 MB) ~30 ms, its full import ~80 ms; nist_ctc_05 (0.3 MB)
-//! ~48 ms; bearing.iges (1.3 MB) ~19 ms.
+//! Speed (`cargo bench --bench cad`, 2-core shared machine, before the
+//! projected trims): parse of linkrods.step (1.8 MB) ~30 ms, its full import
+//! ~80 ms; nist_ctc_05 (0.3 MB) ~48 ms; bearing.iges (1.3 MB) ~19 ms.
+//! Projected trims add a projection per edge sample (not yet benchmarked).
 pub mod convert;
 pub mod error;
 pub mod geom;

@@ -14,6 +14,12 @@ pub struct ImportOptions {
     /// Largest allowed gap between a vertex and the surface point of its
     /// pcurve end, mm; beyond it the pcurve is not trusted. Default 0.01 mm.
     pub pcurve_tolerance_mm: f64,
+    /// Largest allowed distance between an edge sample and the surface point
+    /// of its projected (u, v) for projection-based trims, mm. Default 1 um.
+    pub projection_tolerance_mm: f64,
+    /// Largest gap between opposite boundary curves of a B-spline surface
+    /// for it to count as closed (a seam) in that direction, mm. Default 1 um.
+    pub seam_tolerance_mm: f64,
     /// Upper bound on the samples of one edge (guards hostile input).
     pub max_edge_samples: usize,
 }
@@ -25,6 +31,8 @@ impl Default for ImportOptions {
             extent_margin_mm: 0.1,
             point_tolerance_mm: 1e-6,
             pcurve_tolerance_mm: 0.01,
+            projection_tolerance_mm: 1e-3,
+            seam_tolerance_mm: 1e-3,
             max_edge_samples: 20_000,
         }
     }

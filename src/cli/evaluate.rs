@@ -7,7 +7,7 @@ use crate::workpiece::Workpiece;
 /// Arguments of `cmm evaluate`.
 #[derive(Debug, clap::Args)]
 pub struct EvaluateArgs {
-    /// Workpiece file (cmm-workpiece/1 JSON).
+    /// Workpiece file: cmm-workpiece/1 JSON, or STEP (.step/.stp) / IGES (.iges/.igs).
     #[arg(long)]
     pub workpiece: PathBuf,
     /// Point CSV file: a header naming x,y,z, then one point per line.

@@ -9,6 +9,7 @@ mod check;
 mod evaluate;
 mod examples;
 mod fit;
+mod import;
 mod scan;
 mod schema;
 
@@ -31,6 +32,8 @@ pub enum Command {
     Evaluate(evaluate::EvaluateArgs),
     /// Fit a geometric element (line, plane, circle, sphere, cylinder, cone) to points.
     Fit(fit::FitArgs),
+    /// Convert a STEP/IGES part into a cmm-workpiece/1 file.
+    Import(import::ImportArgs),
     /// Run part programs on the simulated CMM and write deviation reports.
     Scan(scan::ScanArgs),
     /// Print the JSON Schema of a file format.
@@ -69,6 +72,9 @@ pub enum CliError {
     /// A workpiece file is invalid.
     #[error(transparent)]
     Workpiece(#[from] crate::workpiece::WorkpieceError),
+    /// A CAD file could not be imported.
+    #[error(transparent)]
+    Cad(#[from] crate::cad::CadError),
     /// A part program is invalid.
     #[error(transparent)]
     Program(#[from] crate::program::ProgramError),
@@ -102,6 +108,7 @@ pub fn run(cli: Cli) -> Result<Status, CliError> {
         Command::Check(args) => check::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::Fit(args) => fit::run(&args),
+        Command::Import(args) => import::run(&args),
         Command::Scan(args) => scan::run(&args),
         Command::Schema(args) => schema::run(&args),
         Command::ExampleWorkpieces(args) => examples::run(&args),

@@ -6,6 +6,8 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::{NurbsError, NurbsSurface};
+
 /// The format tag every workpiece file carries.
 pub const WORKPIECE_FORMAT: &str = "cmm-workpiece/1";
 
@@ -52,6 +54,21 @@ pub struct SurfaceSpec {
     /// Optional trimming loops in the parameter domain (a face of a CAD part).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub trim: Option<TrimSpec>,
+}
+
+impl SurfaceSpec {
+    /// The kernel surface of this spec (degrees, knots, control points,
+    /// weights and orientation checked by [`NurbsSurface::try_new`]).
+    pub fn to_surface(&self) -> Result<NurbsSurface, NurbsError> {
+        NurbsSurface::try_new(
+            self.degree,
+            self.knots_u.clone(),
+            self.knots_v.clone(),
+            &self.control_points,
+            self.weights.as_deref(),
+            self.reversed,
+        )
+    }
 }
 
 fn is_false(b: &bool) -> bool {

@@ -51,6 +51,10 @@ pub enum WorkpieceError {
         /// What is wrong.
         reason: String,
     },
+    /// A STEP/IGES file could not be read or holds no usable face; the
+    /// error names the file, the line:column and the reason.
+    #[error(transparent)]
+    Cad(#[from] crate::cad::CadError),
 }
 
 /// One face of a workpiece: a named surface with its search hierarchy.
@@ -87,8 +91,14 @@ pub struct FaceProjection {
 }
 
 impl Workpiece {
-    /// Reads and validates a workpiece file.
+    /// Reads and validates a workpiece: a STEP (.step/.stp) or IGES
+    /// (.iges/.igs) file, any case, goes through [`crate::cad::import`];
+    /// anything else is read as `cmm-workpiece/1` JSON.
     pub fn from_path(path: &Path) -> Result<Workpiece, WorkpieceError> {
+        if is_cad_path(path) {
+            let import = crate::cad::import(path)?;
+            return Workpiece::from_file(&import.workpiece, path);
+        }
         let text = std::fs::read_to_string(path).map_err(|source| WorkpieceError::Io {
             file: path.to_path_buf(),
             source,
@@ -162,6 +172,14 @@ impl Workpiece {
             projection: foot.into_projection(&self.faces[face].surface, p),
         })
     }
+}
+
+/// True when `path` has a STEP or IGES extension (any case).
+pub fn is_cad_path(path: &Path) -> bool {
+    let ext = path.extension().and_then(|e| e.to_str()).unwrap_or("");
+    ["step", "stp", "iges", "igs"]
+        .iter()
+        .any(|c| ext.eq_ignore_ascii_case(c))
 }
 
 impl Face {

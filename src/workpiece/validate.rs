@@ -96,15 +96,7 @@ pub(super) fn surface(
     file: &Path,
 ) -> Result<NurbsSurface, WorkpieceError> {
     let base = format!("$.surfaces[{i}]");
-    let surface = NurbsSurface::try_new(
-        spec.degree,
-        spec.knots_u.clone(),
-        spec.knots_v.clone(),
-        &spec.control_points,
-        spec.weights.as_deref(),
-        spec.reversed,
-    )
-    .map_err(|e| {
+    let surface = spec.to_surface().map_err(|e| {
         let (path, reason) = locate(&e, &base);
         invalid(file, path, reason)
     })?;

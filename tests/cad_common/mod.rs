@@ -45,3 +45,25 @@ pub fn eval(s: &SurfaceSpec, u: f64, v: f64) -> [f64; 3] {
     let h = basis_point(&s.knots_u, s.degree[0], &col, u);
     [h[0] / h[3], h[1] / h[3], h[2] / h[3]]
 }
+
+/// A STEP file around `data` with a millimetre length unit.
+pub fn wrap(data: &str) -> String {
+    format!(
+        "ISO-10303-21;\nHEADER;\nFILE_NAME('t','',(''),(''),'','','');\nENDSEC;\nDATA;\n{data}\
+#900=(LENGTH_UNIT()NAMED_UNIT(*)SI_UNIT(.MILLI.,.METRE.));\n\
+#901=(GEOMETRIC_REPRESENTATION_CONTEXT(3)GLOBAL_UNIT_ASSIGNED_CONTEXT((#900))REPRESENTATION_CONTEXT('',''));\n\
+ENDSEC;\nEND-ISO-10303-21;\n"
+    )
+}
+
+/// Signed area of a closed (u, v) polyline (positive when counter-clockwise).
+pub fn shoelace(pts: &[[f64; 2]]) -> f64 {
+    let n = pts.len();
+    (0..n)
+        .map(|k| {
+            let (a, b) = (pts[k], pts[(k + 1) % n]);
+            a[0] * b[1] - b[0] * a[1]
+        })
+        .sum::<f64>()
+        / 2.0
+}

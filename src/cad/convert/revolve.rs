@@ -2,7 +2,7 @@
 //! cylinder, cone, sphere and torus), bilinear planes and linear extrusions.
 use super::arc::Arc;
 use crate::cad::geom::Frame;
-use crate::cad::nurbs::NurbsCurve;
+use crate::cad::nurbs::{control_points, weights, NurbsCurve};
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
 
@@ -47,10 +47,10 @@ impl Profile {
     /// A model-space NURBS curve expressed in `frame`'s local coordinates.
     pub fn from_curve(frame: &Frame, c: &NurbsCurve) -> Profile {
         Profile {
-            degree: c.degree,
-            knots: c.knots.clone(),
-            points: c.points.iter().map(|p| frame.local(*p)).collect(),
-            weights: c.weights.clone(),
+            degree: c.knots().degree(),
+            knots: c.knots().as_slice().to_vec(),
+            points: control_points(c).iter().map(|p| frame.local(*p)).collect(),
+            weights: weights(c),
         }
     }
 }
@@ -105,14 +105,15 @@ pub fn bilinear_plane(frame: &Frame, [x0, x1]: [f64; 2], [y0, y1]: [f64; 2]) -> 
 /// The linear extrusion `C(u) + v d` for `v` in `[v0, v1]` (d a unit vector).
 pub fn extrude(curve: &NurbsCurve, d: Vec3, [v0, v1]: [f64; 2]) -> SurfaceSpec {
     let row = |p: &Point3| vec![to_array(p + d * v0), to_array(p + d * v1)];
-    let rational = curve.weights.iter().any(|w| (w - 1.0).abs() > 0.0);
+    let w = weights(curve);
+    let rational = w.iter().any(|w| (w - 1.0).abs() > 0.0);
     SurfaceSpec {
         name: String::new(),
-        degree: [curve.degree, 1],
-        knots_u: curve.knots.clone(),
+        degree: [curve.knots().degree(), 1],
+        knots_u: curve.knots().as_slice().to_vec(),
         knots_v: vec![v0, v0, v1, v1],
-        control_points: curve.points.iter().map(row).collect(),
-        weights: rational.then(|| curve.weights.iter().map(|w| vec![*w, *w]).collect()),
+        control_points: control_points(curve).iter().map(row).collect(),
+        weights: rational.then(|| w.iter().map(|w| vec![*w, *w]).collect()),
         reversed: false,
         trim: None,
     }

@@ -46,8 +46,7 @@ impl NaturalSurface for Swept {
     fn metric(&self) -> [f64; 2] {
         match self {
             Swept::Revolution(frame, c) => {
-                let r = c
-                    .points
+                let r = crate::cad::nurbs::control_points(c)
                     .iter()
                     .map(|p| Swept::meridian(frame, *p).x)
                     .fold(0.0, f64::max);
@@ -61,15 +60,23 @@ impl NaturalSurface for Swept {
         match self {
             Swept::Revolution(frame, c) => {
                 let m = Swept::meridian(frame, p);
-                let t = closest_on(&|t| Swept::meridian(frame, c.eval(t)), &c.breaks(), m);
-                let (lp, lc) = (frame.local(p), frame.local(c.eval(t)));
+                let t = closest_on(
+                    &|t| Swept::meridian(frame, c.point(t)),
+                    &crate::cad::nurbs::breaks(c),
+                    m,
+                );
+                let (lp, lc) = (frame.local(p), frame.local(c.point(t)));
                 let turn = angle(lp.y, lp.x) - angle(lc.y, lc.x);
                 ((m.x > singular_tol).then_some(turn), t)
             }
             Swept::Extrusion(c, d) => {
                 let flat = |q: Point3| q - d * (q.coords.dot(d));
-                let t = closest_on(&|t| flat(c.eval(t)), &c.breaks(), flat(p));
-                (Some(t), (p - c.eval(t)).dot(d))
+                let t = closest_on(
+                    &|t| flat(c.point(t)),
+                    &crate::cad::nurbs::breaks(c),
+                    flat(p),
+                );
+                (Some(t), (p - c.point(t)).dot(d))
             }
         }
     }

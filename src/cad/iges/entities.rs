@@ -5,7 +5,7 @@ use super::records::{Entry, Global, Line};
 use crate::cad::error::{CadError, CadResult};
 use crate::cad::geom::EPS_PARAM;
 use crate::cad::geom::{angle, Curve, Frame};
-use crate::cad::nurbs::NurbsCurve;
+use crate::cad::nurbs::{new_curve, NurbsCurve};
 use crate::math::{Mat3, Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
 use std::f64::consts::TAU;
@@ -322,20 +322,13 @@ fn curve126(f: &Fields, tr: &Affine) -> CadResult<(NurbsCurve, f64, f64)> {
     let weights = f.reals(at, n)?;
     let xyz = f.reals(at + n, 3 * n)?;
     let (t0, t1) = (f.real(at + 4 * n)?, f.real(at + 4 * n + 1)?);
-    let points = (0..n)
+    let points: Vec<Point3> = (0..n)
         .map(|i| {
             let c = |d: usize| xyz.get(3 * i + d).copied().unwrap_or(0.0);
             tr.apply(Point3::new(c(0), c(1), c(2)))
         })
         .collect();
-    let c = NurbsCurve {
-        degree: deg,
-        knots,
-        points,
-        weights,
-    };
-    if !c.is_valid() {
-        return Err(f.bad(1, "describes an inconsistent B-spline curve"));
-    }
+    let c = new_curve(deg, knots, &points, weights)
+        .map_err(|e| f.bad(1, &format!("describes an inconsistent B-spline curve: {e}")))?;
     Ok((c, t0, t1))
 }

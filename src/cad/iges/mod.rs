@@ -7,11 +7,11 @@ pub mod records;
 
 use super::error::CadResult;
 use super::geom::EPS_UV;
-use super::nurbs::eval_surface;
 use super::options::ImportOptions;
 use super::sample::adaptive;
 use super::step::lexer::Pos;
 use super::{DiagnosticKind, Import, Source};
+use crate::geometry::NurbsSurface;
 use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 use entities::{param_curve, surface128, Model, Piece};
 use records::Entry;
@@ -86,7 +86,10 @@ fn face(
         ));
     }
     let (mut spec, [u0, u1, v0, v1]) = surface128(m, base).map_err(|x| x.to_string())?;
-    let trim = trim144(m, &f, &spec, [u0, u1, v0, v1], opts);
+    let trim = spec
+        .to_surface()
+        .map_err(|e| format!("surface cannot be evaluated: {e}"))
+        .and_then(|s| trim144(m, &f, &s, [u0, u1, v0, v1], opts));
     let note = trim.as_ref().err().cloned();
     spec.trim = trim.ok();
     Ok((spec, note))
@@ -95,7 +98,7 @@ fn face(
 fn trim144(
     m: &Model,
     f: &entities::Fields,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     [u0, u1, v0, v1]: [f64; 4],
     opts: &ImportOptions,
 ) -> Result<TrimSpec, String> {
@@ -116,7 +119,7 @@ fn trim144(
 fn boundary(
     m: &Model,
     de: u64,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     opts: &ImportOptions,
 ) -> Result<Vec<P2>, String> {
     let e = m.entry(de).map_err(|x| x.to_string())?;
@@ -154,13 +157,13 @@ fn boundary(
     Ok(out)
 }
 
-fn sample_piece(p: &Piece, spec: &SurfaceSpec, opts: &ImportOptions) -> Vec<P2> {
+fn sample_piece(p: &Piece, spec: &NurbsSurface, opts: &ImportOptions) -> Vec<P2> {
     match p {
         Piece::Segment(a, b) => vec![[a.x, a.y], [b.x, b.y]],
         Piece::Arc(c, t0, t1) => {
             let f = |t: f64| {
                 let q = c.eval(t);
-                eval_surface(spec, q.x, q.y)
+                spec.point(q.x, q.y)
             };
             let initial = crate::cad::step::topology::initial_segments(c, *t0, *t1);
             adaptive(

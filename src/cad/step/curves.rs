@@ -3,7 +3,7 @@ use super::access::{has_record, Args, Ctx};
 use crate::cad::error::CadResult;
 use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
-use crate::cad::nurbs::NurbsCurve;
+use crate::cad::nurbs::{new_curve, NurbsCurve};
 use crate::math::{Point3, Vec3};
 
 /// Deepest chain of curve wrappers (TRIMMED_CURVE, SURFACE_CURVE) followed.
@@ -158,16 +158,9 @@ fn polyline(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
     let mut knots = vec![0.0];
     knots.extend((0..n).map(|k| k as f64));
     knots.push(n.saturating_sub(1) as f64);
-    let curve = NurbsCurve {
-        degree: 1,
-        knots,
-        weights: vec![1.0; n],
-        points,
-    };
-    curve
-        .is_valid()
-        .then_some(Curve::Nurbs(curve.clone()))
-        .ok_or_else(|| args.err("POLYLINE needs 2 or more points"))
+    new_curve(1, knots, &points, vec![1.0; n])
+        .map(Curve::Nurbs)
+        .map_err(|e| args.err(format!("POLYLINE needs 2 or more distinct points: {e}")))
 }
 
 /// B_SPLINE_CURVE_WITH_KNOTS, simple or complex (rational) form.
@@ -194,16 +187,8 @@ pub fn bspline_curve(ctx: &Ctx, id: u64, space: Space) -> CadResult<NurbsCurve> 
         Ok(r) => r.reals(0)?,
         Err(_) => vec![1.0; points.len()],
     };
-    let curve = NurbsCurve {
-        degree,
-        knots,
-        points,
-        weights,
-    };
-    curve
-        .is_valid()
-        .then_some(curve)
-        .ok_or_else(|| base.err("inconsistent B-spline curve (degree, knots, weights)"))
+    new_curve(degree, knots, &points, weights)
+        .map_err(|e| base.err(format!("inconsistent B-spline curve: {e}")))
 }
 
 /// Expands (multiplicities, knots) into a full knot vector.

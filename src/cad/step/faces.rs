@@ -2,6 +2,7 @@
 use super::access::{has_record, type_name, Ctx};
 use super::parser::Instance;
 use super::pcurves::pcurve_trim;
+use super::projected::projected_trim;
 use super::surfaces::{curve_to_nurbs, surface, SurfaceKind};
 use super::topology::{EdgeSampler, FaceData};
 use crate::cad::convert::analytic::NaturalSurface;
@@ -11,7 +12,7 @@ use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::SurfaceSpec;
+use crate::workpiece::format::{SurfaceSpec, TrimSpec};
 
 /// A converted face.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,9 +46,8 @@ pub fn convert_face(
         SurfaceKind::Analytic(a) => (analytic_face(&a, &loops()?, face.same_sense, ext)?, None),
         SurfaceKind::Spline(mut s) => {
             s.reversed = !face.same_sense;
-            let trim = pcurve_trim(ctx, sampler, face, &s, opts);
-            let note = trim.as_ref().err().cloned();
-            s.trim = trim.ok();
+            let (trim, note) = spline_trim(ctx, sampler, face, &s, opts);
+            s.trim = trim;
             (s, note)
         }
         SurfaceKind::Revolution(c, o, axis) => (
@@ -61,6 +61,28 @@ pub fn convert_face(
         surface_type,
         untrimmed,
     })
+}
+
+/// PCURVE trim, else projection-based trim; the reasons when neither works.
+fn spline_trim(
+    ctx: &Ctx,
+    sampler: &mut EdgeSampler,
+    face: &FaceData,
+    spec: &SurfaceSpec,
+    opts: &ImportOptions,
+) -> (Option<TrimSpec>, Option<String>) {
+    let surface = match spec.to_surface() {
+        Ok(s) => s,
+        Err(e) => return (None, Some(format!("surface cannot be evaluated: {e}"))),
+    };
+    let pcurve_reason = match pcurve_trim(ctx, sampler, face, &surface, opts) {
+        Ok(t) => return (Some(t), None),
+        Err(reason) => reason,
+    };
+    match projected_trim(ctx, face, &surface, opts) {
+        Ok(t) => (Some(t), None),
+        Err(why) => (None, Some(format!("{pcurve_reason}; projection: {why}"))),
+    }
 }
 
 /// The surface's type; complex B-spline instances are named
@@ -130,11 +152,11 @@ fn line_range(
     margin: f64,
 ) -> Result<NurbsCurve, String> {
     let Curve::Line { origin, dir } = c else {
-        return Ok(curve_to_nurbs(c, (0.0, 0.0)));
+        return curve_to_nurbs(c, (0.0, 0.0));
     };
     let (lo, hi) = extent(loops);
     let loose = projected_range(loops, *origin, *dir, (hi - lo).norm() + margin)?;
-    let provisional = make(curve_to_nurbs(c, loose));
+    let provisional = make(curve_to_nurbs(c, loose)?);
     let ts: Vec<f64> = all_points(loops)
         .map(|p| pick(provisional.natural(*p, 0.0), axis))
         .collect();
@@ -144,7 +166,7 @@ fn line_range(
             (a.min(*t), b.max(*t))
         });
     let m = margin / dir.norm();
-    Ok(curve_to_nurbs(c, (t0 - m, t1 + m)))
+    curve_to_nurbs(c, (t0 - m, t1 + m))
 }
 
 fn pick((u, v): (Option<f64>, f64), axis: usize) -> f64 {

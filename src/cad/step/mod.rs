@@ -7,6 +7,7 @@ pub mod graph;
 pub mod lexer;
 pub mod parser;
 pub mod pcurves;
+pub mod projected;
 pub mod strings;
 pub mod surfaces;
 pub mod topology;

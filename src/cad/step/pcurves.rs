@@ -3,11 +3,12 @@ use super::access::{has_record, Ctx};
 use super::surfaces::param_curve;
 use super::topology::{edge_ends, initial_segments, Bound, EdgeEnds, EdgeSampler, FaceData};
 use crate::cad::geom::{closest_on, Curve};
-use crate::cad::nurbs::{eval_surface, NurbsCurve};
+use crate::cad::nurbs::{breaks, NurbsCurve};
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
+use crate::geometry::NurbsSurface;
 use crate::math::Point3;
-use crate::workpiece::format::{SurfaceSpec, TrimSpec};
+use crate::workpiece::format::TrimSpec;
 
 type P2 = [f64; 2];
 
@@ -16,17 +17,23 @@ pub fn pcurve_trim(
     ctx: &Ctx,
     _s: &mut EdgeSampler,
     face: &FaceData,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     opts: &ImportOptions,
 ) -> Result<TrimSpec, String> {
     let mut loops: Vec<(bool, Vec<P2>)> = Vec::new();
     for b in face.bounds.iter().filter(|b| !b.edges.is_empty()) {
         loops.push((b.outer, bound_uv(ctx, b, face.surface, spec, opts)?));
     }
+    assemble(&loops)
+}
+
+/// A trim from `(is outer bound, loop)` pairs: the FACE_OUTER_BOUND (or the
+/// largest loop) is the outer loop, the others are holes.
+pub fn assemble(loops: &[(bool, Vec<P2>)]) -> Result<TrimSpec, String> {
     let outer_k = loops
         .iter()
         .position(|l| l.0)
-        .or_else(|| largest(&loops))
+        .or_else(|| largest(loops))
         .ok_or("face has no edge loops")?;
     let outer = loops.get(outer_k).map(|l| l.1.clone()).unwrap_or_default();
     let holes = loops
@@ -58,7 +65,7 @@ fn bound_uv(
     ctx: &Ctx,
     b: &Bound,
     surface: u64,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     opts: &ImportOptions,
 ) -> Result<Vec<P2>, String> {
     let mut out: Vec<P2> = Vec::new();
@@ -94,7 +101,7 @@ fn edge_uv(
     edge: u64,
     forward: bool,
     surface: u64,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     opts: &ImportOptions,
 ) -> Nested {
     let ends = edge_ends(ctx, edge, opts)?;
@@ -128,7 +135,7 @@ fn no_pcurve(edge: u64, surface: u64, gaps: &[f64]) -> String {
 /// the gap by which its ends miss the vertices.
 fn fit_pcurve(
     pc: &Curve,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     e: &EdgeEnds,
     opts: &ImportOptions,
 ) -> Result<Vec<P2>, f64> {
@@ -153,7 +160,7 @@ fn fit_pcurve(
 fn resampled(
     pc: &Curve,
     n: &NurbsCurve,
-    spec: &SurfaceSpec,
+    spec: &NurbsSurface,
     (from, to): (Point3, Point3),
     closed: bool,
     opts: &ImportOptions,
@@ -164,9 +171,9 @@ fn resampled(
     }
     let on_surface = |t: f64| {
         let q = pc.eval(t);
-        eval_surface(spec, q.x, q.y)
+        spec.point(q.x, q.y)
     };
-    let breaks = n.breaks();
+    let breaks = breaks(n);
     let (ta, tb) = (
         closest_on(&on_surface, &breaks, from),
         closest_on(&on_surface, &breaks, to),
@@ -180,19 +187,17 @@ fn resampled(
 }
 
 /// The larger distance between an edge end and its pcurve end's surface point.
-fn end_gap(uv: &[P2], spec: &SurfaceSpec, from: Point3, to: Point3) -> f64 {
+fn end_gap(uv: &[P2], spec: &NurbsSurface, from: Point3, to: Point3) -> f64 {
     let at = |p: Option<&P2>, target: Point3| {
-        p.map_or(f64::INFINITY, |q| {
-            (eval_surface(spec, q[0], q[1]) - target).norm()
-        })
+        p.map_or(f64::INFINITY, |q| (spec.point(q[0], q[1]) - target).norm())
     };
     at(uv.first(), from).max(at(uv.last(), to))
 }
 
-fn sample_uv(pc: &Curve, spec: &SurfaceSpec, t0: f64, t1: f64, opts: &ImportOptions) -> Vec<P2> {
+fn sample_uv(pc: &Curve, spec: &NurbsSurface, t0: f64, t1: f64, opts: &ImportOptions) -> Vec<P2> {
     let f = |t: f64| {
         let q = pc.eval(t);
-        eval_surface(spec, q.x, q.y)
+        spec.point(q.x, q.y)
     };
     let initial = initial_segments(pc, t0, t1);
     let samples = adaptive(

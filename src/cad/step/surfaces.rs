@@ -7,7 +7,7 @@ use crate::cad::convert::arc::Arc;
 use crate::cad::error::CadResult;
 use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
-use crate::cad::nurbs::NurbsCurve;
+use crate::cad::nurbs::{new_curve, NurbsCurve};
 use crate::math::{Point3, Vec3};
 use crate::workpiece::format::SurfaceSpec;
 use std::f64::consts::TAU;
@@ -137,32 +137,30 @@ pub fn check_spline(s: &SurfaceSpec) -> Result<(), String> {
 }
 
 /// A curve as a NURBS curve; lines are bounded to `[t0, t1]`, conics are full.
-pub fn curve_to_nurbs(c: &Curve, line_range: (f64, f64)) -> NurbsCurve {
-    match c {
-        Curve::Nurbs(n) => n.clone(),
-        Curve::Line { origin, dir } => NurbsCurve {
-            degree: 1,
-            knots: vec![line_range.0, line_range.0, line_range.1, line_range.1],
-            points: vec![origin + dir * line_range.0, origin + dir * line_range.1],
-            weights: vec![1.0; 2],
-        },
+pub fn curve_to_nurbs(c: &Curve, line_range: (f64, f64)) -> Result<NurbsCurve, String> {
+    let (t0, t1) = line_range;
+    let curve = match c {
+        Curve::Nurbs(n) => return Ok(n.clone()),
+        Curve::Line { origin, dir } => new_curve(
+            1,
+            vec![t0, t0, t1, t1],
+            &[origin + dir * t0, origin + dir * t1],
+            vec![1.0; 2],
+        ),
         Curve::Circle { frame, radius } => conic(frame, *radius, *radius),
         Curve::Ellipse { frame, a, b } => conic(frame, *a, *b),
-    }
+    };
+    curve.map_err(|e| format!("profile curve: {e}"))
 }
 
-fn conic(frame: &Frame, a: f64, b: f64) -> NurbsCurve {
+fn conic(frame: &Frame, a: f64, b: f64) -> Result<NurbsCurve, crate::geometry::NurbsError> {
     let arc = Arc::new(0.0, TAU);
     let pts = arc.points();
-    NurbsCurve {
-        degree: 2,
-        knots: arc.knots(),
-        points: pts
-            .iter()
-            .map(|p| frame.world(a * p.c, b * p.s, 0.0))
-            .collect(),
-        weights: pts.iter().map(|p| p.w).collect(),
-    }
+    let points: Vec<_> = pts
+        .iter()
+        .map(|p| frame.world(a * p.c, b * p.s, 0.0))
+        .collect();
+    new_curve(2, arc.knots(), &points, pts.iter().map(|p| p.w).collect())
 }
 
 /// Reads a pcurve's 2-D curve (parameter space, unscaled).

@@ -269,7 +269,7 @@ pub fn param_range(c: &Curve, from: Point3, to: Point3, closed: bool) -> (f64, f
 /// Initial sample intervals before adaptive refinement.
 pub fn initial_segments(c: &Curve, t0: f64, t1: f64) -> usize {
     match c {
-        Curve::Nurbs(n) => 2 * n.breaks().len().max(2),
+        Curve::Nurbs(n) => 2 * crate::cad::nurbs::breaks(n).len().max(2),
         _ => {
             (((t1 - t0).abs() / FRAC_PI_8).ceil() as usize).clamp(1, (TAU / FRAC_PI_8) as usize + 1)
         }
