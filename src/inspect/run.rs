@@ -61,10 +61,7 @@ const CLEARANCE_MM: f64 = 10.0;
 
 /// Runs every feature and evaluates the points; also returns what was
 /// learned per (feature, curve).
-pub fn run_program(
-    program: &Program,
-    opts: &RunOptions,
-) -> Result<(Report, LearnedSet), RunError> {
+pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, LearnedSet), RunError> {
     let wall = Instant::now();
     let truth = if opts.ideal {
         program.as_machined.clone().without_roughness()

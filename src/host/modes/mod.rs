@@ -82,9 +82,12 @@ pub struct ModeOptions {
     pub contact_mm: f64,
     /// Passive scanning fails above this deflection, mm.
     pub over_deflection_mm: f64,
-    /// Consecutive cycles out of contact before active/autonomous scanning
-    /// reports lost contact.
+    /// Consecutive cycles out of contact before passive scanning, touch
+    /// points and autonomous scanning report lost contact.
     pub lost_contact_cycles: usize,
+    /// The same for active scanning, which searches for the surface along
+    /// its normal and normally reports a trajectory error first.
+    pub active_lost_contact_cycles: usize,
     /// Gain of the path-following velocity `Gf` (dimensionless).
     pub gain_follow: f64,
     /// Gain of the deflection loop `Ge`, 1/s.
@@ -112,11 +115,12 @@ impl Default for ModeOptions {
             rapid_speed_mm_s: 200.0,
             rapid_accel_mm_s2: 1500.0,
             approach_speed_mm_s: 10.0,
-            standoff_mm: 2.0,
+            standoff_mm: 5.0,
             trigger_mm: 0.3,
             contact_mm: 0.02,
             over_deflection_mm: 0.8,
             lost_contact_cycles: 40,
+            active_lost_contact_cycles: 1000,
             gain_follow: 1.0,
             gain_deflection: 40.0,
             gain_correction: 40.0,

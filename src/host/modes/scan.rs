@@ -188,7 +188,11 @@ fn active(
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
-        contact_check(tr, &mut lost, f64::INFINITY, opts)?;
+        let searching = ModeOptions {
+            lost_contact_cycles: opts.active_lost_contact_cycles,
+            ..*opts
+        };
+        contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
         tr.sample(t.pitch_mm);
     }
     Err(Outcome::Aborted)
