@@ -239,3 +239,57 @@ fn same_seed_same_report_other_seed_other_noise() {
     assert_eq!(a, b);
     assert_ne!(a, c);
 }
+
+fn bore_program(as_machined: Value, features: Value) -> Value {
+    let mut v = program(as_machined, features);
+    v["workpiece"] = json!(common::repo("workpieces/bore.json").to_string_lossy());
+    v
+}
+
+#[test]
+fn bore_undercut_across_the_seam_and_a_shift_on_two_arcs() {
+    // Closed section crossing the seam at u = 0: the bore 2 mm too large.
+    let ring = json!([{ "name": "ring", "type": "section_scan", "plane": { "origin_mm": [0, 0, 10], "normal": [0, 0, 1] },
+                        "mode": "auto", "tolerance_mm": [-3, 3] }]);
+    let r = run(
+        &bore_program(
+            json!({ "form": [ { "kind": "offset", "mm": -2.0 } ] }),
+            ring,
+        ),
+        1,
+        true,
+    );
+    assert_eq!(
+        outcomes(&r, 0),
+        [
+            "active:trajectory_error",
+            "points:completed",
+            "active:completed"
+        ]
+    );
+    assert_exact(&r, 0);
+    // A vertical plane cuts the wall twice: both arcs measured after one shift correction each.
+    let arcs = json!([{ "name": "arcs", "type": "section_scan", "plane": { "origin_mm": [10, 0, 0], "normal": [1, 0, 0] },
+                        "mode": "auto", "tolerance_mm": [-3, 3] }]);
+    let r = run(
+        &bore_program(
+            json!({ "transform": { "translate_mm": [0, 2.0, 0] } }),
+            arcs,
+        ),
+        1,
+        true,
+    );
+    let o = outcomes(&r, 0);
+    assert_eq!(
+        o.iter().filter(|s| *s == "active:completed").count(),
+        2,
+        "{o:?}"
+    );
+    assert_eq!(r.features[0].status, Verdict::Pass, "{o:?}");
+    assert_exact(&r, 0);
+    let ys: Vec<f64> = r.features[0].points.iter().map(|p| p.measured[1]).collect();
+    assert!(
+        ys.iter().any(|&y| y > 0.0) && ys.iter().any(|&y| y < 0.0),
+        "both arcs have points"
+    );
+}

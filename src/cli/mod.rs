@@ -10,6 +10,7 @@ mod evaluate;
 mod examples;
 mod fit;
 mod import;
+mod report_files;
 mod scan;
 mod schema;
 
@@ -87,6 +88,9 @@ pub enum CliError {
     /// A closest-point query failed.
     #[error(transparent)]
     Projection(#[from] crate::geometry::ProjectionError),
+    /// A corrections file is invalid.
+    #[error(transparent)]
+    Corrections(#[from] crate::inspect::learned::CorrectionsError),
     /// A run could not start.
     #[error(transparent)]
     Run(#[from] crate::inspect::RunError),

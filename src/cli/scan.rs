@@ -1,9 +1,12 @@
-//! `cmm scan PROGRAM.json... [--out DIR] [--seed N] [--jobs N] [--ideal] [--quiet]`.
-use std::path::{Path, PathBuf};
+//! `cmm scan PROGRAM.json... [--out DIR] [--seed N] [--jobs N] [--ideal]
+//! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]`.
+use std::path::PathBuf;
 
 use super::{CliError, Status};
-use crate::inspect::{run_program, RunOptions};
-use crate::program::load;
+use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
+use crate::inspect::learned::CorrectionsFile;
+use crate::inspect::RunOptions;
+use crate::program::{load, Program};
 use crate::report::{Report, Verdict};
 
 /// Arguments of `cmm scan`.
@@ -12,13 +15,13 @@ pub struct ScanArgs {
     /// Part program files.
     #[arg(required = true)]
     pub programs: Vec<PathBuf>,
-    /// Output folder (a subfolder per program when there are several).
+    /// Output folder (a subfolder per part when there are several).
     #[arg(long, default_value = "cmm-out")]
     pub out: PathBuf,
     /// Seed of every simulated random draw.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Parallel jobs.
+    /// Parts measured in parallel.
     #[arg(long, default_value_t = 1)]
     pub jobs: usize,
     /// Switch off every simulated error and all noise.
@@ -27,91 +30,171 @@ pub struct ScanArgs {
     /// No progress output.
     #[arg(long)]
     pub quiet: bool,
+    /// Random as-machined variants per program (seeds derived from --seed).
+    #[arg(long, default_value_t = 1)]
+    pub variants: usize,
+    /// Run only shard K of N of the parts (`K/N`, 1-based), for CI runners.
+    #[arg(long, value_parser = parse_shard)]
+    pub shard: Option<(usize, usize)>,
+    /// Corrections learned across parts: read before, updated after.
+    #[arg(long)]
+    pub corrections: Option<PathBuf>,
 }
 
-/// Runs `cmm scan`: validates every program first, then measures.
+fn parse_shard(s: &str) -> Result<(usize, usize), String> {
+    let (k, n) = s
+        .split_once('/')
+        .ok_or_else(|| format!("'{s}': expected K/N, e.g. 2/4"))?;
+    let k: usize = k
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}': K is not a number"))?;
+    let n: usize = n
+        .trim()
+        .parse()
+        .map_err(|_| format!("'{s}': N is not a number"))?;
+    if n == 0 || k == 0 || k > n {
+        return Err(format!("'{s}': need 1 <= K <= N"));
+    }
+    Ok((k, n))
+}
+
+/// Runs `cmm scan`: validates every input first, then measures.
 pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     let programs = args
         .programs
         .iter()
         .map(|p| load(p))
         .collect::<Result<Vec<_>, _>>()?;
-    let opts = RunOptions {
-        seed: args.seed,
+    let known = match &args.corrections {
+        Some(path) => CorrectionsFile::read(path)?,
+        None => CorrectionsFile::empty(),
+    };
+    let parts = plan_parts(
+        programs.len(),
+        args.variants,
+        args.seed,
+        args.shard.unwrap_or((1, 1)),
+    );
+    let base = RunOptions {
         ideal: args.ideal,
         ..RunOptions::default()
     };
-    let mut reports = Vec::new();
-    for (k, program) in programs.iter().enumerate() {
-        let (report, _) = run_program(program, &opts)?;
-        let dir = out_dir(&args.out, &args.programs, k, &program.name);
-        write_reports(&dir, &report)?;
-        reports.push(report);
+    let (results, updated) = run_batch(&programs, &parts, &base, &known, args.jobs);
+    let single = parts.len() == 1;
+    for (part, result) in parts.iter().zip(&results) {
+        if let Ok((report, _)) = result {
+            let dir = if single {
+                args.out.clone()
+            } else {
+                args.out.join(part_dir(args, part, &programs))
+            };
+            super::report_files::write_all(&dir, report)?;
+        }
     }
-    print_summary(&reports);
-    Ok(status(&reports))
+    if !single {
+        super::report_files::write_batch(
+            &args.out,
+            &batch_rows(args, &parts, &results, &programs),
+        )?;
+    }
+    if let Some(path) = &args.corrections {
+        crate::output::write_atomic(path, updated.to_json().as_bytes())?;
+    }
+    print_summary(&results);
+    Ok(status(&results))
 }
 
-fn out_dir(out: &Path, files: &[PathBuf], k: usize, name: &str) -> PathBuf {
-    if files.len() == 1 {
-        return out.to_path_buf();
-    }
-    let stem = files
-        .get(k)
+fn part_dir(args: &ScanArgs, part: &Part, programs: &[Program]) -> String {
+    let stem = args
+        .programs
+        .get(part.program)
         .and_then(|f| f.file_stem())
-        .map_or_else(|| name.to_string(), |s| s.to_string_lossy().into_owned());
-    out.join(format!("{k:02}-{stem}"))
+        .map(|s| s.to_string_lossy().into_owned())
+        .or_else(|| programs.get(part.program).map(|p| p.name.clone()))
+        .unwrap_or_default();
+    format!("{:02}-{stem}-v{:03}", part.program, part.variant)
 }
 
-fn write_reports(dir: &Path, report: &Report) -> Result<(), CliError> {
-    std::fs::create_dir_all(dir).map_err(|source| crate::output::WriteError {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    let mut json = serde_json::to_string_pretty(report).unwrap_or_default();
-    json.push('\n');
-    crate::output::write_atomic(&dir.join("report.json"), json.as_bytes())?;
-    Ok(())
+fn batch_rows(
+    args: &ScanArgs,
+    parts: &[Part],
+    results: &[PartResult],
+    programs: &[Program],
+) -> Vec<(String, Option<Report>, String)> {
+    parts
+        .iter()
+        .zip(results)
+        .map(|(p, r)| {
+            let dir = part_dir(args, p, programs);
+            match r {
+                Ok((report, _)) => (dir, Some(report.clone()), String::new()),
+                Err(e) => (dir, None, e.to_string()),
+            }
+        })
+        .collect()
 }
 
-fn print_summary(reports: &[Report]) {
+fn print_summary(results: &[PartResult]) {
     println!(
-        "{:<24} {:<28} {:>10} {:>8} {:>10} {:>10}  attempts",
+        "{:<20} {:<24} {:>10} {:>7} {:>9} {:>9}  attempts",
         "program", "feature", "status", "points", "min mm", "max mm"
     );
-    for r in reports {
-        for f in &r.features {
-            let attempts: Vec<String> = f
-                .attempts
-                .iter()
-                .map(|a| {
-                    format!(
-                        "{}:{}",
-                        a.mode,
-                        serde_json::to_string(&a.outcome)
-                            .unwrap_or_default()
-                            .trim_matches('"')
-                    )
-                })
-                .collect();
-            println!(
-                "{:<24} {:<28} {:>10} {:>8} {:>10.4} {:>10.4}  {}",
-                r.program,
-                f.name,
-                format!("{:?}", f.status).to_lowercase(),
-                f.points.len(),
-                f.deviation_mm.min,
-                f.deviation_mm.max,
-                attempts.join(" -> ")
-            );
+    for r in results {
+        match r {
+            Ok((report, _)) => print_report(report),
+            Err(e) => println!("error: {e}"),
         }
     }
 }
 
-fn status(reports: &[Report]) -> Status {
-    if reports.iter().any(|r| r.status == Verdict::Incomplete) {
+fn print_report(r: &Report) {
+    for f in &r.features {
+        let attempts: Vec<String> = f
+            .attempts
+            .iter()
+            .map(|a| format!("{}:{}", a.mode, outcome_name(a.outcome)))
+            .collect();
+        println!(
+            "{:<20} {:<24} {:>10} {:>7} {:>9.4} {:>9.4}  {}",
+            r.program,
+            f.name,
+            verdict_name(f.status),
+            f.points.len(),
+            f.deviation_mm.min,
+            f.deviation_mm.max,
+            attempts.join(" -> ")
+        );
+    }
+}
+
+/// The JSON name of an outcome.
+pub(super) fn outcome_name(o: crate::host::modes::Outcome) -> String {
+    serde_json::to_string(&o)
+        .unwrap_or_default()
+        .trim_matches('"')
+        .to_string()
+}
+
+/// The JSON name of a verdict.
+pub(super) fn verdict_name(v: Verdict) -> String {
+    serde_json::to_string(&v)
+        .unwrap_or_default()
+        .trim_matches('"')
+        .to_string()
+}
+
+fn status(results: &[PartResult]) -> Status {
+    let incomplete = results.iter().any(|r| {
+        r.as_ref()
+            .map_or(true, |(rep, _)| rep.status == Verdict::Incomplete)
+    });
+    if incomplete {
         Status::Incomplete
-    } else if reports.iter().any(|r| r.status == Verdict::Fail) {
+    } else if results
+        .iter()
+        .any(|r| r.as_ref().is_ok_and(|(rep, _)| rep.status == Verdict::Fail))
+    {
         Status::OutOfTolerance
     } else {
         Status::Pass

@@ -3,11 +3,12 @@
 //! (offset, translation, rotation, scale, combinations) whose residuals are
 //! all small.
 use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
 
 use crate::math::{Point3, Vec3};
 
 /// One design point of a section: position and outward normal (part frame).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 pub struct DesignPoint {
     /// Position, mm.
     pub point: Point3,
@@ -16,7 +17,8 @@ pub struct DesignPoint {
 }
 
 /// A correction model: which parameters it frees.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
 pub enum Model {
     /// Constant offset along the normals (uniform under/overcut).
     Offset,
@@ -79,7 +81,7 @@ impl Model {
 }
 
 /// A fitted correction, applicable to design points.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Correction {
     /// The model.
     pub model: Model,
@@ -93,7 +95,7 @@ pub struct Correction {
 }
 
 /// In-plane frame of a section: centroid, principal axes, plane normal.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 struct Frame {
     c: Point3,
     e1: Vec3,

@@ -4,8 +4,10 @@
 //! The supervisor ([`supervisor`]) is the method of seed 000: active
 //! design-value scanning with geometric and autonomous corrections.
 
+pub mod batch;
 pub mod correction;
 mod evaluate;
+pub mod learned;
 mod run;
 pub mod supervisor;
 
@@ -45,7 +47,8 @@ pub struct Ctx<'c> {
 pub type LearnedSet = Vec<((String, usize), Learned)>;
 
 /// A correction that can be carried to the next part.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(tag = "kind", content = "data", rename_all = "snake_case")]
 pub enum Learned {
     /// A fitted geometric correction.
     Geometric(Correction),

@@ -46,6 +46,12 @@ impl Default for RunOptions {
 /// Why a run could not start.
 #[derive(Debug, thiserror::Error)]
 pub enum RunError {
+    /// A batch part names a program that does not exist.
+    #[error("batch part refers to program {index}, which does not exist")]
+    NoProgram {
+        /// The index.
+        index: usize,
+    },
     /// The simulator could not be set up.
     #[error("{program}: cannot start the simulated machine: {source}")]
     Machine {

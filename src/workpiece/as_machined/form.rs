@@ -92,6 +92,15 @@ impl Form {
         }
     }
 
+    /// Scales the term's height or amplitude by `k`.
+    pub fn scale_size(&mut self, k: f64) {
+        match self {
+            Form::Offset(h) => *h *= k,
+            Form::Bump { height, .. } => *height *= k,
+            Form::Waviness { amplitude, .. } => *amplitude *= k,
+        }
+    }
+
     /// Largest possible |h|, mm.
     pub fn amplitude(&self) -> f64 {
         match *self {

@@ -92,6 +92,26 @@ impl AsMachined {
         })
     }
 
+    /// A random variant of this part (another part from the same machine
+    /// tool): every form term's size scaled by a factor in [0.9, 1.1] and the
+    /// transform's translation moved by up to 0.02 mm, drawn from `seed`.
+    pub fn variant(&self, seed: u64) -> AsMachined {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(seed);
+        let mut out = self.clone();
+        for (form, _) in out.terms.iter_mut() {
+            let k = 0.9 + 0.2 * rng.random::<f64>();
+            form.scale_size(k);
+        }
+        out.offset += Vec3::new(
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+            rng.random::<f64>(),
+        )
+        .map(|c| (c - 0.5) * 0.04);
+        out
+    }
+
     /// The same part without roughness (`--ideal`).
     pub fn without_roughness(mut self) -> AsMachined {
         self.roughness_mm = 0.0;
