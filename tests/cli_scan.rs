@@ -1,0 +1,239 @@
+//! `cmm scan` as users and CI scripts run it: files, exit codes, batches,
+//! determinism and learned corrections.
+mod common;
+
+use std::path::Path;
+use std::process::{Command, Output};
+
+use common::repo;
+use serde_json::Value;
+
+fn cmm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn prog(name: &str) -> String {
+    repo(&format!("part-programs/{name}"))
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn report(dir: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+fn strip_wall(mut v: Value) -> Value {
+    v["wall_time_s"] = Value::Null;
+    v
+}
+
+#[test]
+fn exit_codes_follow_the_contract() {
+    let out = tempfile::tempdir().unwrap();
+    let d = |s: &str| out.path().join(s).to_string_lossy().into_owned();
+    assert_eq!(
+        cmm(&[
+            "scan",
+            &prog("blade-gouge.json"),
+            "--out",
+            &d("a"),
+            "--ideal"
+        ])
+        .status
+        .code(),
+        Some(0)
+    );
+    assert_eq!(
+        cmm(&[
+            "scan",
+            &prog("blade-overcut.json"),
+            "--out",
+            &d("b"),
+            "--ideal"
+        ])
+        .status
+        .code(),
+        Some(1)
+    );
+    // Active-only scan of a 2.5 mm overcut cannot complete: exit 3.
+    let text = std::fs::read_to_string(prog("blade-overcut.json"))
+        .unwrap()
+        .replace("\"auto\"", "\"active\"")
+        .replace("../workpieces", &repo("workpieces").to_string_lossy());
+    let p = out.path().join("active.json");
+    std::fs::write(&p, text).unwrap();
+    let o = cmm(&["scan", p.to_str().unwrap(), "--out", &d("c"), "--ideal"]);
+    assert_eq!(o.status.code(), Some(3));
+    assert_eq!(report(&out.path().join("c"))["status"], "incomplete");
+}
+
+#[test]
+fn bad_input_exits_2_and_writes_nothing() {
+    let out = tempfile::tempdir().unwrap();
+    let bad = out.path().join("bad.json");
+    std::fs::write(&bad, "{\"format\": \"cmm-program/1\"}").unwrap();
+    let target = out.path().join("never");
+    let o = cmm(&[
+        "scan",
+        &prog("blade-z60.json"),
+        bad.to_str().unwrap(),
+        "--out",
+        target.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bad.json"));
+    assert!(!target.exists(), "nothing written when any input is bad");
+}
+
+#[test]
+fn report_json_has_every_contract_key() {
+    let out = tempfile::tempdir().unwrap();
+    assert_eq!(
+        cmm(&[
+            "scan",
+            &prog("blade-gouge.json"),
+            "--out",
+            out.path().to_str().unwrap()
+        ])
+        .status
+        .code(),
+        Some(0)
+    );
+    let r = report(out.path());
+    for key in [
+        "format",
+        "program",
+        "seed",
+        "status",
+        "machine_time_s",
+        "wall_time_s",
+        "part_to_machine",
+        "features",
+    ] {
+        assert!(r.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(r["format"], "cmm-report/1");
+    assert_eq!(
+        r["part_to_machine"]["translation_mm"],
+        serde_json::json!([350.0, 500.0, 150.0])
+    );
+    let f = &r["features"][0];
+    for key in [
+        "name",
+        "status",
+        "attempts",
+        "corrections",
+        "deviation_mm",
+        "tolerance_mm",
+        "points",
+    ] {
+        assert!(f.get(key).is_some(), "missing features[].{key}");
+    }
+    for key in ["mode", "outcome", "machine_time_s"] {
+        assert!(
+            f["attempts"][0].get(key).is_some(),
+            "missing attempts[].{key}"
+        );
+    }
+    for key in [
+        "measured",
+        "nominal",
+        "normal",
+        "deviation_mm",
+        "true_deviation_mm",
+    ] {
+        assert!(f["points"][0].get(key).is_some(), "missing points[].{key}");
+    }
+    let kinds: Vec<&str> = f["corrections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["kind"].as_str().unwrap())
+        .collect();
+    assert!(kinds.contains(&"autonomous"), "{kinds:?}");
+    // Machine time is far more than wall time (the simulator runs faster than real time).
+    assert!(r["machine_time_s"].as_f64().unwrap() > 10.0 * r["wall_time_s"].as_f64().unwrap());
+}
+
+#[test]
+fn same_seed_same_reports_and_jobs_do_not_change_them() {
+    let out = tempfile::tempdir().unwrap();
+    let run = |dir: &str, jobs: &str, seed: &str| {
+        let d = out.path().join(dir);
+        let o = cmm(&[
+            "scan",
+            &prog("blade-z60.json"),
+            &prog("bore-circles.json"),
+            "--variants",
+            "2",
+            "--jobs",
+            jobs,
+            "--seed",
+            seed,
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        d
+    };
+    let (a, b, c) = (run("a", "1", "5"), run("b", "2", "5"), run("c", "1", "6"));
+    let parts = [
+        "00-blade-z60-v000",
+        "00-blade-z60-v001",
+        "01-bore-circles-v000",
+        "01-bore-circles-v001",
+    ];
+    for p in parts {
+        assert_eq!(
+            strip_wall(report(&a.join(p))),
+            strip_wall(report(&b.join(p))),
+            "{p}"
+        );
+        assert_ne!(
+            strip_wall(report(&a.join(p))),
+            strip_wall(report(&c.join(p))),
+            "{p}"
+        );
+    }
+    let batch: Value =
+        serde_json::from_str(&std::fs::read_to_string(a.join("batch.json")).unwrap()).unwrap();
+    assert_eq!(batch["parts"].as_array().unwrap().len(), 4);
+}
+
+#[test]
+fn a_second_part_uses_the_learned_correction() {
+    let out = tempfile::tempdir().unwrap();
+    let corr = out.path().join("corrections.json");
+    let run = |dir: &str| {
+        let d = out.path().join(dir);
+        cmm(&[
+            "scan",
+            &prog("blade-overcut.json"),
+            "--ideal",
+            "--corrections",
+            corr.to_str().unwrap(),
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        report(&d)
+    };
+    let first = run("first");
+    assert_eq!(
+        first["features"][0]["attempts"][0]["outcome"],
+        "trajectory_error"
+    );
+    assert!(corr.exists());
+    let second = run("second");
+    let attempts = second["features"][0]["attempts"].as_array().unwrap();
+    assert_eq!(attempts.len(), 1, "{attempts:?}");
+    assert_eq!(attempts[0]["outcome"], "completed");
+    assert_eq!(second["features"][0]["corrections"][0]["source"], "learned");
+}
