@@ -1,0 +1,313 @@
+//! The profile plot: the nominal section seen in its best 2-D view, with
+//! amplified deviation needles along the nominal normals.
+
+use nalgebra::SymmetricEigen;
+
+use super::markup::fixed;
+use super::model::{FeatureReport, PointReport};
+use super::plots::{out_of_tolerance, PLOT_WIDTH};
+use super::svg::{empty_plot, nice_floor, range, Svg};
+use crate::math::{Mat3, Vec3};
+
+/// Height of the profile plot, px (its width is [`PLOT_WIDTH`]).
+pub const PROFILE_HEIGHT: f64 = 460.0;
+/// Space kept free around the drawing inside the plot, px.
+const PROFILE_MARGIN: f64 = 30.0;
+/// Space for the two text lines at the top of the plot, px.
+const PROFILE_TOP: f64 = 44.0;
+/// The largest needle (or tolerance offset) is drawn about this fraction of
+/// the drawing's larger extent; the amplification factor is rounded down
+/// to 1, 2 or 5 times a power of ten and stated in the plot.
+const NEEDLE_FRACTION: f64 = 0.08;
+/// Smallest extent of the drawing, mm (a single point still gets a scale).
+const MIN_EXTENT_MM: f64 = 1.0;
+
+/// An orthonormal 2-D view of 3-D points: `(p - origin) . u` across,
+/// `(p - origin) . v` up.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct View {
+    /// Centroid of the points.
+    pub origin: Vec3,
+    /// First principal direction (largest spread), unit.
+    pub u: Vec3,
+    /// Second principal direction, unit, orthogonal to `u`.
+    pub v: Vec3,
+}
+
+impl View {
+    /// The plane spanned by the two largest principal directions of the
+    /// points (eigenvectors of their 3x3 covariance), each with its largest
+    /// component made positive so the view does not flip between runs.
+    /// Without points: the x-y plane.
+    pub fn principal(points: &[Vec3]) -> View {
+        if points.is_empty() {
+            return View {
+                origin: Vec3::zeros(),
+                u: Vec3::x(),
+                v: Vec3::y(),
+            };
+        }
+        let n = points.len() as f64;
+        let origin = points.iter().sum::<Vec3>() / n;
+        let cov = points
+            .iter()
+            .map(|p| (p - origin) * (p - origin).transpose())
+            .sum::<Mat3>()
+            / n;
+        let eigen = SymmetricEigen::new(cov);
+        let mut order = [0usize, 1, 2];
+        order.sort_by(|a, b| eigen.eigenvalues[*b].total_cmp(&eigen.eigenvalues[*a]));
+        let axis = |k: usize| canonical_sign(eigen.eigenvectors.column(order[k]).into_owned());
+        View {
+            origin,
+            u: axis(0),
+            v: axis(1),
+        }
+    }
+
+    /// View coordinates of a point, mm.
+    pub fn project(&self, p: &Vec3) -> (f64, f64) {
+        let d = p - self.origin;
+        (d.dot(&self.u), d.dot(&self.v))
+    }
+}
+
+/// The vector or its negative, whichever has its largest component positive.
+fn canonical_sign(v: Vec3) -> Vec3 {
+    let largest = v
+        .iter()
+        .copied()
+        .fold(0.0, |m: f64, c| if c.abs() > m.abs() { c } else { m });
+    if largest < 0.0 {
+        -v
+    } else {
+        v
+    }
+}
+
+/// Equal-scale map from view coordinates (mm) into the plot's pixels.
+#[derive(Debug, Clone, Copy)]
+struct Fit {
+    /// px per mm.
+    scale: f64,
+    /// Pixel position of view coordinate (0, 0).
+    zero: (f64, f64),
+}
+
+impl Fit {
+    /// Fits the bounding box of the coordinates into the drawing area.
+    fn new(coords: &[(f64, f64)]) -> Fit {
+        let (u0, u1) = range(coords.iter().map(|c| c.0)).unwrap_or((0.0, 0.0));
+        let (v0, v1) = range(coords.iter().map(|c| c.1)).unwrap_or((0.0, 0.0));
+        let width = PLOT_WIDTH - 2.0 * PROFILE_MARGIN;
+        let height = PROFILE_HEIGHT - PROFILE_TOP - 2.0 * PROFILE_MARGIN;
+        let scale =
+            (width / (u1 - u0).max(MIN_EXTENT_MM)).min(height / (v1 - v0).max(MIN_EXTENT_MM));
+        let centre_px = (
+            PLOT_WIDTH / 2.0,
+            PROFILE_TOP + PROFILE_MARGIN + height / 2.0,
+        );
+        let zero = (
+            centre_px.0 - scale * (u0 + u1) / 2.0,
+            centre_px.1 + scale * (v0 + v1) / 2.0,
+        );
+        Fit { scale, zero }
+    }
+
+    /// Pixel position of view coordinates (v pointing up).
+    fn map(&self, c: (f64, f64)) -> (f64, f64) {
+        (
+            self.zero.0 + self.scale * c.0,
+            self.zero.1 - self.scale * c.1,
+        )
+    }
+}
+
+/// A point as a nalgebra vector.
+fn vec3(a: [f64; 3]) -> Vec3 {
+    Vec3::new(a[0], a[1], a[2])
+}
+
+/// The nominal point moved along its normal by `offset` mm.
+fn along_normal(point: &PointReport, offset: f64) -> Vec3 {
+    vec3(point.nominal) + vec3(point.normal) * offset
+}
+
+/// Deviation amplification: the largest of |deviation| and |tolerance|
+/// becomes about [`NEEDLE_FRACTION`] of the drawing's extent.
+fn amplification(feature: &FeatureReport, points: &[&PointReport], view: &View) -> f64 {
+    let coords: Vec<(f64, f64)> = points
+        .iter()
+        .map(|p| view.project(&vec3(p.nominal)))
+        .collect();
+    let (u0, u1) = range(coords.iter().map(|c| c.0)).unwrap_or((0.0, 0.0));
+    let (v0, v1) = range(coords.iter().map(|c| c.1)).unwrap_or((0.0, 0.0));
+    let extent = (u1 - u0).max(v1 - v0).max(MIN_EXTENT_MM);
+    let tol = feature.tolerance_mm;
+    let devs = points.iter().map(|p| p.deviation_mm.abs());
+    let largest = devs
+        .chain([tol.lower.abs(), tol.upper.abs()])
+        .fold(0.0, f64::max);
+    nice_floor(NEEDLE_FRACTION * extent / largest)
+}
+
+/// The profile plot of a feature (see the module documentation): nominal
+/// polyline, dashed tolerance limits and needles of length deviation x
+/// amplification, green inside and red outside the tolerance.
+pub fn profile_plot(feature: &FeatureReport) -> String {
+    let title = format!("{}: profile with amplified deviations", feature.name);
+    let finite = |a: [f64; 3]| a.iter().all(|c| c.is_finite());
+    let points: Vec<&PointReport> = feature
+        .points
+        .iter()
+        .filter(|p| finite(p.nominal) && finite(p.normal) && p.deviation_mm.is_finite())
+        .collect();
+    if points.is_empty() {
+        return empty_plot(
+            PLOT_WIDTH,
+            PROFILE_HEIGHT / 4.0,
+            &title,
+            "no points measured",
+        );
+    }
+    let nominals: Vec<Vec3> = points.iter().map(|p| vec3(p.nominal)).collect();
+    let view = View::principal(&nominals);
+    let amp = amplification(feature, &points, &view);
+    let layers = Layers::new(feature, &points, &view, amp);
+    let mut svg = Svg::new(PLOT_WIDTH, PROFILE_HEIGHT, &title);
+    layers.draw(&mut svg, feature.kind != "touch_points");
+    draw_captions(&mut svg, &view, amp, layers.fit.scale);
+    svg.finish()
+}
+
+/// The projected geometry of a profile plot, in view coordinates (mm).
+struct Layers {
+    nominal: Vec<(f64, f64)>,
+    needle_ends: Vec<(f64, f64)>,
+    upper: Vec<(f64, f64)>,
+    lower: Vec<(f64, f64)>,
+    outside: Vec<bool>,
+    fit: Fit,
+}
+
+impl Layers {
+    /// Projects the nominal points, needle ends and tolerance limits.
+    fn new(feature: &FeatureReport, points: &[&PointReport], view: &View, amp: f64) -> Layers {
+        let tol = feature.tolerance_mm;
+        let shifted = |offset: &dyn Fn(&PointReport) -> f64| -> Vec<(f64, f64)> {
+            points
+                .iter()
+                .map(|p| view.project(&along_normal(p, offset(p) * amp)))
+                .collect()
+        };
+        let nominal = shifted(&|_| 0.0);
+        let needle_ends = shifted(&|p| p.deviation_mm);
+        let upper = shifted(&|_| tol.upper);
+        let lower = shifted(&|_| tol.lower);
+        let outside = points
+            .iter()
+            .map(|p| out_of_tolerance(p.deviation_mm, tol))
+            .collect();
+        let all: Vec<(f64, f64)> = [&nominal, &needle_ends, &upper, &lower]
+            .into_iter()
+            .flatten()
+            .copied()
+            .collect();
+        let fit = Fit::new(&all);
+        Layers {
+            nominal,
+            needle_ends,
+            upper,
+            lower,
+            outside,
+            fit,
+        }
+    }
+
+    /// Draws the layers; `section` joins the points into polylines.
+    fn draw(&self, svg: &mut Svg, section: bool) {
+        let px = |coords: &[(f64, f64)]| -> Vec<(f64, f64)> {
+            coords.iter().map(|c| self.fit.map(*c)).collect()
+        };
+        if section {
+            svg.polyline(&px(&self.upper), "tol-line");
+            svg.polyline(&px(&self.lower), "tol-line");
+            svg.polyline(&px(&self.nominal), "nominal");
+        }
+        let needles = self
+            .nominal
+            .iter()
+            .zip(&self.needle_ends)
+            .zip(&self.outside);
+        for ((start, end), out) in needles {
+            let class = if *out { "needle-out" } else { "needle-in" };
+            svg.line(self.fit.map(*start), self.fit.map(*end), class);
+        }
+        if !section {
+            for c in &self.nominal {
+                svg.circle(self.fit.map(*c), 2.5, "nominal-pt");
+            }
+        }
+    }
+}
+
+/// The amplification statement, the view axes and a scale bar.
+fn draw_captions(svg: &mut Svg, view: &View, amp: f64, scale: f64) {
+    let factor = if amp >= 1.0 {
+        fixed(amp, 0)
+    } else {
+        amp.to_string()
+    };
+    let first = format!(
+        "deviations amplified x{factor}: needles along the nominal normal (green in, red out of tolerance); dashed: tolerance limits x{factor}"
+    );
+    svg.text((10.0, 18.0), "start", "legend", &first);
+    let dir = |d: Vec3| format!("({}, {}, {})", fixed(d.x, 3), fixed(d.y, 3), fixed(d.z, 3));
+    let second = format!(
+        "view: right = {}, up = {} (principal directions of the nominal points)",
+        dir(view.u),
+        dir(view.v)
+    );
+    svg.text((10.0, 36.0), "start", "legend", &second);
+    let bar_mm = nice_floor(PLOT_WIDTH / 5.0 / scale);
+    let bar_px = bar_mm * scale;
+    let (x, y) = (PLOT_WIDTH - PROFILE_MARGIN - bar_px, PROFILE_HEIGHT - 12.0);
+    svg.line((x, y), (x + bar_px, y), "scale");
+    svg.text(
+        (x + bar_px / 2.0, y - 6.0),
+        "middle",
+        "tick",
+        &format!("{} mm", bar_mm),
+    );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn principal_view_of_a_tilted_circle_spans_its_plane() {
+        let normal = Vec3::new(1.0, 1.0, 1.0).normalize();
+        let a = normal.cross(&Vec3::x()).normalize();
+        let b = normal.cross(&a);
+        let points: Vec<Vec3> = (0..36)
+            .map(|k| {
+                let t = k as f64 * std::f64::consts::PI / 18.0;
+                Vec3::new(5.0, 0.0, 0.0) + (a * t.cos() + b * t.sin()) * 10.0
+            })
+            .collect();
+        let view = View::principal(&points);
+        assert!(view.u.dot(&normal).abs() < 1e-9);
+        assert!(view.v.dot(&normal).abs() < 1e-9);
+        assert!(view.u.dot(&view.v).abs() < 1e-9);
+        assert!((view.origin - Vec3::new(5.0, 0.0, 0.0)).norm() < 1e-9);
+    }
+
+    #[test]
+    fn canonical_sign_makes_the_largest_component_positive() {
+        assert_eq!(
+            canonical_sign(Vec3::new(0.1, -0.9, 0.0)),
+            Vec3::new(-0.1, 0.9, 0.0)
+        );
+    }
+}
