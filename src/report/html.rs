@@ -24,6 +24,7 @@ th, td { border: 1px solid #ccc; padding: 3px 8px; text-align: right; }
 th { background: #f0f0f0; }
 td.name, th.name, td.text { text-align: left; }
 table.meta td { text-align: left; border: none; padding: 2px 12px 2px 0; }
+table.meta td:first-child { white-space: nowrap; vertical-align: top; }
 .pass { background: #d7f5d7; color: #145214; }
 .fail { background: #f8d0d0; color: #8a1010; font-weight: bold; }
 .incomplete { background: #fde8b0; color: #7a5200; font-weight: bold; }

@@ -9,6 +9,8 @@ use super::svg::{empty_plot, padded, range, Frame, Svg, MARGIN_BOTTOM, MARGIN_TO
 pub const PLOT_WIDTH: f64 = 1000.0;
 /// Height of the deviation plot, px.
 pub const DEVIATION_HEIGHT: f64 = 300.0;
+/// Height of a placeholder plot that only says why it is empty, px.
+pub const EMPTY_PLOT_HEIGHT: f64 = 80.0;
 /// Radius of a point marker in the deviation plot, px.
 const MARKER_RADIUS: f64 = 2.5;
 /// Fraction of the data range added above and below, so markers stay inside.
@@ -62,7 +64,7 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 pub fn deviation_plot(feature: &FeatureReport) -> String {
     let title = format!("{}: deviation along the section", feature.name);
     if feature.points.is_empty() {
-        return empty_plot(PLOT_WIDTH, DEVIATION_HEIGHT, &title, "no points measured");
+        return empty_plot(PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, "no points measured");
     }
     let (xs, x_title) = positions(feature);
     let tol = feature.tolerance_mm;
@@ -161,7 +163,12 @@ fn timeline_height(feature: &FeatureReport) -> f64 {
 pub fn timeline_plot(feature: &FeatureReport) -> String {
     let title = format!("{}: attempts and corrections", feature.name);
     if feature.attempts.is_empty() {
-        return empty_plot(PLOT_WIDTH, 80.0, &title, "no measuring attempt");
+        return empty_plot(
+            PLOT_WIDTH,
+            EMPTY_PLOT_HEIGHT,
+            &title,
+            "no measuring attempt",
+        );
     }
     let height = timeline_height(feature);
     let spans = attempt_spans(feature);
@@ -210,9 +217,9 @@ fn label_place(frame: &Frame, left: f64, right: f64) -> (f64, &'static str) {
     if right - left >= LABEL_PX {
         (left + 6.0, "start")
     } else if frame.x.px_hi - right >= LABEL_PX {
-        (right + 6.0, "start")
+        (right + 10.0, "start")
     } else {
-        (left - 6.0, "end")
+        (left - 10.0, "end")
     }
 }
 
@@ -229,8 +236,7 @@ fn draw_corrections(
         let time = spans.get(k).or(spans.last()).map_or(0.0, |s| s.1);
         let x = frame.x.map(time);
         svg.line((x, top), (x, bottom), "corr-line");
-        let d = 6.0;
-        let y = top + 2.0 + d;
+        let (d, y) = (6.0, top - 10.0);
         svg.polygon(&[(x, y - d), (x + d, y), (x, y + d), (x - d, y)], "corr");
         svg.text(
             (x + d + 2.0, y + 4.0),

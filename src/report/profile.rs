@@ -5,12 +5,15 @@ use nalgebra::SymmetricEigen;
 
 use super::markup::fixed;
 use super::model::{FeatureReport, PointReport};
-use super::plots::{out_of_tolerance, PLOT_WIDTH};
+use super::plots::{out_of_tolerance, EMPTY_PLOT_HEIGHT, PLOT_WIDTH};
 use super::svg::{empty_plot, nice_floor, range, Svg};
 use crate::math::{Mat3, Vec3};
 
-/// Height of the profile plot, px (its width is [`PLOT_WIDTH`]).
+/// Largest height of the profile plot, px (its width is [`PLOT_WIDTH`]);
+/// a flat profile gets a lower plot, since both axes share one scale.
 pub const PROFILE_HEIGHT: f64 = 460.0;
+/// Smallest height of the drawing area of the profile plot, px.
+const MIN_DRAWING_HEIGHT: f64 = 80.0;
 /// Space kept free around the drawing inside the plot, px.
 const PROFILE_MARGIN: f64 = 30.0;
 /// Space for the two text lines at the top of the plot, px.
@@ -19,6 +22,9 @@ const PROFILE_TOP: f64 = 44.0;
 /// the drawing's larger extent; the amplification factor is rounded down
 /// to 1, 2 or 5 times a power of ten and stated in the plot.
 const NEEDLE_FRACTION: f64 = 0.08;
+/// A section is drawn closed when its end gap is at most this many median
+/// point spacings.
+const CLOSING_GAP: f64 = 1.5;
 /// Smallest extent of the drawing, mm (a single point still gets a scale).
 const MIN_EXTENT_MM: f64 = 1.0;
 
@@ -37,8 +43,10 @@ pub struct View {
 impl View {
     /// The plane spanned by the two largest principal directions of the
     /// points (eigenvectors of their 3x3 covariance), each with its largest
-    /// component made positive so the view does not flip between runs.
-    /// Without points: the x-y plane.
+    /// component made positive, so that the view does not flip between runs
+    /// and "up" is the positive sense of the dominant axis (a section in the
+    /// x-z plane shows +z up). Viewed from either side, a planar section is
+    /// shown undistorted. Without points: the x-y plane.
     pub fn principal(points: &[Vec3]) -> View {
         if points.is_empty() {
             return View {
@@ -85,6 +93,27 @@ fn canonical_sign(v: Vec3) -> Vec3 {
     }
 }
 
+/// Whether a section closes on itself: its ends are no farther apart than
+/// [`CLOSING_GAP`] times the median spacing of its points.
+fn is_closed(points: &[Vec3]) -> bool {
+    let mut steps: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
+    steps.sort_by(f64::total_cmp);
+    let median = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    let gap = match (points.first(), points.last()) {
+        (Some(a), Some(b)) => (b - a).norm(),
+        _ => f64::INFINITY,
+    };
+    points.len() >= 3 && gap <= CLOSING_GAP * median
+}
+
+/// Coordinates with the first appended when the curve is closed.
+fn closed_if(coords: Vec<(f64, f64)>, closed: bool) -> Vec<(f64, f64)> {
+    match (closed, coords.first().copied()) {
+        (true, Some(first)) => coords.into_iter().chain([first]).collect(),
+        _ => coords,
+    }
+}
+
 /// Equal-scale map from view coordinates (mm) into the plot's pixels.
 #[derive(Debug, Clone, Copy)]
 struct Fit {
@@ -92,6 +121,8 @@ struct Fit {
     scale: f64,
     /// Pixel position of view coordinate (0, 0).
     zero: (f64, f64),
+    /// Height of the whole plot, px.
+    height: f64,
 }
 
 impl Fit {
@@ -100,9 +131,9 @@ impl Fit {
         let (u0, u1) = range(coords.iter().map(|c| c.0)).unwrap_or((0.0, 0.0));
         let (v0, v1) = range(coords.iter().map(|c| c.1)).unwrap_or((0.0, 0.0));
         let width = PLOT_WIDTH - 2.0 * PROFILE_MARGIN;
-        let height = PROFILE_HEIGHT - PROFILE_TOP - 2.0 * PROFILE_MARGIN;
-        let scale =
-            (width / (u1 - u0).max(MIN_EXTENT_MM)).min(height / (v1 - v0).max(MIN_EXTENT_MM));
+        let most = PROFILE_HEIGHT - PROFILE_TOP - 2.0 * PROFILE_MARGIN;
+        let scale = (width / (u1 - u0).max(MIN_EXTENT_MM)).min(most / (v1 - v0).max(MIN_EXTENT_MM));
+        let height = (scale * (v1 - v0)).clamp(MIN_DRAWING_HEIGHT, most);
         let centre_px = (
             PLOT_WIDTH / 2.0,
             PROFILE_TOP + PROFILE_MARGIN + height / 2.0,
@@ -111,7 +142,11 @@ impl Fit {
             centre_px.0 - scale * (u0 + u1) / 2.0,
             centre_px.1 + scale * (v0 + v1) / 2.0,
         );
-        Fit { scale, zero }
+        Fit {
+            scale,
+            zero,
+            height: height + PROFILE_TOP + 2.0 * PROFILE_MARGIN,
+        }
     }
 
     /// Pixel position of view coordinates (v pointing up).
@@ -163,20 +198,15 @@ pub fn profile_plot(feature: &FeatureReport) -> String {
         .filter(|p| finite(p.nominal) && finite(p.normal) && p.deviation_mm.is_finite())
         .collect();
     if points.is_empty() {
-        return empty_plot(
-            PLOT_WIDTH,
-            PROFILE_HEIGHT / 4.0,
-            &title,
-            "no points measured",
-        );
+        return empty_plot(PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, "no points measured");
     }
     let nominals: Vec<Vec3> = points.iter().map(|p| vec3(p.nominal)).collect();
     let view = View::principal(&nominals);
     let amp = amplification(feature, &points, &view);
     let layers = Layers::new(feature, &points, &view, amp);
-    let mut svg = Svg::new(PLOT_WIDTH, PROFILE_HEIGHT, &title);
+    let mut svg = Svg::new(PLOT_WIDTH, layers.fit.height, &title);
     layers.draw(&mut svg, feature.kind != "touch_points");
-    draw_captions(&mut svg, &view, amp, layers.fit.scale);
+    draw_captions(&mut svg, &view, amp, &layers.fit);
     svg.finish()
 }
 
@@ -187,6 +217,7 @@ struct Layers {
     upper: Vec<(f64, f64)>,
     lower: Vec<(f64, f64)>,
     outside: Vec<bool>,
+    closed: bool,
     fit: Fit,
 }
 
@@ -214,20 +245,26 @@ impl Layers {
             .copied()
             .collect();
         let fit = Fit::new(&all);
+        let nominals: Vec<Vec3> = points.iter().map(|p| vec3(p.nominal)).collect();
+        let closed = is_closed(&nominals);
         Layers {
             nominal,
             needle_ends,
             upper,
             lower,
             outside,
+            closed,
             fit,
         }
     }
 
     /// Draws the layers; `section` joins the points into polylines.
     fn draw(&self, svg: &mut Svg, section: bool) {
-        let px = |coords: &[(f64, f64)]| -> Vec<(f64, f64)> {
-            coords.iter().map(|c| self.fit.map(*c)).collect()
+        let px = |coords: &[(f64, f64)]| {
+            closed_if(
+                coords.iter().map(|c| self.fit.map(*c)).collect(),
+                self.closed,
+            )
         };
         if section {
             svg.polyline(&px(&self.upper), "tol-line");
@@ -252,7 +289,7 @@ impl Layers {
 }
 
 /// The amplification statement, the view axes and a scale bar.
-fn draw_captions(svg: &mut Svg, view: &View, amp: f64, scale: f64) {
+fn draw_captions(svg: &mut Svg, view: &View, amp: f64, fit: &Fit) {
     let factor = if amp >= 1.0 {
         fixed(amp, 0)
     } else {
@@ -269,14 +306,14 @@ fn draw_captions(svg: &mut Svg, view: &View, amp: f64, scale: f64) {
         dir(view.v)
     );
     svg.text((10.0, 36.0), "start", "legend", &second);
-    let bar_mm = nice_floor(PLOT_WIDTH / 5.0 / scale);
-    let bar_px = bar_mm * scale;
-    let (x, y) = (PLOT_WIDTH - PROFILE_MARGIN - bar_px, PROFILE_HEIGHT - 12.0);
+    let bar_mm = nice_floor(PLOT_WIDTH / 5.0 / fit.scale);
+    let bar_px = bar_mm * fit.scale;
+    let (x, y) = (PLOT_WIDTH - PROFILE_MARGIN - bar_px, fit.height - 12.0);
     svg.line((x, y), (x + bar_px, y), "scale");
     svg.text(
         (x + bar_px / 2.0, y - 6.0),
         "middle",
-        "tick",
+        "tick-label",
         &format!("{} mm", bar_mm),
     );
 }
@@ -301,6 +338,8 @@ mod tests {
         assert!(view.v.dot(&normal).abs() < 1e-9);
         assert!(view.u.dot(&view.v).abs() < 1e-9);
         assert!((view.origin - Vec3::new(5.0, 0.0, 0.0)).norm() < 1e-9);
+        assert!(is_closed(&points));
+        assert!(!is_closed(&points[..30]));
     }
 
     #[test]

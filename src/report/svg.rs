@@ -157,10 +157,10 @@ pub fn padded(lo: f64, hi: f64, fraction: f64) -> (f64, f64) {
     if !(lo.is_finite() && hi.is_finite()) || hi < lo {
         return (-0.5, 0.5);
     }
-    let pad = (hi - lo) * fraction;
-    if pad <= 0.0 {
+    if hi == lo {
         return (lo - 0.5, hi + 0.5);
     }
+    let pad = (hi - lo) * fraction.max(0.0);
     (lo - pad, hi + pad)
 }
 
@@ -273,7 +273,7 @@ impl Frame {
             svg.text(
                 (x, y0 + 18.0),
                 "middle",
-                "tick",
+                "tick-label",
                 &fixed(value, step_decimals(step)),
             );
         }
@@ -288,7 +288,7 @@ impl Frame {
             svg.line((x0, y), (x1, y), "grid");
             svg.line((x0 - TICK_PX, y), (x0, y), "tick");
             let label = fixed(value, step_decimals(step));
-            svg.text((x0 - 8.0, y + 4.0), "end", "tick", &label);
+            svg.text((x0 - 8.0, y + 4.0), "end", "tick-label", &label);
         }
     }
 }
@@ -316,6 +316,7 @@ mod tests {
     #[test]
     fn degenerate_ranges_are_widened() {
         assert_eq!(padded(3.0, 3.0, 0.1), (2.5, 3.5));
+        assert_eq!(padded(0.0, 2.0, 0.0), (0.0, 2.0));
         assert_eq!(padded(f64::NAN, 1.0, 0.1), (-0.5, 0.5));
         assert_eq!(range([].into_iter()), None);
     }
