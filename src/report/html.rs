@@ -3,7 +3,9 @@
 
 use super::markup::{escape, fixed, json_name};
 use super::model::{FeatureReport, Report};
-use super::plots::{correction_text, deviation_plot, out_of_tolerance, timeline_plot};
+use super::plots::{
+    correction_text, deviation_plot, out_of_tolerance, outside_count, timeline_plot,
+};
 use super::profile::profile_plot;
 
 /// Decimals of deviations and tolerances (mm) in tables: 0.1 um.
@@ -85,43 +87,49 @@ fn status_badge(status: &impl serde::Serialize) -> String {
 
 /// Title and run facts.
 fn header(report: &Report) -> String {
-    let probe = &report.probe;
     let rows = [
         ("Status", status_badge(&report.status)),
         ("Seed", report.seed.to_string()),
-        (
-            "Machine time",
-            format!("{} s", fixed(report.machine_time_s, TIME_DECIMALS)),
-        ),
+        ("Machine time", seconds(report.machine_time_s)),
         (
             "Ideal machine and probe",
-            if report.ideal {
-                "yes (no simulated errors or noise)"
-            } else {
-                "no"
-            }
-            .to_string(),
+            ideal_text(report.ideal).to_string(),
         ),
-        (
-            "Probe",
-            format!(
-                "{}; tip radius {} mm; probe vector {} mm",
-                escape(&probe.source),
-                fixed(probe.tip_radius_mm, MATRIX_DECIMALS),
-                vector(probe.probe_vector_mm)
-            ),
-        ),
+        ("Probe", probe_text(report)),
         ("Part to machine", placement(report)),
     ];
-    let mut out = format!(
-        "<h1>Inspection report: {}</h1>\n<table class=\"meta\">\n",
-        escape(&report.program)
-    );
+    let program = escape(&report.program);
+    let mut out = format!("<h1>Inspection report: {program}</h1>\n<table class=\"meta\">\n");
     for (key, value) in rows {
         out.push_str(&format!("<tr><td><b>{key}</b></td><td>{value}</td></tr>\n"));
     }
     out.push_str("</table>\n");
     out
+}
+
+/// A machine time, `12.34 s`.
+fn seconds(time: f64) -> String {
+    format!("{} s", fixed(time, TIME_DECIMALS))
+}
+
+/// What `--ideal` means, in words.
+fn ideal_text(ideal: bool) -> &'static str {
+    if ideal {
+        "yes (no simulated errors or noise)"
+    } else {
+        "no"
+    }
+}
+
+/// Probe source, tip radius and probe vector (escaped).
+fn probe_text(report: &Report) -> String {
+    let probe = &report.probe;
+    format!(
+        "{}; tip radius {} mm; probe vector {} mm",
+        escape(&probe.source),
+        fixed(probe.tip_radius_mm, MATRIX_DECIMALS),
+        vector(probe.probe_vector_mm)
+    )
 }
 
 /// `(x, y, z)` with fixed decimals.
@@ -157,42 +165,46 @@ fn summary(report: &Report) -> String {
 /// One row of the feature table.
 fn summary_row(index: usize, f: &FeatureReport) -> String {
     let (s, t) = (f.deviation_mm, f.tolerance_mm);
-    let has_points = !f.points.is_empty();
-    let cell = |value: f64, out: bool| match (has_points, out) {
-        (false, _) => "<td>-</td>".to_string(),
-        (true, true) => format!(
-            "<td class=\"out\">&#9650; {}</td>",
-            fixed(value, MM_DECIMALS)
-        ),
-        (true, false) => format!("<td>{}</td>", fixed(value, MM_DECIMALS)),
-    };
-    let outside = f
-        .points
-        .iter()
-        .filter(|p| out_of_tolerance(p.deviation_mm, t))
-        .count();
-    let outside_cell = if outside > 0 {
-        format!("<td class=\"out\">{outside}</td>")
+    let status = json_name(&f.status);
+    let link = format!("<a href=\"#feature-{}\">{}</a>", index + 1, escape(&f.name));
+    let outside = outside_count(f);
+    let cells = [
+        td("name", &link),
+        td("text", &escape(f.kind)),
+        td(&status, &status),
+        td("", &f.points.len().to_string()),
+        stat_cell(f, s.min, s.min < t.lower),
+        stat_cell(f, s.max, s.max > t.upper),
+        stat_cell(f, s.mean, out_of_tolerance(s.mean, t)),
+        stat_cell(f, s.rms, false),
+        td("", &format!("{}..{}", mm(t.lower), mm(t.upper))),
+        td(if outside > 0 { "out" } else { "" }, &outside.to_string()),
+        td("", &f.attempts.len().to_string()),
+    ];
+    format!("<tr>{}</tr>\n", cells.concat())
+}
+
+/// A table cell with an optional class; `content` is markup.
+fn td(class: &str, content: &str) -> String {
+    if class.is_empty() {
+        format!("<td>{content}</td>")
     } else {
-        "<td>0</td>".to_string()
-    };
-    format!(
-        "<tr><td class=\"name\"><a href=\"#feature-{}\">{}</a></td><td class=\"text\">{}</td>\
-         <td class=\"{}\">{}</td><td>{}</td>{}{}{}{}<td>{}..{}</td>{outside_cell}<td>{}</td></tr>\n",
-        index + 1,
-        escape(&f.name),
-        escape(f.kind),
-        json_name(&f.status),
-        json_name(&f.status),
-        f.points.len(),
-        cell(s.min, s.min < t.lower),
-        cell(s.max, s.max > t.upper),
-        cell(s.mean, out_of_tolerance(s.mean, t)),
-        cell(s.rms, false),
-        fixed(t.lower, MM_DECIMALS),
-        fixed(t.upper, MM_DECIMALS),
-        f.attempts.len()
-    )
+        format!("<td class=\"{class}\">{content}</td>")
+    }
+}
+
+/// A deviation statistic: `-` without points, marked when out of tolerance.
+fn stat_cell(feature: &FeatureReport, value: f64, out: bool) -> String {
+    match (feature.points.is_empty(), out) {
+        (true, _) => td("", "-"),
+        (false, true) => td("out", &format!("&#9650; {}", mm(value))),
+        (false, false) => td("", &mm(value)),
+    }
+}
+
+/// A length in mm with [`MM_DECIMALS`] decimals.
+fn mm(value: f64) -> String {
+    fixed(value, MM_DECIMALS)
 }
 
 /// A feature's heading, notes, corrections and its three plots.

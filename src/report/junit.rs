@@ -3,6 +3,7 @@
 
 use super::markup::{escape, fixed, json_name};
 use super::model::{FeatureReport, Report, Verdict};
+use super::plots::outside_count;
 
 /// Decimals of times (s) in the XML.
 const TIME_DECIMALS: usize = 3;
@@ -131,27 +132,18 @@ fn testcase(classname: &str, feature: &FeatureReport) -> String {
 fn failure(feature: &FeatureReport) -> String {
     let (s, t) = (feature.deviation_mm, feature.tolerance_mm);
     let mm = |v: f64| fixed(v, MM_DECIMALS);
-    let outside = feature
-        .points
-        .iter()
-        .filter(|p| p.deviation_mm < t.lower || p.deviation_mm > t.upper)
-        .count();
     let message = format!(
-        "deviation {}..{} mm outside tolerance {}..{} mm ({outside} of {} points)",
+        "deviation {}..{} mm outside tolerance {}..{} mm ({} of {} points)",
         mm(s.min),
         mm(s.max),
         mm(t.lower),
         mm(t.upper),
+        outside_count(feature),
         feature.points.len()
     );
     let body = format!("mean {} mm, rms {} mm", mm(s.mean), mm(s.rms));
-    element(
-        "failure",
-        "out_of_tolerance",
-        &message,
-        &body,
-        &feature.notes,
-    )
+    let kind = "out_of_tolerance";
+    element("failure", kind, &message, &body, &feature.notes)
 }
 
 /// `<error>`: how the last attempt ended, and the notes.

@@ -6,7 +6,7 @@ use nalgebra::SymmetricEigen;
 use super::markup::fixed;
 use super::model::{FeatureReport, PointReport};
 use super::plots::{out_of_tolerance, EMPTY_PLOT_HEIGHT, PLOT_WIDTH};
-use super::svg::{empty_plot, nice_floor, range, Svg};
+use super::svg::{empty_plot, nice_floor, range, step_decimals, Svg};
 use crate::math::{Mat3, Vec3};
 
 /// Largest height of the profile plot, px (its width is [`PLOT_WIDTH`]);
@@ -25,6 +25,8 @@ const NEEDLE_FRACTION: f64 = 0.08;
 /// A section is drawn closed when its end gap is at most this many median
 /// point spacings.
 const CLOSING_GAP: f64 = 1.5;
+/// Radius of a nominal touch point's dot, px.
+const NOMINAL_DOT_PX: f64 = 2.5;
 /// Smallest extent of the drawing, mm (a single point still gets a scale).
 const MIN_EXTENT_MM: f64 = 1.0;
 
@@ -55,14 +57,8 @@ impl View {
                 v: Vec3::y(),
             };
         }
-        let n = points.len() as f64;
-        let origin = points.iter().sum::<Vec3>() / n;
-        let cov = points
-            .iter()
-            .map(|p| (p - origin) * (p - origin).transpose())
-            .sum::<Mat3>()
-            / n;
-        let eigen = SymmetricEigen::new(cov);
+        let origin = points.iter().sum::<Vec3>() / points.len() as f64;
+        let eigen = SymmetricEigen::new(covariance(points, &origin));
         let mut order = [0usize, 1, 2];
         order.sort_by(|a, b| eigen.eigenvalues[*b].total_cmp(&eigen.eigenvalues[*a]));
         let axis = |k: usize| canonical_sign(eigen.eigenvectors.column(order[k]).into_owned());
@@ -78,6 +74,12 @@ impl View {
         let d = p - self.origin;
         (d.dot(&self.u), d.dot(&self.v))
     }
+}
+
+/// The covariance matrix of points about their centroid `origin`.
+fn covariance(points: &[Vec3], origin: &Vec3) -> Mat3 {
+    let outer = |p: &Vec3| (p - origin) * (p - origin).transpose();
+    points.iter().map(outer).sum::<Mat3>() / points.len().max(1) as f64
 }
 
 /// The vector or its negative, whichever has its largest component positive.
@@ -239,14 +241,8 @@ impl Layers {
             .iter()
             .map(|p| out_of_tolerance(p.deviation_mm, tol))
             .collect();
-        let all: Vec<(f64, f64)> = [&nominal, &needle_ends, &upper, &lower]
-            .into_iter()
-            .flatten()
-            .copied()
-            .collect();
-        let fit = Fit::new(&all);
-        let nominals: Vec<Vec3> = points.iter().map(|p| vec3(p.nominal)).collect();
-        let closed = is_closed(&nominals);
+        let fit = Fit::new(&[&nominal[..], &needle_ends, &upper, &lower].concat());
+        let closed = is_closed(&points.iter().map(|p| vec3(p.nominal)).collect::<Vec<_>>());
         Layers {
             nominal,
             needle_ends,
@@ -260,62 +256,64 @@ impl Layers {
 
     /// Draws the layers; `section` joins the points into polylines.
     fn draw(&self, svg: &mut Svg, section: bool) {
-        let px = |coords: &[(f64, f64)]| {
-            closed_if(
-                coords.iter().map(|c| self.fit.map(*c)).collect(),
-                self.closed,
-            )
-        };
         if section {
-            svg.polyline(&px(&self.upper), "tol-line");
-            svg.polyline(&px(&self.lower), "tol-line");
-            svg.polyline(&px(&self.nominal), "nominal");
+            svg.polyline(&self.pixels(&self.upper), "tol-line");
+            svg.polyline(&self.pixels(&self.lower), "tol-line");
+            svg.polyline(&self.pixels(&self.nominal), "nominal");
         }
-        let needles = self
-            .nominal
-            .iter()
-            .zip(&self.needle_ends)
-            .zip(&self.outside);
-        for ((start, end), out) in needles {
-            let class = if *out { "needle-out" } else { "needle-in" };
-            svg.line(self.fit.map(*start), self.fit.map(*end), class);
-        }
+        self.draw_needles(svg);
         if !section {
             for c in &self.nominal {
-                svg.circle(self.fit.map(*c), 2.5, "nominal-pt");
+                svg.circle(self.fit.map(*c), NOMINAL_DOT_PX, "nominal-pt");
             }
+        }
+    }
+
+    /// A curve in pixels, closed when the section is.
+    fn pixels(&self, coords: &[(f64, f64)]) -> Vec<(f64, f64)> {
+        let pixels = coords.iter().map(|c| self.fit.map(*c)).collect();
+        closed_if(pixels, self.closed)
+    }
+
+    /// One needle per point, coloured by tolerance.
+    fn draw_needles(&self, svg: &mut Svg) {
+        let ends = self.nominal.iter().zip(&self.needle_ends);
+        for ((start, end), out) in ends.zip(&self.outside) {
+            let class = if *out { "needle-out" } else { "needle-in" };
+            svg.line(self.fit.map(*start), self.fit.map(*end), class);
         }
     }
 }
 
 /// The amplification statement, the view axes and a scale bar.
 fn draw_captions(svg: &mut Svg, view: &View, amp: f64, fit: &Fit) {
-    let factor = if amp >= 1.0 {
-        fixed(amp, 0)
-    } else {
-        amp.to_string()
-    };
-    let first = format!(
-        "deviations amplified x{factor}: needles along the nominal normal (green in, red out of tolerance); dashed: tolerance limits x{factor}"
-    );
-    svg.text((10.0, 18.0), "start", "legend", &first);
-    let dir = |d: Vec3| format!("({}, {}, {})", fixed(d.x, 3), fixed(d.y, 3), fixed(d.z, 3));
-    let second = format!(
-        "view: right = {}, up = {} (principal directions of the nominal points)",
-        dir(view.u),
-        dir(view.v)
-    );
-    svg.text((10.0, 36.0), "start", "legend", &second);
+    svg.text((10.0, 18.0), "start", "legend", &amplification_caption(amp));
+    svg.text((10.0, 36.0), "start", "legend", &view_caption(view));
     let bar_mm = nice_floor(PLOT_WIDTH / 5.0 / fit.scale);
     let bar_px = bar_mm * fit.scale;
     let (x, y) = (PLOT_WIDTH - PROFILE_MARGIN - bar_px, fit.height - 12.0);
     svg.line((x, y), (x + bar_px, y), "scale");
-    svg.text(
-        (x + bar_px / 2.0, y - 6.0),
-        "middle",
-        "tick-label",
-        &format!("{} mm", bar_mm),
-    );
+    let label = format!("{} mm", fixed(bar_mm, step_decimals(bar_mm)));
+    svg.text((x + bar_px / 2.0, y - 6.0), "middle", "tick-label", &label);
+}
+
+/// "deviations amplified x50: ...".
+fn amplification_caption(amp: f64) -> String {
+    let factor = fixed(amp, step_decimals(amp));
+    format!(
+        "deviations amplified x{factor}: needles along the nominal normal \
+         (green in, red out of tolerance); dashed: tolerance limits x{factor}"
+    )
+}
+
+/// "view: right = (...), up = (...)".
+fn view_caption(view: &View) -> String {
+    let dir = |d: Vec3| format!("({}, {}, {})", fixed(d.x, 3), fixed(d.y, 3), fixed(d.z, 3));
+    format!(
+        "view: right = {}, up = {} (principal directions of the nominal points)",
+        dir(view.u),
+        dir(view.v)
+    )
 }
 
 #[cfg(test)]
