@@ -57,6 +57,31 @@ fn html_is_deterministic_and_ignores_wall_time() {
     assert_eq!(report_html(&report()), report_html(&other));
 }
 
+#[test]
+fn html_draws_touch_points_against_the_point_index() {
+    let mut report = report();
+    report.features[0].kind = "touch_points";
+    let html = report_html(&report);
+    assert!(html.contains("point index"));
+    assert!(html.contains("class=\"nominal-pt\""));
+}
+
+#[test]
+fn html_survives_non_finite_values_and_an_empty_report() {
+    let mut report = report();
+    report.features[1].points[3].deviation_mm = f64::NAN;
+    report.features[1].points[4].nominal[0] = f64::INFINITY;
+    let html = report_html(&report);
+    let svgs: String = html.split("<svg").skip(1).collect();
+    for bad in ["NaN", "=\"inf", "=\"-inf", ",inf", ",-inf", "inf,"] {
+        assert!(!svgs.contains(bad), "{bad} in SVG");
+    }
+    report.features.clear();
+    let html = report_html(&report);
+    assert_eq!(html.matches("<svg").count(), 0);
+    assert!(html.contains("<table class=\"summary\">"));
+}
+
 /// Runs the browser, killing it after [`CHROMIUM_TIMEOUT`].
 fn screenshot(html: &Path, png: &Path, profile: &Path) -> bool {
     let mut child = Command::new(CHROMIUM)

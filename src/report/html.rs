@@ -31,6 +31,7 @@ table.meta td:first-child { white-space: nowrap; vertical-align: top; }
 .fail { background: #f8d0d0; color: #8a1010; font-weight: bold; }
 .incomplete { background: #fde8b0; color: #7a5200; font-weight: bold; }
 .status { padding: 2px 8px; border-radius: 3px; }
+td.pass, td.fail, td.incomplete { text-align: center; }
 td.out { background: #f8d0d0; color: #8a1010; font-weight: bold; }
 svg.plot { display: block; max-width: 100%; height: auto; margin: 4px 0; }
 svg text { font-family: sans-serif; font-size: 12px; fill: #222; }

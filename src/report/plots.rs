@@ -122,19 +122,27 @@ fn draw_band(svg: &mut Svg, frame: &Frame, tol: Tolerance) {
     svg.line((left, bottom), (right, bottom), "limit");
 }
 
-/// The deviation trace and one marker per point.
+/// The deviation trace and one marker per point (non-finite deviations
+/// are left out).
 fn draw_points(svg: &mut Svg, frame: &Frame, xs: &[f64], feature: &FeatureReport) {
-    let pixels: Vec<(f64, f64)> = xs
+    let tol = feature.tolerance_mm;
+    let shown: Vec<((f64, f64), bool)> = xs
         .iter()
         .zip(&feature.points)
-        .map(|(x, p)| frame.map(*x, p.deviation_mm))
+        .filter(|(_, p)| p.deviation_mm.is_finite())
+        .map(|(x, p)| {
+            (
+                frame.map(*x, p.deviation_mm),
+                out_of_tolerance(p.deviation_mm, tol),
+            )
+        })
         .collect();
     if feature.kind != "touch_points" {
-        svg.polyline(&pixels, "trace");
+        let trace: Vec<(f64, f64)> = shown.iter().map(|s| s.0).collect();
+        svg.polyline(&trace, "trace");
     }
-    for (pixel, point) in pixels.iter().zip(&feature.points) {
-        let out = out_of_tolerance(point.deviation_mm, feature.tolerance_mm);
-        svg.circle(*pixel, MARKER_RADIUS, if out { "pt-out" } else { "pt-in" });
+    for (pixel, out) in shown {
+        svg.circle(pixel, MARKER_RADIUS, if out { "pt-out" } else { "pt-in" });
     }
 }
 

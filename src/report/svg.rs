@@ -20,9 +20,10 @@ const TICK_PX: f64 = 5.0;
 /// Most ticks per axis.
 const MAX_TICKS: usize = 10;
 
-/// A pixel coordinate as text.
+/// A pixel coordinate as text; a non-finite value (callers leave such
+/// points out) becomes 0 so that the SVG stays valid.
 pub fn px(value: f64) -> String {
-    fixed(value, PX_DECIMALS)
+    fixed(if value.is_finite() { value } else { 0.0 }, PX_DECIMALS)
 }
 
 /// An SVG document under construction.
