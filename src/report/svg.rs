@@ -1,0 +1,324 @@
+//! Minimal hand-written SVG: a string builder, linear axes with "nice"
+//! ticks and a plot frame. Coordinates are written with fixed decimals so
+//! that the output is deterministic and diff-friendly. Styling is by CSS
+//! class (the classes are defined in the HTML page's stylesheet).
+
+use super::markup::{escape, fixed};
+
+/// Decimals of pixel coordinates.
+const PX_DECIMALS: usize = 2;
+/// Space between the plot area and the left SVG edge (tick labels), px.
+pub const MARGIN_LEFT: f64 = 70.0;
+/// Space between the plot area and the right SVG edge, px.
+pub const MARGIN_RIGHT: f64 = 20.0;
+/// Space above the plot area (title line), px.
+pub const MARGIN_TOP: f64 = 30.0;
+/// Space below the plot area (tick labels and axis title), px.
+pub const MARGIN_BOTTOM: f64 = 45.0;
+/// Length of a tick mark, px.
+const TICK_PX: f64 = 5.0;
+/// Most ticks per axis.
+const MAX_TICKS: usize = 10;
+
+/// A pixel coordinate as text; a non-finite value (callers leave such
+/// points out) becomes 0 so that the SVG stays valid.
+pub fn px(value: f64) -> String {
+    fixed(if value.is_finite() { value } else { 0.0 }, PX_DECIMALS)
+}
+
+/// An SVG document under construction.
+#[derive(Debug)]
+pub struct Svg {
+    out: String,
+}
+
+impl Svg {
+    /// Starts an inline `<svg>` of the given size (px) with an accessible title.
+    pub fn new(width: f64, height: f64, title: &str) -> Svg {
+        let (w, h) = (px(width), px(height));
+        let out = format!(
+            "<svg class=\"plot\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
+             role=\"img\"><title>{}</title>\n",
+            escape(title)
+        );
+        Svg { out }
+    }
+
+    /// A line segment.
+    pub fn line(&mut self, a: (f64, f64), b: (f64, f64), class: &str) {
+        self.out.push_str(&format!(
+            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" class=\"{class}\"/>\n",
+            px(a.0),
+            px(a.1),
+            px(b.0),
+            px(b.1)
+        ));
+    }
+
+    /// An axis-aligned rectangle from its top-left corner and size.
+    pub fn rect(&mut self, corner: (f64, f64), size: (f64, f64), class: &str) {
+        self.out.push_str(&format!(
+            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" class=\"{class}\"/>\n",
+            px(corner.0),
+            px(corner.1),
+            px(size.0.max(0.0)),
+            px(size.1.max(0.0))
+        ));
+    }
+
+    /// A circle.
+    pub fn circle(&mut self, centre: (f64, f64), radius: f64, class: &str) {
+        self.out.push_str(&format!(
+            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" class=\"{class}\"/>\n",
+            px(centre.0),
+            px(centre.1),
+            px(radius)
+        ));
+    }
+
+    /// An open polyline (nothing for fewer than two points).
+    pub fn polyline(&mut self, points: &[(f64, f64)], class: &str) {
+        if points.len() < 2 {
+            return;
+        }
+        let coords: Vec<String> = points
+            .iter()
+            .map(|(x, y)| format!("{},{}", px(*x), px(*y)))
+            .collect();
+        self.out.push_str(&format!(
+            "<polyline points=\"{}\" class=\"{class}\"/>\n",
+            coords.join(" ")
+        ));
+    }
+
+    /// A closed polygon.
+    pub fn polygon(&mut self, points: &[(f64, f64)], class: &str) {
+        let coords: Vec<String> = points
+            .iter()
+            .map(|(x, y)| format!("{},{}", px(*x), px(*y)))
+            .collect();
+        self.out.push_str(&format!(
+            "<polygon points=\"{}\" class=\"{class}\"/>\n",
+            coords.join(" ")
+        ));
+    }
+
+    /// Text; `anchor` is `start`, `middle` or `end`.
+    pub fn text(&mut self, at: (f64, f64), anchor: &str, class: &str, content: &str) {
+        self.out.push_str(&format!(
+            "<text x=\"{}\" y=\"{}\" text-anchor=\"{anchor}\" class=\"{class}\">{}</text>\n",
+            px(at.0),
+            px(at.1),
+            escape(content)
+        ));
+    }
+
+    /// Closes the element and returns the markup.
+    pub fn finish(mut self) -> String {
+        self.out.push_str("</svg>\n");
+        self.out
+    }
+}
+
+/// A placeholder plot that only says why there is nothing to draw.
+pub fn empty_plot(width: f64, height: f64, title: &str, message: &str) -> String {
+    let mut svg = Svg::new(width, height, title);
+    svg.rect((0.5, 0.5), (width - 1.0, height - 1.0), "frame");
+    svg.text((width / 2.0, height / 2.0), "middle", "note", message);
+    svg.finish()
+}
+
+/// A linear map from a data interval onto a pixel interval.
+#[derive(Debug, Clone, Copy)]
+pub struct Axis {
+    /// Data value at `px_lo`.
+    pub lo: f64,
+    /// Data value at `px_hi`.
+    pub hi: f64,
+    /// Pixel position of `lo`.
+    pub px_lo: f64,
+    /// Pixel position of `hi`.
+    pub px_hi: f64,
+}
+
+impl Axis {
+    /// The pixel position of a data value.
+    pub fn map(&self, value: f64) -> f64 {
+        let span = self.hi - self.lo;
+        if span.abs() < f64::MIN_POSITIVE || !span.is_finite() {
+            return (self.px_lo + self.px_hi) / 2.0;
+        }
+        self.px_lo + (value - self.lo) / span * (self.px_hi - self.px_lo)
+    }
+}
+
+/// The data range `[lo, hi]` widened by `fraction` of its width on each
+/// side; an empty or degenerate range becomes `value ± 0.5`.
+pub fn padded(lo: f64, hi: f64, fraction: f64) -> (f64, f64) {
+    if !(lo.is_finite() && hi.is_finite()) || hi < lo {
+        return (-0.5, 0.5);
+    }
+    if hi == lo {
+        return (lo - 0.5, hi + 0.5);
+    }
+    let pad = (hi - lo) * fraction.max(0.0);
+    (lo - pad, hi + pad)
+}
+
+/// The smallest and largest of some values (`None` for none or non-finite).
+pub fn range(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let (lo, hi) = values
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+            (lo.min(v), hi.max(v))
+        });
+    (lo <= hi).then_some((lo, hi))
+}
+
+/// The largest 1, 2 or 5 times a power of ten not above `value` (> 0).
+pub fn nice_floor(value: f64) -> f64 {
+    if !(value.is_finite() && value > 0.0) {
+        return 1.0;
+    }
+    let power = 10f64.powf(value.log10().floor());
+    let mantissa = value / power;
+    let step = [5.0, 2.0, 1.0].into_iter().find(|m| mantissa >= *m);
+    step.unwrap_or(1.0) * power
+}
+
+/// Tick step and ticks inside `[lo, hi]` (at most [`MAX_TICKS`] + 1).
+pub fn ticks(lo: f64, hi: f64) -> (f64, Vec<f64>) {
+    let mut step = nice_floor((hi - lo) / MAX_TICKS as f64);
+    while (hi - lo) / step > MAX_TICKS as f64 {
+        step = nice_floor(step * 2.5);
+    }
+    // The tolerance keeps ticks at the ends despite rounding (-0.06 / 0.02).
+    let first = (lo / step - 1e-9).ceil() as i64;
+    let last = (hi / step + 1e-9).floor() as i64;
+    let count = (last - first).clamp(-1, MAX_TICKS as i64 + 1);
+    let values = (0..=count).map(|k| (first + k) as f64 * step).collect();
+    (step, values)
+}
+
+/// Decimals needed to print multiples of `step` exactly.
+pub fn step_decimals(step: f64) -> usize {
+    let digits = -step.log10().floor();
+    if digits.is_finite() && digits > 0.0 {
+        digits as usize
+    } else {
+        0
+    }
+}
+
+/// A plot area of a given size with its x and y axes (y pointing up).
+#[derive(Debug, Clone, Copy)]
+pub struct Frame {
+    /// Horizontal axis.
+    pub x: Axis,
+    /// Vertical axis.
+    pub y: Axis,
+}
+
+impl Frame {
+    /// The plot area inside the standard margins of a `width` x `height` SVG.
+    pub fn new(width: f64, height: f64, x: (f64, f64), y: (f64, f64)) -> Frame {
+        let bottom = height - MARGIN_BOTTOM;
+        Frame {
+            x: Axis {
+                lo: x.0,
+                hi: x.1,
+                px_lo: MARGIN_LEFT,
+                px_hi: width - MARGIN_RIGHT,
+            },
+            y: Axis {
+                lo: y.0,
+                hi: y.1,
+                px_lo: bottom,
+                px_hi: MARGIN_TOP,
+            },
+        }
+    }
+
+    /// The pixel position of a data point.
+    pub fn map(&self, x: f64, y: f64) -> (f64, f64) {
+        (self.x.map(x), self.y.map(y))
+    }
+
+    /// Draws the frame box, ticks with labels and the axis titles.
+    pub fn draw_axes(&self, svg: &mut Svg, x_title: &str, y_title: &str) {
+        self.draw_x_axis(svg, x_title);
+        self.draw_y_ticks(svg);
+        svg.text(
+            (self.x.px_lo, self.y.px_hi - 10.0),
+            "start",
+            "axis",
+            y_title,
+        );
+    }
+
+    /// Draws the frame box and the x axis only (ticks, labels, title).
+    pub fn draw_x_axis(&self, svg: &mut Svg, x_title: &str) {
+        let (x0, x1, y0, y1) = (self.x.px_lo, self.x.px_hi, self.y.px_lo, self.y.px_hi);
+        svg.rect((x0, y1), (x1 - x0, y0 - y1), "frame");
+        self.draw_x_ticks(svg);
+        svg.text(((x0 + x1) / 2.0, y0 + 38.0), "middle", "axis", x_title);
+    }
+
+    /// Ticks and labels along the bottom edge.
+    fn draw_x_ticks(&self, svg: &mut Svg) {
+        let (step, values) = ticks(self.x.lo, self.x.hi);
+        let y0 = self.y.px_lo;
+        for value in values {
+            let x = self.x.map(value);
+            svg.line((x, y0), (x, y0 + TICK_PX), "tick");
+            svg.text(
+                (x, y0 + 18.0),
+                "middle",
+                "tick-label",
+                &fixed(value, step_decimals(step)),
+            );
+        }
+    }
+
+    /// Ticks, grid lines and labels along the left edge.
+    fn draw_y_ticks(&self, svg: &mut Svg) {
+        let (step, values) = ticks(self.y.lo, self.y.hi);
+        let (x0, x1) = (self.x.px_lo, self.x.px_hi);
+        for value in values {
+            let y = self.y.map(value);
+            svg.line((x0, y), (x1, y), "grid");
+            svg.line((x0 - TICK_PX, y), (x0, y), "tick");
+            let label = fixed(value, step_decimals(step));
+            svg.text((x0 - 8.0, y + 4.0), "end", "tick-label", &label);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nice_steps() {
+        assert_eq!(nice_floor(0.37), 0.2);
+        assert_eq!(nice_floor(7.0), 5.0);
+        assert_eq!(nice_floor(1.0), 1.0);
+        assert_eq!(nice_floor(0.0), 1.0);
+    }
+
+    #[test]
+    fn ticks_cover_range() {
+        let (step, values) = ticks(-0.06, 0.06);
+        assert!((step - 0.02).abs() < 1e-12);
+        assert_eq!(values.len(), 7);
+        assert_eq!(step_decimals(step), 2);
+    }
+
+    #[test]
+    fn degenerate_ranges_are_widened() {
+        assert_eq!(padded(3.0, 3.0, 0.1), (2.5, 3.5));
+        assert_eq!(padded(0.0, 2.0, 0.0), (0.0, 2.0));
+        assert_eq!(padded(f64::NAN, 1.0, 0.1), (-0.5, 0.5));
+        assert_eq!(range([].into_iter()), None);
+    }
+}
