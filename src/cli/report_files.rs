@@ -13,13 +13,9 @@ fn ensure_dir(dir: &Path) -> Result<(), CliError> {
     Ok(())
 }
 
-/// `report.json` (and the other writers' files) of one part.
+/// `report.json`, `points.csv`, `report.html` and `junit.xml` of one part.
 pub fn write_all(dir: &Path, report: &Report) -> Result<(), CliError> {
-    ensure_dir(dir)?;
-    let mut json = serde_json::to_string_pretty(report).unwrap_or_default();
-    json.push('\n');
-    write_atomic(&dir.join("report.json"), json.as_bytes())?;
-    Ok(())
+    Ok(crate::report::write_reports(dir, report)?)
 }
 
 /// `batch.json`: one row per part (folder, program, seed, status, times).
@@ -37,5 +33,13 @@ pub fn write_batch(dir: &Path, rows: &[(String, Option<Report>, String)]) -> Res
     let mut text = serde_json::to_string_pretty(&doc).unwrap_or_default();
     text.push('\n');
     write_atomic(&dir.join("batch.json"), text.as_bytes())?;
+    let reports: Vec<(String, Report)> = rows
+        .iter()
+        .filter_map(|(f, r, _)| r.clone().map(|r| (f.clone(), r)))
+        .collect();
+    write_atomic(
+        &dir.join("batch-junit.xml"),
+        crate::report::junit_batch(&reports).as_bytes(),
+    )?;
     Ok(())
 }
