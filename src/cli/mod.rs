@@ -97,6 +97,9 @@ pub enum CliError {
     /// An output file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
+    /// Arguments that do not go together.
+    #[error("{0}")]
+    Usage(String),
 }
 
 impl CliError {

@@ -3,9 +3,10 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
+use crate::host::trace::trace_csv;
 use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
 use crate::inspect::learned::CorrectionsFile;
-use crate::inspect::RunOptions;
+use crate::inspect::{run_program_traced, RunOptions};
 use crate::program::{load, Program};
 use crate::report::{Report, Verdict};
 
@@ -39,6 +40,10 @@ pub struct ScanArgs {
     /// Corrections learned across parts: read before, updated after.
     #[arg(long)]
     pub corrections: Option<PathBuf>,
+    /// Write the motion trace of every control cycle to this CSV file
+    /// (one part only).
+    #[arg(long)]
+    pub trace: Option<PathBuf>,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -80,7 +85,15 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
         ideal: args.ideal,
         ..RunOptions::default()
     };
-    let (results, updated) = run_batch(&programs, &parts, &base, &known, args.jobs);
+    if args.trace.is_some() && parts.len() != 1 {
+        return Err(CliError::Usage(
+            "--trace records one part: give one program and no --variants".into(),
+        ));
+    }
+    let (results, updated) = match (&args.trace, programs.first(), parts.first()) {
+        (Some(path), Some(program), Some(part)) => traced_run(program, part, &base, &known, path)?,
+        _ => run_batch(&programs, &parts, &base, &known, args.jobs),
+    };
     let single = parts.len() == 1;
     for (part, result) in parts.iter().zip(&results) {
         if let Ok((report, _)) = result {
@@ -103,6 +116,25 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     }
     print_summary(&results);
     Ok(status(&results))
+}
+
+fn traced_run(
+    program: &Program,
+    part: &Part,
+    base: &RunOptions,
+    known: &CorrectionsFile,
+    path: &std::path::Path,
+) -> Result<(Vec<PartResult>, CorrectionsFile), CliError> {
+    let opts = RunOptions {
+        seed: part.seed,
+        learned: known.for_program(&program.name),
+        ..base.clone()
+    };
+    let (report, learned, rows) = run_program_traced(program, &opts, true)?;
+    crate::output::write_atomic(path, trace_csv(&rows).as_bytes())?;
+    let mut updated = known.clone();
+    updated.merge(&report.program, &learned);
+    Ok((vec![Ok((report, learned))], updated))
 }
 
 fn part_dir(args: &ScanArgs, part: &Part, programs: &[Program]) -> String {

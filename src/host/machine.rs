@@ -45,4 +45,7 @@ pub trait Cmm {
     /// Commands the ball-centre velocity (mm/s, machine axes) for one cycle
     /// and returns the readings at its end.
     fn step(&mut self, velocity: Vec3) -> Readings;
+    /// The software's current trajectory error, for traces; machines that
+    /// keep no trace ignore it.
+    fn note_trajectory_error(&mut self, _dl_mm: f64) {}
 }

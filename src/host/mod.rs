@@ -13,3 +13,4 @@
 pub mod machine;
 pub mod modes;
 pub mod path;
+pub mod trace;

@@ -7,6 +7,7 @@ use super::supervisor::{scan_curve, SupervisorOptions};
 use super::{Ctx, CurveResult, LearnedSet};
 use crate::host::machine::Cmm;
 use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
+use crate::host::trace::{TraceRow, TracingCmm};
 use crate::math::{Point3, Vec3};
 use crate::program::{Feature, Program};
 use crate::report::{
@@ -68,6 +69,15 @@ const CLEARANCE_MM: f64 = 10.0;
 /// Runs every feature and evaluates the points; also returns what was
 /// learned per (feature, curve).
 pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, LearnedSet), RunError> {
+    run_program_traced(program, opts, false).map(|(r, l, _)| (r, l))
+}
+
+/// [`run_program`] that can also record a motion trace of every cycle.
+pub fn run_program_traced(
+    program: &Program,
+    opts: &RunOptions,
+    trace: bool,
+) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
     let wall = Instant::now();
     let truth = if opts.ideal {
         program.as_machined.clone().without_roughness()
@@ -113,6 +123,7 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
         ..opts.modes
     };
     let mut learned_out = Vec::new();
+    let mut traced = TracingCmm::new(&mut sim, trace);
     let features: Vec<FeatureReport> = program
         .features
         .iter()
@@ -121,7 +132,7 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
                 program,
                 &truth,
                 f,
-                &mut sim,
+                &mut traced,
                 host_probe,
                 &modes,
                 opts,
@@ -129,12 +140,14 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
             )
         })
         .collect();
+    let machine_time_s = traced.readings().time_s;
+    let rows = traced.into_rows();
     let report = Report {
         format: REPORT_FORMAT,
         program: program.name.clone(),
         seed: opts.seed,
         status: overall(&features),
-        machine_time_s: sim.readings().time_s,
+        machine_time_s,
         wall_time_s: wall.elapsed().as_secs_f64(),
         part_to_machine: part_to_machine(program),
         ideal: opts.ideal,
@@ -145,7 +158,7 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
         },
         features,
     };
-    Ok((report, learned_out))
+    Ok((report, learned_out, rows))
 }
 
 /// Ball-centre start above the middle of the part and the clearance height.

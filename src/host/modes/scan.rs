@@ -175,6 +175,7 @@ fn active(
             path.normal(s_loc),
         );
         let dl = (a0 - p).dot(&n_path);
+        cmm.note_trajectory_error(dl);
         *max_dl = f64::max(*max_dl, dl.abs());
         if dl.abs() > t.trajectory_tolerance_mm {
             return Err(Outcome::TrajectoryError);

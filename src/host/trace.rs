@@ -1,0 +1,115 @@
+//! Motion traces (`--trace FILE.csv`): every control cycle's time, scale
+//! positions, commanded and actual velocity, deflection reading and, during
+//! active scanning, the trajectory error. Recorded at the seam, so it shows
+//! exactly what the measuring software commanded and saw.
+use super::machine::{Cmm, Readings};
+use crate::math::{Point3, Vec3};
+
+/// One control cycle.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TraceRow {
+    /// Machine time, s.
+    pub t: f64,
+    /// Scale positions X, Y, Z, mm.
+    pub scales: Point3,
+    /// Commanded velocity, mm/s.
+    pub commanded: Vec3,
+    /// Actual velocity from the scales, mm/s.
+    pub actual: Vec3,
+    /// Deflection reading, mm.
+    pub deflection: Vec3,
+    /// Trajectory error dL, mm (NaN outside active scanning).
+    pub dl: f64,
+}
+
+/// A [`Cmm`] that records every cycle of the machine it wraps.
+pub struct TracingCmm<'a> {
+    inner: &'a mut dyn Cmm,
+    rows: Vec<TraceRow>,
+    enabled: bool,
+}
+
+impl<'a> TracingCmm<'a> {
+    /// Wraps `inner`; records only when `enabled`.
+    pub fn new(inner: &'a mut dyn Cmm, enabled: bool) -> TracingCmm<'a> {
+        TracingCmm {
+            inner,
+            rows: Vec::new(),
+            enabled,
+        }
+    }
+
+    /// The recorded rows.
+    pub fn into_rows(self) -> Vec<TraceRow> {
+        self.rows
+    }
+}
+
+impl Cmm for TracingCmm<'_> {
+    fn cycle_s(&self) -> f64 {
+        self.inner.cycle_s()
+    }
+
+    fn readings(&self) -> Readings {
+        self.inner.readings()
+    }
+
+    fn step(&mut self, velocity: Vec3) -> Readings {
+        let before = self.inner.readings();
+        let now = self.inner.step(velocity);
+        if self.enabled {
+            let dt = (now.time_s - before.time_s).max(f64::MIN_POSITIVE);
+            self.rows.push(TraceRow {
+                t: now.time_s,
+                scales: now.scales,
+                commanded: velocity,
+                actual: (now.scales - before.scales) / dt,
+                deflection: now.deflection,
+                dl: f64::NAN,
+            });
+        }
+        now
+    }
+
+    fn note_trajectory_error(&mut self, dl: f64) {
+        if let Some(last) = self.rows.last_mut() {
+            last.dl = dl;
+        }
+    }
+}
+
+/// Header of the trace CSV.
+pub const TRACE_HEADER: &str =
+    "t_s,x_mm,y_mm,z_mm,vx_cmd,vy_cmd,vz_cmd,vx,vy,vz,dx_mm,dy_mm,dz_mm,dl_mm";
+
+/// The trace as CSV (empty `dl_mm` where no trajectory error applies).
+pub fn trace_csv(rows: &[TraceRow]) -> String {
+    let mut out = String::with_capacity(rows.len() * 160 + 100);
+    out.push_str(TRACE_HEADER);
+    out.push('\n');
+    for r in rows {
+        let dl = if r.dl.is_finite() {
+            format!("{:.6}", r.dl)
+        } else {
+            String::new()
+        };
+        out.push_str(&format!(
+            "{:.4},{:.6},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{:.6},{}\n",
+            r.t,
+            r.scales.x,
+            r.scales.y,
+            r.scales.z,
+            r.commanded.x,
+            r.commanded.y,
+            r.commanded.z,
+            r.actual.x,
+            r.actual.y,
+            r.actual.z,
+            r.deflection.x,
+            r.deflection.y,
+            r.deflection.z,
+            dl
+        ));
+    }
+    out
+}
