@@ -133,11 +133,10 @@ fn passive(
 
 /// Planned speed at arc length `s` from the segment speeds.
 fn planned_speed(plan: &SpeedPlan, s: f64, a: f64) -> f64 {
-    let seg = plan
-        .segments()
-        .iter()
-        .find(|g| s <= g.s_end)
-        .or(plan.segments().last());
+    let segs = plan.segments();
+    let seg = segs
+        .get(segs.partition_point(|g| g.s_end < s))
+        .or(segs.last());
     seg.map_or(0.0, |g| {
         let up = (g.v_start_mm_s.powi(2) + 2.0 * a * (s - g.s_start).max(0.0)).sqrt();
         let down = (g.v_end_mm_s.powi(2) + 2.0 * a * (g.s_end - s).max(0.0)).sqrt();

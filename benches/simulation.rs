@@ -1,0 +1,135 @@
+//! Simulator speed: control cycles per second during active scanning of
+//! the blade (issue 3 target: >= 2 million per second on one core), and a
+//! whole error-correcting part with learned corrections.
+//!
+//! `cargo bench --bench simulation`
+use std::hint::black_box;
+use std::path::Path;
+
+use cmm::host::modes::{design_value_scan, HostProbe, ModeOptions, ScanKind, ScanTargets};
+use cmm::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+use cmm::inspect::{run_program, RunOptions};
+use cmm::math::{Point3, Vec3};
+use cmm::program::{load, Feature, Program};
+use cmm::world::cmm::{SimulatedCmm, TruePart};
+use cmm::world::machine::{MachineModel, MachineProfile};
+use cmm::world::probe::TrueProbe;
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+
+fn program(name: &str) -> Program {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("part-programs")
+        .join(name);
+    match load(&path) {
+        Ok(p) => p,
+        Err(e) => panic!("{e}"),
+    }
+}
+
+/// The z60 section's ball path and speed plan, machine frame.
+fn path_and_plan(p: &Program) -> (BallPath, SpeedPlan) {
+    let Some(Feature::Section {
+        curves, settings, ..
+    }) = p.features.first()
+    else {
+        panic!("no section")
+    };
+    let c = &curves[0];
+    let pts: Vec<(Point3, Vec3)> = c
+        .points
+        .iter()
+        .map(|q| {
+            (
+                p.placement.to_machine(q.point),
+                p.placement.dir_to_machine(q.normal),
+            )
+        })
+        .collect();
+    let path = BallPath::from_section(
+        &pts,
+        c.closed,
+        p.probe.tip_radius_mm - settings.deflection_mm,
+        PathOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    let plan = SpeedPlan::new(
+        &path,
+        &SpeedOptions {
+            speed_mm_s: settings.speed_mm_s,
+            ..SpeedOptions::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    (path, plan)
+}
+
+fn scan_once(p: &Program, path: &BallPath, plan: &SpeedPlan) -> f64 {
+    let part = TruePart {
+        workpiece: &p.workpiece,
+        as_machined: &p.as_machined,
+        pose: p.placement,
+    };
+    let pv = Vec3::new(0.0, 0.0, -p.probe.stylus_length_mm);
+    let probe = TrueProbe::realistic(pv, p.probe.tip_radius_mm);
+    let start = path.position(0.0) + path.normal(0.0) * 5.3 - pv;
+    let Ok(mut sim) = SimulatedCmm::new(
+        part,
+        MachineModel::default_bridge(),
+        MachineProfile::default(),
+        probe,
+        1,
+        start,
+    ) else {
+        panic!("sim")
+    };
+    let host = HostProbe {
+        probe_vector: pv,
+        tip_radius_mm: p.probe.tip_radius_mm,
+    };
+    let targets = ScanTargets {
+        deflection_mm: 0.3,
+        pitch_mm: 0.5,
+        trajectory_tolerance_mm: 1.5,
+    };
+    design_value_scan(
+        &mut sim,
+        host,
+        path,
+        plan,
+        ScanKind::Active,
+        targets,
+        &ModeOptions::default(),
+    )
+    .machine_time_s
+}
+
+fn bench(c: &mut Criterion) {
+    let p = program("blade-z60.json");
+    let (path, plan) = path_and_plan(&p);
+    let cycles = (scan_once(&p, &path, &plan) / 0.001).round() as u64;
+    let mut g = c.benchmark_group("simulation");
+    g.throughput(Throughput::Elements(cycles));
+    g.bench_function("active_scan_blade_z60_cycles", |b| {
+        b.iter(|| black_box(scan_once(&p, &path, &plan)))
+    });
+    g.finish();
+    let overcut = program("blade-overcut.json");
+    let Ok((_, learned)) = run_program(&overcut, &RunOptions::default()) else {
+        panic!("first part")
+    };
+    let opts = RunOptions {
+        learned,
+        seed: 2,
+        ..RunOptions::default()
+    };
+    c.bench_function("part_blade_overcut_with_learned_correction", |b| {
+        b.iter(|| black_box(run_program(&overcut, &opts).ok()))
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default().sample_size(10).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(3));
+    targets = bench
+}
+criterion_main!(benches);
