@@ -293,3 +293,26 @@ fn bore_undercut_across_the_seam_and_a_shift_on_two_arcs() {
         "both arcs have points"
     );
 }
+
+#[test]
+fn the_passive_variant_corrects_too() {
+    let r = run(
+        &program(
+            json!({ "form": [ { "kind": "offset", "mm": 1.5 } ] }),
+            json!([section("a", 60.0, "auto_passive")]),
+        ),
+        1,
+        true,
+    );
+    let o = outcomes(&r, 0);
+    assert_eq!(
+        o,
+        [
+            "passive:over_deflection",
+            "points:completed",
+            "passive:completed"
+        ],
+        "{o:?}"
+    );
+    assert_exact(&r, 0);
+}

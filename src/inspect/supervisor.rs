@@ -5,8 +5,8 @@
 use super::correction::{fit_correction, DesignPoint};
 use super::{Ctx, CurveResult};
 use crate::host::modes::{
-    autonomous_scan, design_value_scan, touch_point, Attempt, AutonomousTask, Measured, Outcome,
-    ScanKind, ScanTargets,
+    autonomous_scan, design_value_scan, move_through, recover, touch_point, Attempt,
+    AutonomousTask, Measured, Outcome, ScanKind, ScanTargets, Tracker,
 };
 use crate::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
 use crate::math::{Point3, Vec3};
@@ -66,12 +66,19 @@ pub fn scan_curve(
         Mode::Autonomous => {
             autonomous_attempt(ctx, &design, closed, &mut res);
         }
-        Mode::Auto => correcting(ctx, design, closed, &mut res),
+        Mode::Auto => correcting(ctx, design, closed, ScanKind::Active, &mut res),
+        Mode::AutoPassive => correcting(ctx, design, closed, ScanKind::Passive, &mut res),
     }
     res
 }
 
-fn correcting(ctx: &mut Ctx, mut design: Vec<DesignPoint>, closed: bool, res: &mut CurveResult) {
+fn correcting(
+    ctx: &mut Ctx,
+    mut design: Vec<DesignPoint>,
+    closed: bool,
+    kind: ScanKind,
+    res: &mut CurveResult,
+) {
     let mut flag = 0;
     let mut autonomous = 0;
     if let Some(learned) = ctx.learned.clone() {
@@ -79,7 +86,7 @@ fn correcting(ctx: &mut Ctx, mut design: Vec<DesignPoint>, closed: bool, res: &m
         res.corrections.push(learned.report());
     }
     loop {
-        let outcome = design_attempt(ctx, &design, closed, ScanKind::Active, res);
+        let outcome = design_attempt(ctx, &design, closed, kind, res);
         if outcome == Outcome::Completed || !correctable(outcome) {
             return;
         }
@@ -181,6 +188,7 @@ fn geometric(
     res: &mut CurveResult,
 ) -> Option<Vec<DesignPoint>> {
     let picks = spread(design, ctx.supervisor.touch_points);
+    let t0 = ctx.cmm.readings().time_s;
     let mut touched = Vec::new();
     let mut measured = Vec::new();
     let mut attempt = Attempt {
@@ -189,12 +197,15 @@ fn geometric(
         machine_time_s: 0.0,
         max_trajectory_error_mm: 0.0,
     };
-    for &i in &picks {
+    for (k, &i) in picks.iter().enumerate() {
         let d = design[i];
         let (p, n) = (
             ctx.pose.to_machine(d.point),
             ctx.pose.dir_to_machine(d.normal),
         );
+        if let Some(&prev) = k.checked_sub(1).and_then(|j| picks.get(j)) {
+            travel_outside(ctx, design, prev, i);
+        }
         let a = touch_point(
             ctx.cmm,
             ctx.probe,
@@ -212,6 +223,7 @@ fn geometric(
             attempt.outcome = a.outcome;
         }
     }
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     res.record("points", attempt);
     let fit = fit_correction(
         &touched,
@@ -234,6 +246,42 @@ fn geometric(
     });
     res.learned = Some(super::Learned::Geometric(c.clone()));
     Some(design.iter().map(|d| c.apply(d)).collect())
+}
+
+/// Spacing of waypoints when travelling around a section, mm.
+const TRAVEL_STEP_MM: f64 = 6.0;
+
+/// From the standoff position of design point `from` to that of `to`,
+/// following the design data offset outward by the ball radius plus the
+/// standoff (no detour over the part). Failures are left to the next
+/// touch point, which repositions by itself.
+fn travel_outside(ctx: &mut Ctx, design: &[DesignPoint], from: usize, to: usize) {
+    let clear = ctx.probe.tip_radius_mm + ctx.modes.standoff_mm;
+    let mut waypoints = Vec::new();
+    let mut since = 0.0;
+    for w in design.get(from..=to).unwrap_or(&[]).windows(2) {
+        since += (w[1].point - w[0].point).norm();
+        if since >= TRAVEL_STEP_MM {
+            waypoints.push(ctx.pose.to_machine(w[1].point + w[1].normal * clear));
+            since = 0.0;
+        }
+    }
+    if let Some(d) = design.get(to) {
+        waypoints.push(ctx.pose.to_machine(d.point + d.normal * clear));
+    }
+    let mut tr = Tracker::new(ctx.cmm, ctx.probe);
+    let moved = recover(ctx.cmm, &mut tr, &ctx.modes).and_then(|_| {
+        move_through(
+            ctx.cmm,
+            &mut tr,
+            &waypoints,
+            ctx.modes.rapid_speed_mm_s,
+            &ctx.modes,
+        )
+    });
+    if moved.is_err() {
+        let _ = recover(ctx.cmm, &mut tr, &ctx.modes);
+    }
 }
 
 fn autonomous_task(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {

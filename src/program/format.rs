@@ -88,6 +88,9 @@ impl Default for ProbeSpec {
 pub enum Mode {
     /// Error-correcting design-value scanning with automatic fallbacks.
     Auto,
+    /// The same with passive design-value scanning (a trajectory error is
+    /// lost contact or over-deflection).
+    AutoPassive,
     /// Active design-value scanning only.
     Active,
     /// Passive design-value scanning only.

@@ -8,7 +8,7 @@ mod scan;
 mod touch;
 
 pub use autonomous::{autonomous_scan, AutonomousTask};
-pub use motion::{move_to, recover, reposition, Tracker};
+pub use motion::{move_through, move_to, recover, reposition, Tracker};
 pub use scan::{design_value_scan, ScanKind, ScanTargets};
 pub use touch::touch_point;
 

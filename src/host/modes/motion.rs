@@ -130,8 +130,11 @@ pub fn reposition(
     let Some(z) = opts.clearance_z_mm else {
         return move_to(cmm, tr, target, speed, opts);
     };
-    let outside = target + approach * REPOSITION_OUTSIDE_MM;
     let here = tr.ball_undeflected();
+    if (here - target).norm() <= opts.standoff_mm {
+        return move_to(cmm, tr, target, speed, opts);
+    }
+    let outside = target + approach * REPOSITION_OUTSIDE_MM;
     if (here.xy() - outside.xy()).norm() > opts.arrive_tol_mm {
         move_to(
             cmm,
@@ -173,4 +176,47 @@ pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Resul
         }
     }
     Err(Outcome::Aborted)
+}
+
+/// Within this distance of a waypoint the move turns to the next one, mm.
+const WAYPOINT_PASS_MM: f64 = 1.0;
+
+/// Moves through `waypoints` without stopping at the intermediate ones
+/// (accelerations limited, braking only for the last), ending at rest on
+/// the last.
+pub fn move_through(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    waypoints: &[Point3],
+    speed: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    let Some((&last, via)) = waypoints.split_last() else {
+        return Ok(());
+    };
+    let dt = cmm.cycle_s();
+    let mut v_prev = Vec3::zeros();
+    for (k, &w) in via.iter().enumerate() {
+        for _ in 0..opts.max_cycles {
+            let err = w - tr.ball_undeflected();
+            if err.norm() <= WAYPOINT_PASS_MM {
+                break;
+            }
+            let rest: f64 = err.norm() + polyline_length(&waypoints[k..]);
+            let brake = (2.0 * opts.rapid_accel_mm_s2 * rest).sqrt();
+            let want = err.normalize() * speed.min(brake);
+            let dv = want - v_prev;
+            let max_dv = opts.rapid_accel_mm_s2 * dt;
+            let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
+            if let Some(o) = tr.step(cmm, v) {
+                return Err(o);
+            }
+            v_prev = v;
+        }
+    }
+    move_to(cmm, tr, last, speed, opts)
+}
+
+fn polyline_length(points: &[Point3]) -> f64 {
+    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
