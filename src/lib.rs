@@ -24,6 +24,7 @@ pub mod fit;
 pub mod geometry;
 pub mod host;
 pub mod inspect;
+pub mod jsonfile;
 pub mod math;
 pub mod output;
 pub mod pointfile;

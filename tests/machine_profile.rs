@@ -15,9 +15,8 @@ fn parse(text: &str) -> Result<MachineProfile, ProfileError> {
 
 fn json_path(err: &ProfileError) -> &str {
     match err {
-        ProfileError::Syntax { json_path, .. } | ProfileError::Invalid { json_path, .. } => {
-            json_path
-        }
+        ProfileError::Syntax(e) => &e.json_path,
+        ProfileError::Invalid { json_path, .. } => json_path,
         other => panic!("no JSON path in {other}"),
     }
 }

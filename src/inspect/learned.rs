@@ -46,20 +46,9 @@ pub enum CorrectionsError {
         /// The reason.
         source: std::io::Error,
     },
-    /// Malformed.
-    #[error("{file}:{line}:{column}: {json_path}: {reason}")]
-    Syntax {
-        /// The file.
-        file: PathBuf,
-        /// JSON path.
-        json_path: String,
-        /// Line.
-        line: usize,
-        /// Column.
-        column: usize,
-        /// What is wrong.
-        reason: String,
-    },
+    /// Not valid JSON, or a value of the wrong type or an unknown key.
+    #[error(transparent)]
+    Syntax(#[from] crate::jsonfile::JsonSyntaxError),
     /// Wrong format tag.
     #[error("{file}: $.format: unknown format '{found}', expected '{CORRECTIONS_FORMAT}'")]
     Format {
@@ -88,18 +77,7 @@ impl CorrectionsFile {
             file: path.to_path_buf(),
             source,
         })?;
-        let de = &mut serde_json::Deserializer::from_str(&text);
-        let file: CorrectionsFile = serde_path_to_error::deserialize(de).map_err(|e| {
-            let json_path = crate::workpiece::json_path(&e.path().to_string());
-            let inner = e.into_inner();
-            CorrectionsError::Syntax {
-                file: path.to_path_buf(),
-                json_path,
-                line: inner.line(),
-                column: inner.column(),
-                reason: crate::workpiece::strip_position(&inner.to_string()),
-            }
-        })?;
+        let file: CorrectionsFile = crate::jsonfile::parse_json(&text, path)?;
         if file.format != CORRECTIONS_FORMAT {
             return Err(CorrectionsError::Format {
                 file: path.to_path_buf(),

@@ -28,19 +28,8 @@ pub enum ProgramError {
         source: std::io::Error,
     },
     /// Not valid JSON, or a value of the wrong type or an unknown key.
-    #[error("{file}:{line}:{column}: {json_path}: {reason}")]
-    Syntax {
-        /// The file.
-        file: PathBuf,
-        /// JSON path of the offending value.
-        json_path: String,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong.
-        reason: String,
-    },
+    #[error(transparent)]
+    Syntax(#[from] crate::jsonfile::JsonSyntaxError),
     /// The content is invalid.
     #[error("{file}: {json_path}: {reason}")]
     Invalid {

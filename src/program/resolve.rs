@@ -7,7 +7,7 @@ use crate::geometry::section::section_faces;
 use crate::geometry::{Plane, SectionOptions};
 use crate::math::{rotation_xyz_deg, Point3, Vec3};
 use crate::workpiece::as_machined::AsMachined;
-use crate::workpiece::{json_path, strip_position, Workpiece};
+use crate::workpiece::Workpiece;
 
 /// Machine travel used to check that the part can be reached, mm
 /// (the embedded bridge CMM).
@@ -76,18 +76,7 @@ pub fn load(file: &Path) -> Result<Program, ProgramError> {
 }
 
 fn parse(text: &str, file: &Path) -> Result<ProgramFile, ProgramError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|err| {
-        let path = json_path(&err.path().to_string());
-        let inner = err.into_inner();
-        ProgramError::Syntax {
-            file: file.to_path_buf(),
-            json_path: path,
-            line: inner.line(),
-            column: inner.column(),
-            reason: strip_position(&inner.to_string()),
-        }
-    })
+    Ok(crate::jsonfile::parse_json(text, file)?)
 }
 
 /// Validates a parsed program; `file` locates relative paths and messages.

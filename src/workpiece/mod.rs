@@ -5,8 +5,7 @@
 pub mod as_machined;
 pub mod examples;
 pub mod format;
-pub(crate) mod validate;
-pub(crate) use validate::{json_path, strip_position};
+mod validate;
 
 use std::path::{Path, PathBuf};
 
@@ -27,20 +26,9 @@ pub enum WorkpieceError {
         /// The operating-system error.
         source: std::io::Error,
     },
-    /// The file is not valid JSON or does not match the format's types.
-    #[error("{file}:{line}:{column}: {json_path}: {reason}")]
-    Syntax {
-        /// The file.
-        file: PathBuf,
-        /// JSON path of the offending value, e.g. `$.surfaces[0].degree`.
-        json_path: String,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// What is wrong.
-        reason: String,
-    },
+    /// Not valid JSON, or a value of the wrong type or an unknown key.
+    #[error(transparent)]
+    Syntax(#[from] crate::jsonfile::JsonSyntaxError),
     /// The file parses but its content is invalid.
     #[error("{file}: {json_path}: {reason}")]
     Invalid {

@@ -7,36 +7,7 @@ use crate::geometry::{KnotError, NurbsError, NurbsSurface};
 
 /// Parses JSON text into the file types, reporting the JSON path on error.
 pub(super) fn parse(text: &str, file: &Path) -> Result<WorkpieceFile, WorkpieceError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    let parsed: Result<WorkpieceFile, _> = serde_path_to_error::deserialize(de);
-    parsed.map_err(|err| {
-        let json_path = json_path(&err.path().to_string());
-        let inner = err.into_inner();
-        WorkpieceError::Syntax {
-            file: file.to_path_buf(),
-            json_path,
-            line: inner.line(),
-            column: inner.column(),
-            reason: strip_position(&inner.to_string()),
-        }
-    })
-}
-
-/// `surfaces[0].degree` -> `$.surfaces[0].degree`; `.` -> `$`.
-pub(crate) fn json_path(raw: &str) -> String {
-    match raw {
-        "" | "." => "$".into(),
-        p if p.starts_with('[') => format!("${p}"),
-        p => format!("$.{p}"),
-    }
-}
-
-/// serde_json appends " at line L column C"; the position is reported apart.
-pub(crate) fn strip_position(msg: &str) -> String {
-    match msg.rfind(" at line ") {
-        Some(i) => msg[..i].to_string(),
-        None => msg.to_string(),
-    }
+    Ok(crate::jsonfile::parse_json(text, file)?)
 }
 
 fn invalid(file: &Path, json_path: String, reason: impl Into<String>) -> WorkpieceError {

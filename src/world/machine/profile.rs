@@ -115,20 +115,9 @@ pub enum ProfileError {
         /// The underlying error.
         source: std::io::Error,
     },
-    /// Not JSON, or not of the profile's shape (unknown key, wrong type).
-    #[error("{file}: {json_path} (line {line}, column {column}): {reason}")]
-    Syntax {
-        /// The profile file.
-        file: PathBuf,
-        /// Where, e.g. `$.linear.servo_lag_s`.
-        json_path: String,
-        /// 1-based line.
-        line: usize,
-        /// 1-based column.
-        column: usize,
-        /// The parser's message.
-        reason: String,
-    },
+    /// Not valid JSON, or a value of the wrong type or an unknown key.
+    #[error(transparent)]
+    Syntax(#[from] crate::jsonfile::JsonSyntaxError),
     /// The `format` tag is not [`PROFILE_FORMAT`].
     #[error("{file}: $.format: unknown format '{found}', expected '{PROFILE_FORMAT}'")]
     Format {

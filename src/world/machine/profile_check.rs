@@ -2,7 +2,6 @@
 use std::path::Path;
 
 use super::profile::{MachineProfile, ProfileError, PROFILE_FORMAT};
-use crate::workpiece::validate::{json_path, strip_position};
 
 /// What a number must satisfy.
 #[derive(Debug, Clone, Copy)]
@@ -35,18 +34,7 @@ impl Rule {
 
 /// Deserialises with JSON paths in error messages.
 pub(super) fn parse(text: &str, file: &Path) -> Result<MachineProfile, ProfileError> {
-    let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|err| {
-        let json_path = json_path(&err.path().to_string());
-        let inner = err.into_inner();
-        ProfileError::Syntax {
-            file: file.to_path_buf(),
-            json_path,
-            line: inner.line(),
-            column: inner.column(),
-            reason: strip_position(&inner.to_string()),
-        }
-    })
+    Ok(crate::jsonfile::parse_json(text, file)?)
 }
 
 /// Format tag and every number in range.
