@@ -26,6 +26,10 @@ pub struct AsMachinedError {
     pub reason: String,
 }
 
+/// Below this value of `|Qu x Qv| / (|Qu| |Qv|)` (the sine of the angle
+/// between the tangents) the as-machined normal comes from the nominal one.
+const NORMAL_CONDITION: f64 = 1e-6;
+
 /// The true (simulated) part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AsMachined {
@@ -263,12 +267,20 @@ impl AsMachined {
             .faces
             .get(face)
             .map_or(1.0, |f| if f.surface.is_reversed() { -1.0 } else { 1.0 });
-        let n = foot.d.su().cross(&foot.d.sv()) * sign;
-        let normal = n.try_normalize(0.0).unwrap_or_else(|| {
+        let (qu, qv) = (foot.d.su(), foot.d.sv());
+        let n = qu.cross(&qv) * sign;
+        // Near a pole Qu x Qv is ill-conditioned: use the nominal limit normal
+        // mapped by the transform (inverse transpose) instead.
+        let well_posed = n.norm() > NORMAL_CONDITION * qu.norm() * qv.norm() && n.norm() > 0.0;
+        let normal = if well_posed {
+            n.normalize()
+        } else {
             wp.faces.get(face).map_or(Vec3::z(), |f| {
-                self.linear * f.surface.normal(foot.uv.x, foot.uv.y)
+                let nominal = f.surface.normal(foot.uv.x, foot.uv.y);
+                let inv_t = self.linear.try_inverse().map_or(self.linear, |m| m.transpose());
+                (inv_t * nominal).try_normalize(1e-300).unwrap_or(nominal)
             })
-        });
+        };
         let point = foot.d.point();
         let distance = foot.dist2.sqrt();
         let signed = if (x - point).dot(&normal) < 0.0 {
