@@ -1,11 +1,13 @@
 //! `cmm scan PROGRAM.json... [--out DIR] [--seed N] [--jobs N] [--ideal]
-//! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]`.
+//! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]
+//! [--probe-cal FILE]`.
 use std::path::PathBuf;
 
 use super::{CliError, Status};
 use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
 use crate::inspect::learned::CorrectionsFile;
-use crate::inspect::RunOptions;
+use crate::calibrate::file::ProbeCalibration;
+use crate::inspect::{probe_calibration, RunOptions};
 use crate::program::{load, Program};
 use crate::report::{Report, Verdict};
 
@@ -39,6 +41,10 @@ pub struct ScanArgs {
     /// Corrections learned across parts: read before, updated after.
     #[arg(long)]
     pub corrections: Option<PathBuf>,
+    /// Probe calibration file (cmm-probe-cal/1) from `cmm calibrate-probe`;
+    /// overrides the programs' `probe.calibration`.
+    #[arg(long)]
+    pub probe_cal: Option<PathBuf>,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -78,8 +84,16 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     );
     let base = RunOptions {
         ideal: args.ideal,
+        probe_calibration: args
+            .probe_cal
+            .as_deref()
+            .map(ProbeCalibration::read)
+            .transpose()?,
         ..RunOptions::default()
     };
+    for program in &programs {
+        probe_calibration(program, &base)?;
+    }
     let (results, updated) = run_batch(&programs, &parts, &base, &known, args.jobs);
     let single = parts.len() == 1;
     for (part, result) in parts.iter().zip(&results) {
