@@ -83,8 +83,8 @@ pub struct Conditions {
     pub directions: Vec<String>,
     /// Scanning speed, mm/s.
     pub scan_speed_mm_s: f64,
-    /// Polynomial degree of the gain correction.
-    pub gain_degree: usize,
+    /// Gain correction terms (polynomial degree + 1; 0 = none).
+    pub gain_terms: usize,
     /// RMS of the ball-centre fit, mm.
     pub fit_residual_rms_mm: f64,
 }
@@ -230,7 +230,7 @@ fn conditions(cal: &Calibration, opts: &CalibrationOptions) -> Conditions {
             .map(|&c| super::direction_name(c).to_string())
             .collect(),
         scan_speed_mm_s: opts.scan_speed_mm_s,
-        gain_degree: cal.solved.gain_degree,
+        gain_terms: cal.solved.gain_terms,
         fit_residual_rms_mm: cal.solved.residual_rms_mm,
     }
 }
@@ -359,14 +359,14 @@ impl Checker<'_> {
         let mut out = DeflectionCorrection::identity();
         self.count(c.gain.len(), "$.deflection_correction.gain")?;
         for (k, m) in c.gain.iter().enumerate() {
-            let rows = m.iter().enumerate().flat_map(|(i, r)| {
-                r.iter().enumerate().map(move |(j, v)| (i, j, *v))
-            });
+            let rows = m
+                .iter()
+                .enumerate()
+                .flat_map(|(i, r)| r.iter().enumerate().map(move |(j, v)| (i, j, *v)));
             let mut mat = Mat3::zeros();
             for (i, j, v) in rows {
-                mat[(i, j)] = self.finite(v, || {
-                    format!("$.deflection_correction.gain[{k}][{i}][{j}]")
-                })?;
+                mat[(i, j)] =
+                    self.finite(v, || format!("$.deflection_correction.gain[{k}][{i}][{j}]"))?;
             }
             if let Some(slot) = out.gain.get_mut(k) {
                 *slot = mat;

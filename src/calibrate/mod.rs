@@ -120,7 +120,9 @@ pub enum CalibrateError {
     #[error("sphere fit: {0}")]
     Fit(#[from] crate::fit::FitError),
     /// The normal equations of the model are singular.
-    #[error("calibration model with {unknowns} unknowns is singular (too few conditions measured)")]
+    #[error(
+        "calibration model with {unknowns} unknowns is singular (too few conditions measured)"
+    )]
     Singular {
         /// Number of unknowns.
         unknowns: usize,
@@ -215,15 +217,25 @@ pub fn calibrate(
 }
 
 fn check(opts: &CalibrationOptions) -> Result<(), CalibrateError> {
-    let bad = |what, value, requirement| Err(CalibrateError::Option {
-        what,
-        value,
-        requirement,
-    });
+    let bad = |what, value, requirement| {
+        Err(CalibrateError::Option {
+            what,
+            value,
+            requirement,
+        })
+    };
     if !(opts.sphere_diameter_mm > 0.0 && opts.sphere_diameter_mm.is_finite()) {
-        return bad("sphere diameter", opts.sphere_diameter_mm, "finite and positive");
+        return bad(
+            "sphere diameter",
+            opts.sphere_diameter_mm,
+            "finite and positive",
+        );
     }
-    match opts.deflections_mm.iter().find(|d| !(**d > 0.0 && **d < 1.0)) {
+    match opts
+        .deflections_mm
+        .iter()
+        .find(|d| !(**d > 0.0 && **d < 1.0))
+    {
         Some(&d) => bad("scan deflection", d, "between 0 and 1 mm"),
         None => Ok(()),
     }
@@ -237,7 +249,12 @@ fn relocate(m: &Measured, probe: &HostProbe) -> Option<Point3> {
 /// Range of the touch points' residuals from their least-squares sphere.
 fn probing_error(touches: &[Measured], probe: &HostProbe) -> Result<f64, CalibrateError> {
     let points: Vec<Point3> = touches.iter().filter_map(|m| relocate(m, probe)).collect();
-    let report = fit(ElementKind::Sphere, Method::Lsq, &points, &FitOptions::default())?;
+    let report = fit(
+        ElementKind::Sphere,
+        Method::Lsq,
+        &points,
+        &FitOptions::default(),
+    )?;
     Ok(report.residuals.max - report.residuals.min)
 }
 
@@ -285,5 +302,8 @@ pub fn direction_name(ccw: bool) -> &'static str {
 
 /// The nominal probe of a tip diameter and a vertical stylus length, mm.
 pub fn nominal_probe(tip_diameter_mm: f64, stylus_length_mm: f64) -> HostProbe {
-    HostProbe::nominal(Vec3::new(0.0, 0.0, -stylus_length_mm), 0.5 * tip_diameter_mm)
+    HostProbe::nominal(
+        Vec3::new(0.0, 0.0, -stylus_length_mm),
+        0.5 * tip_diameter_mm,
+    )
 }

@@ -101,7 +101,14 @@ pub fn calibrate_simulated(
     } else {
         setup.profile.clone()
     };
-    let mut cmm = SimulatedCmm::new(part, setup.machine.clone(), profile, probe, setup.seed, start)?;
+    let mut cmm = SimulatedCmm::new(
+        part,
+        setup.machine.clone(),
+        profile,
+        probe,
+        setup.seed,
+        start,
+    )?;
     let cal = calibrate(&mut cmm, nominal, opts)?;
     Ok((cal, truth))
 }

@@ -7,8 +7,8 @@
 //! sphere radius, `r` the effective tip radius). Gauss-Newton on the
 //! orthogonal distances finds `c`, `r` and `E`; the probe vector is
 //! `P = P0 + (known sphere position - c)` (seed 003: the centre seen from
-//! the probe mount against the sphere's known position). The polynomial
-//! degree of `E` is limited by the number of distinct deflections measured.
+//! the probe mount against the sphere's known position). The number of
+//! gain terms is limited by the number of distinct deflections measured.
 //! Normal tilts per plane and direction then come from the angle between
 //! the corrected deflection and the sphere's normal at the ball.
 use nalgebra::{DMatrix, DVector};
@@ -33,8 +33,8 @@ pub struct Solved {
     pub correction: DeflectionCorrection,
     /// RMS of the ball-centre distances from the fitted sphere, mm.
     pub residual_rms_mm: f64,
-    /// Polynomial degree used for the gain correction.
-    pub gain_degree: usize,
+    /// Gain correction terms used (polynomial degree + 1; 0 = none).
+    pub gain_terms: usize,
     /// Gauss-Newton iterations.
     pub iterations: usize,
 }
@@ -53,16 +53,16 @@ pub fn solve(
         .iter()
         .chain(data.scans.iter().flat_map(|s| s.samples.iter()))
         .collect();
-    let degree = gain_degree(data, opts);
+    let terms = gain_terms(data, opts);
     let (mut centre, mut r) = start(&data.touches, p0, opts)?;
     let mut gain = [Mat3::zeros(); CORRECTION_TERMS];
     let mut iterations = 0;
     while iterations < opts.max_iterations {
         iterations += 1;
-        let step = gauss_newton_step(&samples, p0, centre, r, &gain, degree, opts)?;
+        let step = gauss_newton_step(&samples, p0, centre, r, &gain, terms, opts)?;
         centre += Vec3::new(step[0], step[1], step[2]);
         r += step[3];
-        apply_gain_step(&mut gain, &step, degree);
+        apply_gain_step(&mut gain, &step, terms);
         if step.amax() <= opts.step_tolerance_mm {
             break;
         }
@@ -80,7 +80,7 @@ pub fn solve(
         tip_radius_mm: r,
         correction,
         residual_rms_mm,
-        gain_degree: degree,
+        gain_terms: terms,
         iterations,
     })
 }
@@ -91,14 +91,15 @@ pub fn rms(values: impl Iterator<Item = f64>) -> f64 {
     (sum / n.max(1) as f64).sqrt()
 }
 
-/// Distinct deflections measured (touch trigger and scan targets), minus one,
-/// capped by the model's degree.
-fn gain_degree(data: &SphereReadings, opts: &CalibrationOptions) -> usize {
+/// Gain terms `E_0 .. E_{n-1}` the data can carry: the radial effect of the
+/// gain is `dp (e_0 + e_1 dp + ..)` beside the constant tip radius, so `n`
+/// terms need `n + 1` distinct deflections (touch trigger and scan targets).
+fn gain_terms(data: &SphereReadings, opts: &CalibrationOptions) -> usize {
     let mut levels: Vec<f64> = data.scans.iter().map(|s| s.deflection_mm).collect();
     levels.push(opts.modes.trigger_mm);
     levels.sort_by(f64::total_cmp);
     levels.dedup_by(|a, b| (*a - *b).abs() < opts.level_tolerance_mm);
-    (levels.len().max(1) - 1).min(CORRECTION_TERMS - 1)
+    (levels.len().max(1) - 1).min(CORRECTION_TERMS)
 }
 
 /// Start values: least-squares sphere through the touch-point ball centres.
@@ -107,11 +108,13 @@ fn start(
     p0: Vec3,
     opts: &CalibrationOptions,
 ) -> Result<(Point3, f64), CalibrateError> {
-    let balls: Vec<Point3> = touches
-        .iter()
-        .map(|m| m.scales + p0 + m.reading)
-        .collect();
-    let report = fit(ElementKind::Sphere, Method::Lsq, &balls, &FitOptions::default())?;
+    let balls: Vec<Point3> = touches.iter().map(|m| m.scales + p0 + m.reading).collect();
+    let report = fit(
+        ElementKind::Sphere,
+        Method::Lsq,
+        &balls,
+        &FitOptions::default(),
+    )?;
     match report.element {
         Element::Sphere(s) => Ok((s.center, s.radius - opts.sphere_radius())),
         _ => Err(CalibrateError::NotConverged {
@@ -147,16 +150,16 @@ fn gauss_newton_step(
     centre: Point3,
     r: f64,
     gain: &[Mat3; CORRECTION_TERMS],
-    degree: usize,
+    terms: usize,
     opts: &CalibrationOptions,
 ) -> Result<DVector<f64>, CalibrateError> {
-    let cols = 4 + 6 * (degree + 1);
+    let cols = 4 + 6 * terms;
     let mut jtj = DMatrix::<f64>::zeros(cols, cols);
     let mut jtf = DVector::<f64>::zeros(cols);
     for m in samples {
         let v = ball_offset(m, p0, centre, gain);
         let u = v.try_normalize(1e-12).unwrap_or_else(Vec3::z);
-        let row = jacobian_row(m, &u, degree, cols);
+        let row = jacobian_row(m, &u, terms, cols);
         let f = v.norm() - opts.sphere_radius() - r;
         jtj += &row * row.transpose();
         jtf += &row * f;
@@ -168,12 +171,12 @@ fn gauss_newton_step(
     Ok(step)
 }
 
-fn jacobian_row(m: &Measured, u: &Vec3, degree: usize, cols: usize) -> DVector<f64> {
+fn jacobian_row(m: &Measured, u: &Vec3, terms: usize, cols: usize) -> DVector<f64> {
     let mut row = DVector::<f64>::zeros(cols);
     row.rows_mut(0, 3).copy_from(&(-u));
     row[3] = -1.0;
     let (rd, dp) = (m.reading, m.reading.norm());
-    for k in 0..=degree {
+    for k in 0..terms {
         let scale = dp.powi(k as i32);
         for (j, &(a, b)) in SYM.iter().enumerate() {
             let g = if a == b {
@@ -187,8 +190,8 @@ fn jacobian_row(m: &Measured, u: &Vec3, degree: usize, cols: usize) -> DVector<f
     row
 }
 
-fn apply_gain_step(gain: &mut [Mat3; CORRECTION_TERMS], step: &DVector<f64>, degree: usize) {
-    for (k, e) in gain.iter_mut().enumerate().take(degree + 1) {
+fn apply_gain_step(gain: &mut [Mat3; CORRECTION_TERMS], step: &DVector<f64>, terms: usize) {
+    for (k, e) in gain.iter_mut().enumerate().take(terms) {
         for (j, &(a, b)) in SYM.iter().enumerate() {
             let delta = step[4 + 6 * k + j];
             e[(a, b)] += delta;

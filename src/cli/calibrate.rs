@@ -87,7 +87,9 @@ fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) {
     for s in &cal.scans {
         println!(
             "{:<3} {:<4} {:>17.3} {:>9} {:>10.5} {:>9.5} {:>10.5} {:>9.5}",
-            serde_json::to_string(&s.plane).unwrap_or_default().trim_matches('"'),
+            serde_json::to_string(&s.plane)
+                .unwrap_or_default()
+                .trim_matches('"'),
             s.direction,
             s.deflection_mm,
             s.points,

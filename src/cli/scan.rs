@@ -4,9 +4,9 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
+use crate::calibrate::file::ProbeCalibration;
 use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
 use crate::inspect::learned::CorrectionsFile;
-use crate::calibrate::file::ProbeCalibration;
 use crate::inspect::{probe_calibration, RunOptions};
 use crate::program::{load, Program};
 use crate::report::{Report, Verdict};

@@ -105,7 +105,10 @@ impl DeflectionCorrection {
 
     /// The gain correction matrix `E(|m|)` at deflection amount `dp` (mm).
     pub fn gain_at(&self, dp: f64) -> Mat3 {
-        self.gain.iter().rev().fold(Mat3::zeros(), |acc, e| acc * dp + e)
+        self.gain
+            .iter()
+            .rev()
+            .fold(Mat3::zeros(), |acc, e| acc * dp + e)
     }
 
     /// Corrected deflection vector for the raw reading `m`, mm.

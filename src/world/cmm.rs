@@ -6,10 +6,10 @@ use rand::SeedableRng;
 use super::machine::{AxisKind, MachineModel, MachineProfile, Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
+use crate::geometry::ProjectionError;
 use crate::host::machine::{Cmm, MachineStatus, Readings};
 use crate::math::{Point3, Vec2, Vec3};
 use crate::program::Pose;
-use crate::geometry::ProjectionError;
 use crate::workpiece::as_machined::{AsMachined, TrueProjection};
 use crate::workpiece::Workpiece;
 
