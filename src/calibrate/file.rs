@@ -358,33 +358,28 @@ impl Checker<'_> {
     fn correction(&self, c: &CorrectionJson) -> Result<DeflectionCorrection, ProbeCalError> {
         let mut out = DeflectionCorrection::identity();
         self.count(c.gain.len(), "$.deflection_correction.gain")?;
-        for (k, m) in c.gain.iter().enumerate() {
-            let rows = m
-                .iter()
-                .enumerate()
-                .flat_map(|(i, r)| r.iter().enumerate().map(move |(j, v)| (i, j, *v)));
-            let mut mat = Mat3::zeros();
-            for (i, j, v) in rows {
-                mat[(i, j)] =
-                    self.finite(v, || format!("$.deflection_correction.gain[{k}][{i}][{j}]"))?;
-            }
-            if let Some(slot) = out.gain.get_mut(k) {
-                *slot = mat;
-            }
+        for ((k, m), slot) in c.gain.iter().enumerate().zip(out.gain.iter_mut()) {
+            *slot = self.matrix(m, &format!("$.deflection_correction.gain[{k}]"))?;
         }
         let t = &c.tilt_rad;
-        for (axis, (name, plane)) in [("yz", &t.yz), ("xz", &t.xz), ("xy", &t.xy)]
+        for ((name, plane), slot) in [("yz", &t.yz), ("xz", &t.xz), ("xy", &t.xy)]
             .into_iter()
-            .enumerate()
+            .zip(out.tilt.iter_mut())
         {
-            for (dir, (dname, poly)) in [("cw", &plane.cw), ("ccw", &plane.ccw)]
-                .into_iter()
-                .enumerate()
-            {
-                let path = format!("$.deflection_correction.tilt_rad.{name}.{dname}");
-                if let Some(slot) = out.tilt.get_mut(axis).and_then(|p| p.get_mut(dir)) {
-                    *slot = self.poly(poly, &path)?;
-                }
+            let path = format!("$.deflection_correction.tilt_rad.{name}");
+            *slot = [
+                self.poly(&plane.cw, &format!("{path}.cw"))?,
+                self.poly(&plane.ccw, &format!("{path}.ccw"))?,
+            ];
+        }
+        Ok(out)
+    }
+
+    fn matrix(&self, m: &[[f64; 3]; 3], path: &str) -> Result<Mat3, ProbeCalError> {
+        let mut out = Mat3::zeros();
+        for (i, row) in m.iter().enumerate() {
+            for (j, v) in row.iter().enumerate() {
+                out[(i, j)] = self.finite(*v, || format!("{path}[{i}][{j}]"))?;
             }
         }
         Ok(out)
