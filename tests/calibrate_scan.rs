@@ -166,3 +166,36 @@ fn simulation_truth_is_accepted_and_ignored() {
     let cal = cmm::calibrate::file::ProbeCalibration::read(&file).unwrap();
     assert_eq!(cal.probe.tip_radius_mm, 1.5);
 }
+
+#[test]
+fn program_probe_calibration_is_used_and_checked() {
+    let dir = tempfile::tempdir().unwrap();
+    let cal = dir.path().join("cal.json");
+    calibrate(&cal, &["--ideal"]);
+    let text = std::fs::read_to_string(repo("part-programs/blade-z60.json")).unwrap();
+    let wp = s(&repo("workpieces/blade.json"));
+    let with_cal = |name: &str| {
+        text.replace("../workpieces/blade.json", &wp).replace(
+            "\"stylus_length_mm\": 50 }",
+            &format!("\"stylus_length_mm\": 50, \"calibration\": \"{name}\" }}"),
+        )
+    };
+    let program = dir.path().join("p.json");
+    std::fs::write(&program, with_cal("cal.json")).unwrap();
+    let report = scan(&program, None, &dir.path().join("ok"));
+    assert!(report["probe"]["source"]
+        .as_str()
+        .unwrap()
+        .ends_with("cal.json"));
+    std::fs::write(dir.path().join("bad.json"), "{}").unwrap();
+    std::fs::write(&program, with_cal("bad.json")).unwrap();
+    let o = cmm(&[
+        "scan",
+        &s(&program),
+        "--quiet",
+        "--out",
+        &s(&dir.path().join("bad")),
+    ]);
+    assert_eq!(o.status.code(), Some(2), "{o:?}");
+    assert!(String::from_utf8_lossy(&o.stderr).contains("bad.json"));
+}

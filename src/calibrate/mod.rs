@@ -117,7 +117,7 @@ pub enum CalibrateError {
         outcome: Outcome,
     },
     /// The sphere fit failed.
-    #[error("sphere fit: {0}")]
+    #[error("sphere fit")]
     Fit(#[from] crate::fit::FitError),
     /// The normal equations of the model are singular.
     #[error(

@@ -51,13 +51,13 @@ pub struct ProbeTruth {
 #[derive(Debug, thiserror::Error)]
 pub enum SimulatedCalError {
     /// The sphere workpiece could not be built.
-    #[error("reference sphere: {0}")]
+    #[error("reference sphere")]
     Sphere(#[from] WorkpieceError),
     /// The simulator could not start.
-    #[error("cannot start the simulated machine: {0}")]
+    #[error("cannot start the simulated machine")]
     Machine(#[from] SimError),
     /// The calibration failed.
-    #[error("calibration: {0}")]
+    #[error("calibration failed")]
     Calibrate(#[from] CalibrateError),
 }
 
