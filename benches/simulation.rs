@@ -82,10 +82,7 @@ fn scan_once(p: &Program, path: &BallPath, plan: &SpeedPlan) -> f64 {
     ) else {
         panic!("sim")
     };
-    let host = HostProbe {
-        probe_vector: pv,
-        tip_radius_mm: p.probe.tip_radius_mm,
-    };
+    let host = HostProbe::nominal(pv, p.probe.tip_radius_mm);
     let targets = ScanTargets {
         deflection_mm: 0.3,
         pitch_mm: 0.5,

@@ -18,6 +18,7 @@
 //! Units: `f64` millimetres everywhere (see [`math`]).
 
 pub mod cad;
+pub mod calibrate;
 pub mod cli;
 pub mod evaluate;
 pub mod fit;

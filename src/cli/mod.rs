@@ -5,6 +5,7 @@ use clap::{Parser, Subcommand};
 use crate::output::WriteError;
 use crate::pointfile::PointsError;
 
+mod calibrate;
 mod check;
 mod evaluate;
 mod examples;
@@ -27,6 +28,8 @@ pub struct Cli {
 /// The subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// Calibrate the simulated probe on a reference sphere (cmm-probe-cal/1).
+    CalibrateProbe(calibrate::CalibrateArgs),
     /// Validate part programs and their workpieces without measuring.
     Check(check::CheckArgs),
     /// Deviation of measured points from the nominal CAD surfaces.
@@ -94,6 +97,18 @@ pub enum CliError {
     /// A run could not start.
     #[error(transparent)]
     Run(#[from] crate::inspect::RunError),
+    /// The probe calibration failed (or its machine could not be set up).
+    #[error(transparent)]
+    Calibrate(#[from] crate::calibrate::simulate::SimulatedCalError),
+    /// A probe calibration file is invalid.
+    #[error(transparent)]
+    ProbeCal(#[from] crate::calibrate::file::ProbeCalError),
+    /// A machine description is invalid.
+    #[error(transparent)]
+    Machine(#[from] crate::world::machine::MachineError),
+    /// A machine profile is invalid.
+    #[error(transparent)]
+    Profile(#[from] crate::world::machine::ProfileError),
     /// An output file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
@@ -112,6 +127,7 @@ impl CliError {
 /// Runs a parsed command line.
 pub fn run(cli: Cli) -> Result<Status, CliError> {
     match cli.command {
+        Command::CalibrateProbe(args) => calibrate::run(&args),
         Command::Check(args) => check::run(&args),
         Command::Evaluate(args) => evaluate::run(&args),
         Command::Fit(args) => fit::run(&args),

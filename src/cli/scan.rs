@@ -1,12 +1,14 @@
 //! `cmm scan PROGRAM.json... [--out DIR] [--seed N] [--jobs N] [--ideal]
-//! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]`.
+//! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]
+//! [--probe-cal FILE]`.
 use std::path::PathBuf;
 
 use super::{CliError, Status};
+use crate::calibrate::file::ProbeCalibration;
 use crate::host::trace::trace_csv;
 use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
 use crate::inspect::learned::CorrectionsFile;
-use crate::inspect::{run_program_traced, RunOptions};
+use crate::inspect::{probe_calibration, run_program_traced, RunOptions};
 use crate::program::{load, Program};
 use crate::report::{Report, Verdict};
 
@@ -44,6 +46,10 @@ pub struct ScanArgs {
     /// (one part only).
     #[arg(long)]
     pub trace: Option<PathBuf>,
+    /// Probe calibration file (cmm-probe-cal/1) from `cmm calibrate-probe`;
+    /// overrides the programs' `probe.calibration`.
+    #[arg(long)]
+    pub probe_cal: Option<PathBuf>,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -83,8 +89,16 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     );
     let base = RunOptions {
         ideal: args.ideal,
+        probe_calibration: args
+            .probe_cal
+            .as_deref()
+            .map(ProbeCalibration::read)
+            .transpose()?,
         ..RunOptions::default()
     };
+    for program in &programs {
+        probe_calibration(program, &base)?;
+    }
     if args.trace.is_some() && parts.len() != 1 {
         return Err(CliError::Usage(
             "--trace records one part: give one program and no --variants".into(),

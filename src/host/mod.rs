@@ -9,8 +9,11 @@
 //! - [`path`]: ball-centre paths from nominal section points (offset by
 //!   `r - Ep`, parametric cubic curve segments) and speed planning on the
 //!   control cycle (seeds 000, 001, 004).
+//! - [`probe_correction`]: condition-dependent correction of the probe's
+//!   deflection readings from a calibration (seed 002).
 
 pub mod machine;
 pub mod modes;
 pub mod path;
+pub mod probe_correction;
 pub mod trace;

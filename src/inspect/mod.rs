@@ -11,7 +11,7 @@ pub mod learned;
 mod run;
 pub mod supervisor;
 
-pub use run::{run_program, run_program_traced, RunError, RunOptions};
+pub use run::{probe_calibration, run_program, run_program_traced, RunError, RunOptions};
 
 use correction::{Correction, DesignPoint};
 use supervisor::SupervisorOptions;

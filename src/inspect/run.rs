@@ -5,6 +5,7 @@ use super::correction::DesignPoint;
 use super::evaluate::point_reports;
 use super::supervisor::{scan_curve, SupervisorOptions};
 use super::{Ctx, CurveResult, LearnedSet};
+use crate::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::machine::Cmm;
 use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
 use crate::host::trace::{TraceRow, TracingCmm};
@@ -30,6 +31,9 @@ pub struct RunOptions {
     pub supervisor: SupervisorOptions,
     /// Corrections learned on earlier parts, by feature name and curve index.
     pub learned: LearnedSet,
+    /// Probe calibration to use (`--probe-cal`); overrides the program's
+    /// `probe.calibration`. Nominal probe values when neither is given.
+    pub probe_calibration: Option<ProbeCalibration>,
 }
 
 impl Default for RunOptions {
@@ -40,6 +44,7 @@ impl Default for RunOptions {
             modes: ModeOptions::default(),
             supervisor: SupervisorOptions::default(),
             learned: Vec::new(),
+            probe_calibration: None,
         }
     }
 }
@@ -52,6 +57,14 @@ pub enum RunError {
     NoProgram {
         /// The index.
         index: usize,
+    },
+    /// The program's probe calibration file is invalid.
+    #[error("{program}: {source}")]
+    ProbeCal {
+        /// Program name.
+        program: String,
+        /// The reason.
+        source: ProbeCalError,
     },
     /// The simulator could not be set up.
     #[error("{program}: cannot start the simulated machine: {source}")]
@@ -114,10 +127,10 @@ pub fn run_program_traced(
         program: program.name.clone(),
         source,
     })?;
-    let host_probe = HostProbe {
-        probe_vector,
-        tip_radius_mm: r,
-    };
+    let calibration = probe_calibration(program, opts)?;
+    let host_probe = calibration
+        .as_ref()
+        .map_or(HostProbe::nominal(probe_vector, r), |c| c.probe);
     let modes = ModeOptions {
         clearance_z_mm: Some(top),
         ..opts.modes
@@ -152,13 +165,35 @@ pub fn run_program_traced(
         part_to_machine: part_to_machine(program),
         ideal: opts.ideal,
         probe: ProbeUsed {
-            source: "nominal".into(),
-            tip_radius_mm: r,
-            probe_vector_mm: probe_vector.into(),
+            source: calibration
+                .as_ref()
+                .map_or("nominal".into(), |c| c.source.display().to_string()),
+            tip_radius_mm: host_probe.tip_radius_mm,
+            probe_vector_mm: host_probe.probe_vector.into(),
         },
         features,
     };
     Ok((report, learned_out, rows))
+}
+
+/// The calibration of `--probe-cal`, else the program's, else none.
+pub fn probe_calibration(
+    program: &Program,
+    opts: &RunOptions,
+) -> Result<Option<ProbeCalibration>, RunError> {
+    if let Some(c) = &opts.probe_calibration {
+        return Ok(Some(c.clone()));
+    }
+    program
+        .probe
+        .calibration
+        .as_deref()
+        .map(ProbeCalibration::read)
+        .transpose()
+        .map_err(|source| RunError::ProbeCal {
+            program: program.name.clone(),
+            source,
+        })
 }
 
 /// Ball-centre start above the middle of the part and the clearance height.

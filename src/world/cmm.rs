@@ -6,15 +6,20 @@ use rand::SeedableRng;
 use super::machine::{AxisKind, MachineModel, MachineProfile, Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
+use crate::geometry::ProjectionError;
 use crate::host::machine::{Cmm, MachineStatus, Readings};
 use crate::math::{Point3, Vec2, Vec3};
 use crate::program::Pose;
-use crate::workpiece::as_machined::AsMachined;
+use crate::workpiece::as_machined::{AsMachined, TrueProjection};
 use crate::workpiece::Workpiece;
 
 /// Contact is evaluated only when the ball may be this close to the part
 /// (beyond its radius), mm; further away the last distance bounds it.
 const CONTACT_MARGIN_MM: f64 = 0.5;
+
+/// A warm-started contact deeper than this many times the stylus range is
+/// taken for a wrong local foot and recomputed cold (dimensionless).
+const WRONG_FOOT_DEFLECTIONS: f64 = 2.0;
 
 /// The true part on the machine table.
 #[derive(Debug, Clone, Copy)]
@@ -105,18 +110,13 @@ impl<'a> SimulatedCmm<'a> {
         let r = self.probe.tip_radius_mm;
         if self.clearance > r + CONTACT_MARGIN_MM {
             self.clearance -= velocity.norm() * self.servo.cycle_s();
+            // Far from the part the last foot is no good start: Newton from
+            // it can end on the far side of a closed surface.
+            self.hint = None;
             return Vec3::zeros();
         }
         let y = self.part.pose.to_part(a0);
-        let found = match self.hint {
-            Some((face, uv)) => {
-                self.part
-                    .as_machined
-                    .closest_point_from(self.part.workpiece, y, face, uv)
-            }
-            None => self.part.as_machined.closest_point(self.part.workpiece, y),
-        };
-        let Ok(tp) = found else {
+        let Ok(tp) = self.project(y) else {
             self.hint = None;
             return Vec3::zeros();
         };
@@ -133,6 +133,22 @@ impl<'a> SimulatedCmm<'a> {
         self.clearance = s - velocity.norm() * self.servo.cycle_s();
         let n = self.part.pose.dir_to_machine(n_part);
         self.probe.deflection(r - s, n, velocity)
+    }
+
+    /// Closest true point to `y` (part frame), warm-started from the last
+    /// contact; a warm result deeper than the stylus can ever be pushed is
+    /// a wrong local foot and is redone cold.
+    fn project(&self, y: Point3) -> Result<TrueProjection, ProjectionError> {
+        let (am, wp) = (self.part.as_machined, self.part.workpiece);
+        let Some((face, uv)) = self.hint else {
+            return am.closest_point(wp, y);
+        };
+        let warm = am.closest_point_from(wp, y, face, uv)?;
+        let limit = WRONG_FOOT_DEFLECTIONS * self.probe.max_deflection_mm;
+        if self.probe.tip_radius_mm - warm.signed_distance > limit {
+            return am.closest_point(wp, y);
+        }
+        Ok(warm)
     }
 
     fn on_edge(&self, face: usize, uv: Vec2) -> bool {

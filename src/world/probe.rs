@@ -40,18 +40,29 @@ impl TrueProbe {
         }
     }
 
-    /// A realistic uncalibrated probe: small vector and radius errors, 0.3 %
-    /// gain errors with cross-talk, mild nonlinearity, 0.1 um noise, friction.
+    /// A realistic uncalibrated probe, as the world knows it while the host
+    /// assumes the nominal values. The errors are of the size a probe
+    /// qualification on a reference sphere has to remove:
+    /// - probe vector off by (+3.0, -2.0, +6.0) um (stylus length and
+    ///   mounting tolerance);
+    /// - effective tip radius 1.2 um below nominal (ball form, stylus
+    ///   bending);
+    /// - sensor gains 1.006 / 0.994 / 1.004 with cross-talk up to 0.3 %;
+    /// - cubic nonlinearity 0.02 / mm^2 (0.5 % at 0.5 mm deflection);
+    /// - friction drag 0.04 x the normal deflection against the motion (it
+    ///   leans the deflection by 2.3 deg, in opposite senses for clockwise
+    ///   and counter-clockwise scans);
+    /// - 0.1 um sensor noise per axis.
     pub fn realistic(probe_vector: Vec3, tip_radius_mm: f64) -> TrueProbe {
         TrueProbe {
-            probe_vector: probe_vector + Vec3::new(0.0012, -0.0008, 0.0015),
-            tip_radius_mm: tip_radius_mm - 0.0009,
+            probe_vector: probe_vector + Vec3::new(0.0030, -0.0020, 0.0060),
+            tip_radius_mm: tip_radius_mm - 0.0012,
             gain: Mat3::new(
-                1.003, 0.002, -0.001, -0.0015, 0.998, 0.0012, 0.001, -0.002, 1.002,
+                1.006, 0.003, -0.001, -0.002, 0.994, 0.0015, 0.001, -0.002, 1.004,
             ),
-            cubic_per_mm2: 0.004,
+            cubic_per_mm2: 0.02,
             noise_mm: 1e-4,
-            friction: 0.02,
+            friction: 0.04,
             ..TrueProbe::ideal(probe_vector, tip_radius_mm)
         }
     }

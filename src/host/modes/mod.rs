@@ -12,6 +12,7 @@ pub use motion::{move_through, move_to, recover, reposition, Tracker};
 pub use scan::{design_value_scan, ScanKind, ScanTargets};
 pub use touch::touch_point;
 
+use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
 
 /// How a measuring attempt ended.
@@ -39,6 +40,36 @@ pub struct HostProbe {
     pub probe_vector: Vec3,
     /// Tip radius, mm.
     pub tip_radius_mm: f64,
+    /// Correction of the deflection readings (identity when uncalibrated).
+    pub correction: DeflectionCorrection,
+}
+
+impl HostProbe {
+    /// Nominal probe values without any deflection correction.
+    pub fn nominal(probe_vector: Vec3, tip_radius_mm: f64) -> HostProbe {
+        HostProbe {
+            probe_vector,
+            tip_radius_mm,
+            correction: DeflectionCorrection::identity(),
+        }
+    }
+
+    /// The measurement of one reading: scales, raw deflection reading and
+    /// the commanded ball-centre velocity of that cycle (for the scanning
+    /// direction); `None` when the stylus is not deflected.
+    pub fn locate(&self, scales: Point3, reading: Vec3, motion: Vec3) -> Option<Measured> {
+        let d = self.correction.deflection(reading);
+        let normal = self.correction.normal(d, reading, motion)?;
+        let ball = scales + self.probe_vector + d;
+        Some(Measured {
+            point: ball - normal * self.tip_radius_mm,
+            normal,
+            ball,
+            scales,
+            reading,
+            motion,
+        })
+    }
 }
 
 /// A measured surface point (machine coordinates).
@@ -50,6 +81,12 @@ pub struct Measured {
     pub normal: Vec3,
     /// Ball centre.
     pub ball: Point3,
+    /// Raw scale readings (probe mount), machine coordinates.
+    pub scales: Point3,
+    /// Raw deflection reading, mm.
+    pub reading: Vec3,
+    /// Ball-centre velocity commanded in the cycle of the reading, mm/s.
+    pub motion: Vec3,
 }
 
 /// Result of one measuring attempt.

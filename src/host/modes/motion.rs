@@ -14,6 +14,8 @@ pub struct Tracker {
     pub t0: f64,
     /// Measured points so far.
     pub points: Vec<Measured>,
+    /// Ball-centre velocity commanded in the last cycle, mm/s.
+    pub command: Vec3,
     last_point: Option<Point3>,
 }
 
@@ -26,6 +28,7 @@ impl Tracker {
             t0: now.time_s,
             now,
             points: Vec::new(),
+            command: Vec3::zeros(),
             last_point: None,
         }
     }
@@ -41,19 +44,16 @@ impl Tracker {
     }
 
     /// The measured point now, if the stylus is deflected.
+    /// Ball and normal use the probe's deflection correction.
     pub fn measured(&self) -> Option<Measured> {
-        let n = self.now.deflection.try_normalize(1e-12)?;
-        let ball = self.ball_undeflected() + self.now.deflection;
-        Some(Measured {
-            point: ball - n * self.probe.tip_radius_mm,
-            normal: n,
-            ball,
-        })
+        self.probe
+            .locate(self.now.scales, self.now.deflection, self.command)
     }
 
     /// Steps the machine and returns an outcome if it halted.
     pub fn step(&mut self, cmm: &mut dyn Cmm, v: Vec3) -> Option<Outcome> {
         self.now = cmm.step(v);
+        self.command = v;
         match self.now.status {
             MachineStatus::Ok => None,
             MachineStatus::AxisLimit { .. } => Some(Outcome::AxisLimit),

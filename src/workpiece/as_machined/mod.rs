@@ -277,7 +277,10 @@ impl AsMachined {
         } else {
             wp.faces.get(face).map_or(Vec3::z(), |f| {
                 let nominal = f.surface.normal(foot.uv.x, foot.uv.y);
-                let inv_t = self.linear.try_inverse().map_or(self.linear, |m| m.transpose());
+                let inv_t = self
+                    .linear
+                    .try_inverse()
+                    .map_or(self.linear, |m| m.transpose());
                 (inv_t * nominal).try_normalize(1e-300).unwrap_or(nominal)
             })
         };

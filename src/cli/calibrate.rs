@@ -1,0 +1,109 @@
+//! `cmm calibrate-probe [--machine URDF] [--machine-profile FILE]
+//! [--probe-tip-diameter D] [--stylus-length L] [--sphere-diameter 25]
+//! [--deflections 0.1,0.2,0.3,0.5] [--directions cw,ccw] [--seed N]
+//! [--ideal] [--out probe-cal.json]`.
+use std::path::PathBuf;
+
+use super::{CliError, Status};
+use crate::calibrate::file::{to_file, to_json};
+use crate::calibrate::simulate::{calibrate_simulated, ProbeTruth, SimulatedSetup};
+use crate::calibrate::{Calibration, CalibrationOptions};
+use crate::world::machine::{MachineModel, MachineProfile};
+
+/// Arguments of `cmm calibrate-probe`.
+#[derive(Debug, clap::Args)]
+pub struct CalibrateArgs {
+    /// Machine kinematics (URDF); the embedded bridge CMM when omitted.
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
+    /// Machine profile (cmm-machine-profile/1); defaults when omitted.
+    #[arg(long)]
+    pub machine_profile: Option<PathBuf>,
+    /// Nominal tip (ball) diameter, mm.
+    #[arg(long, default_value_t = 3.0)]
+    pub probe_tip_diameter: f64,
+    /// Nominal stylus length (vertical stylus), mm.
+    #[arg(long, default_value_t = 50.0)]
+    pub stylus_length: f64,
+    /// Reference sphere diameter, mm.
+    #[arg(long, default_value_t = 25.0)]
+    pub sphere_diameter: f64,
+    /// Scan deflections, mm (comma separated).
+    #[arg(long, value_delimiter = ',', default_values_t = vec![0.1, 0.2, 0.3, 0.5])]
+    pub deflections: Vec<f64>,
+    /// Scan directions (comma separated `cw`, `ccw`).
+    #[arg(long, value_delimiter = ',', default_values_t = vec!["cw".to_string(), "ccw".to_string()],
+          value_parser = ["cw", "ccw"])]
+    pub directions: Vec<String>,
+    /// Seed of every simulated random draw.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Switch off every simulated error and all noise.
+    #[arg(long)]
+    pub ideal: bool,
+    /// Calibration file to write.
+    #[arg(long, default_value = "probe-cal.json")]
+    pub out: PathBuf,
+}
+
+/// Runs `cmm calibrate-probe`.
+pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
+    let setup = SimulatedSetup {
+        machine: match &args.machine {
+            Some(path) => MachineModel::from_urdf_file(path)?,
+            None => MachineModel::default_bridge(),
+        },
+        profile: match &args.machine_profile {
+            Some(path) => MachineProfile::from_json_file(path)?,
+            None => MachineProfile::default(),
+        },
+        tip_diameter_mm: args.probe_tip_diameter,
+        stylus_length_mm: args.stylus_length,
+        seed: args.seed,
+        ideal: args.ideal,
+    };
+    let opts = CalibrationOptions {
+        sphere_diameter_mm: args.sphere_diameter,
+        deflections_mm: args.deflections.clone(),
+        directions: args.directions.iter().map(|d| d == "ccw").collect(),
+        ..CalibrationOptions::default()
+    };
+    let (cal, truth) = calibrate_simulated(&setup, &opts)?;
+    let text = to_json(&to_file(&cal, &opts), Some(truth));
+    crate::output::write_atomic(&args.out, text.as_bytes())?;
+    print_summary(&cal, &truth, args);
+    Ok(Status::Pass)
+}
+
+fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) {
+    let p = cal.probe.probe_vector;
+    println!("probe vector     [{:.5}, {:.5}, {:.5}] mm", p.x, p.y, p.z);
+    println!("tip radius       {:.5} mm", cal.probe.tip_radius_mm);
+    println!(
+        "probing error P  {:.5} mm (nominal probe values: {:.5} mm)",
+        cal.probing_error_mm, cal.probing_error_before_mm
+    );
+    println!("scan                 deflection    points  before rms/range mm   after rms/range mm");
+    for s in &cal.scans {
+        println!(
+            "{:<3} {:<4} {:>17.3} {:>9} {:>10.5} {:>9.5} {:>10.5} {:>9.5}",
+            serde_json::to_string(&s.plane)
+                .unwrap_or_default()
+                .trim_matches('"'),
+            s.direction,
+            s.deflection_mm,
+            s.points,
+            s.before.rms_mm,
+            s.before.range_mm,
+            s.after.rms_mm,
+            s.after.range_mm
+        );
+    }
+    let dv = cal.probe.probe_vector - truth.probe_vector;
+    println!(
+        "vs simulation truth: probe vector off by {:.3} um, tip radius by {:.3} um",
+        dv.norm() * 1e3,
+        (cal.probe.tip_radius_mm - truth.tip_radius_mm) * 1e3
+    );
+    println!("written {}", args.out.display());
+}
