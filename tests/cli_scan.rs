@@ -237,3 +237,54 @@ fn a_second_part_uses_the_learned_correction() {
     assert_eq!(attempts[0]["outcome"], "completed");
     assert_eq!(second["features"][0]["corrections"][0]["source"], "learned");
 }
+
+#[test]
+fn as_machined_override_and_quiet_stderr() {
+    let out = tempfile::tempdir().unwrap();
+    let am = out.path().join("am.json");
+    std::fs::write(&am, r#"{"form":[{"kind":"offset","mm":2.5}]}"#).unwrap();
+    let d = out.path().join("r");
+    let o = cmm(&[
+        "scan",
+        &prog("blade-z60.json"),
+        "--ideal",
+        "--as-machined",
+        am.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        o.status.code(),
+        Some(1),
+        "2.5 mm overcut is out of tolerance"
+    );
+    assert!(
+        o.stderr.is_empty(),
+        "no progress output when stderr is not a terminal"
+    );
+    assert_eq!(
+        report(&d)["features"][0]["attempts"][0]["outcome"],
+        "trajectory_error"
+    );
+    std::fs::write(
+        &am,
+        r#"{"form":[{"kind":"offset","mm":1,"surfaces":["hub"]}]}"#,
+    )
+    .unwrap();
+    let d2 = out.path().join("r2");
+    let o = cmm(&[
+        "scan",
+        &prog("blade-z60.json"),
+        "--as-machined",
+        am.to_str().unwrap(),
+        "--out",
+        d2.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("am.json") && err.contains("$.form[0].surfaces[0]"),
+        "{err}"
+    );
+    assert!(!d2.exists());
+}

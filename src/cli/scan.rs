@@ -42,6 +42,10 @@ pub struct ScanArgs {
     /// Corrections learned across parts: read before, updated after.
     #[arg(long)]
     pub corrections: Option<PathBuf>,
+    /// The true part's deviations (an `as_machined` object, DESIGN.md 6.2)
+    /// from this JSON file instead of the programs' own.
+    #[arg(long)]
+    pub as_machined: Option<PathBuf>,
     /// Write the motion trace of every control cycle to this CSV file
     /// (one part only).
     #[arg(long)]
@@ -72,11 +76,14 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
 
 /// Runs `cmm scan`: validates every input first, then measures.
 pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
-    let programs = args
+    let mut programs = args
         .programs
         .iter()
         .map(|p| load(p))
         .collect::<Result<Vec<_>, _>>()?;
+    if let Some(file) = &args.as_machined {
+        override_as_machined(&mut programs, file)?;
+    }
     let known = match &args.corrections {
         Some(path) => CorrectionsFile::read(path)?,
         None => CorrectionsFile::empty(),
@@ -106,7 +113,13 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     }
     let (results, updated) = match (&args.trace, programs.first(), parts.first()) {
         (Some(path), Some(program), Some(part)) => traced_run(program, part, &base, &known, path)?,
-        _ => run_batch(&programs, &parts, &base, &known, args.jobs),
+        _ => {
+            let bar = progress_bar(args, parts.len());
+            let tick = || bar.inc(1);
+            let out = run_batch(&programs, &parts, &base, &known, args.jobs, &tick);
+            bar.finish_and_clear();
+            out
+        }
     };
     let single = parts.len() == 1;
     for (part, result) in parts.iter().zip(&results) {
@@ -130,6 +143,42 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     }
     print_summary(&results);
     Ok(status(&results))
+}
+
+/// A bar on stderr when it is a terminal and not `--quiet`; hidden otherwise.
+fn progress_bar(args: &ScanArgs, parts: usize) -> indicatif::ProgressBar {
+    use std::io::IsTerminal;
+    if args.quiet || !std::io::stderr().is_terminal() {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(parts as u64);
+    if let Ok(style) =
+        indicatif::ProgressStyle::with_template("{bar:40} {pos}/{len} parts {elapsed}")
+    {
+        bar.set_style(style);
+    }
+    bar
+}
+
+/// Replaces every program's as-machined part by the one in `file`.
+fn override_as_machined(programs: &mut [Program], file: &std::path::Path) -> Result<(), CliError> {
+    let text =
+        std::fs::read_to_string(file).map_err(|source| crate::program::ProgramError::Io {
+            file: file.to_path_buf(),
+            source,
+        })?;
+    let spec: crate::workpiece::as_machined::AsMachinedSpec =
+        crate::jsonfile::parse_json(&text, file).map_err(crate::program::ProgramError::from)?;
+    for program in programs.iter_mut() {
+        program.as_machined =
+            crate::workpiece::as_machined::AsMachined::from_spec(&spec, &program.workpiece)
+                .map_err(|e| crate::program::ProgramError::Invalid {
+                    file: file.to_path_buf(),
+                    json_path: format!("$.{}", e.json_path),
+                    reason: e.reason,
+                })?;
+    }
+    Ok(())
 }
 
 fn traced_run(

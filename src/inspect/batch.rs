@@ -51,12 +51,14 @@ pub type PartResult = Result<(Report, LearnedSet), RunError>;
 
 /// Runs the parts on `jobs` threads; returns results in part order and
 /// the updated corrections.
+/// `done` is called after every finished part (for progress display).
 pub fn run_batch(
     programs: &[Program],
     parts: &[Part],
     base: &RunOptions,
     known: &CorrectionsFile,
     jobs: usize,
+    done: &(dyn Fn() + Sync),
 ) -> (Vec<PartResult>, CorrectionsFile) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs.max(1))
@@ -68,7 +70,13 @@ pub fn run_batch(
         let mut results: Vec<Option<PartResult>> = (0..parts.len()).map(|_| None).collect();
         let phase1: Vec<(usize, PartResult)> = first
             .par_iter()
-            .map(|&i| (i, run_part(programs, &parts[i], base, known, &[])))
+            .map(|&i| {
+                (i, {
+                    let r = run_part(programs, &parts[i], base, known, &[]);
+                    done();
+                    r
+                })
+            })
             .collect();
         let learned_first: Vec<(usize, LearnedSet)> = phase1
             .iter()
@@ -78,10 +86,11 @@ pub fn run_batch(
         let phase2: Vec<(usize, PartResult)> = rest
             .par_iter()
             .map(|&i| {
-                (
-                    i,
-                    run_part(programs, &parts[i], base, known, &learned_first),
-                )
+                (i, {
+                    let r = run_part(programs, &parts[i], base, known, &learned_first);
+                    done();
+                    r
+                })
             })
             .collect();
         for (i, r) in phase1.into_iter().chain(phase2) {
