@@ -288,3 +288,88 @@ fn as_machined_override_and_quiet_stderr() {
     );
     assert!(!d2.exists());
 }
+
+/// Columns of a trace CSV as numbers (empty cells as NaN).
+fn trace_rows(path: &Path) -> Vec<Vec<f64>> {
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    assert!(lines
+        .next()
+        .unwrap()
+        .starts_with("t_s,x_mm,y_mm,z_mm,vx_cmd"));
+    lines
+        .map(|l| {
+            l.split(',')
+                .map(|c| c.parse().unwrap_or(f64::NAN))
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn trace_shows_scanning_speeds_and_no_axis_beyond_its_limits() {
+    let out = tempfile::tempdir().unwrap();
+    let (csv, d) = (out.path().join("trace.csv"), out.path().join("r"));
+    let o = cmm(&[
+        "scan",
+        &prog("blade-gouge.json"),
+        "--ideal",
+        "--trace",
+        csv.to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0));
+    let rows = trace_rows(&csv);
+    let speed = |r: &Vec<f64>| (r[7] * r[7] + r[8] * r[8] + r[9] * r[9]).sqrt();
+    // Bridge CMM defaults: 500 mm/s per axis (rapids run at 200), 2000 mm/s^2.
+    for w in rows.windows(2) {
+        let dt = w[1][0] - w[0][0];
+        for k in 7..10 {
+            assert!(w[1][k].abs() <= 500.0 + 1e-6);
+            assert!(
+                ((w[1][k] - w[0][k]) / dt).abs() <= 2000.0 * (1.0 + 1e-6),
+                "acceleration at t = {}",
+                w[1][0]
+            );
+        }
+    }
+    // Active scanning (dL recorded) cruises at the programmed 80 mm/s.
+    let mut active: Vec<f64> = rows
+        .iter()
+        .filter(|r| r[13].is_finite())
+        .map(speed)
+        .collect();
+    active.sort_by(f64::total_cmp);
+    let median = active[active.len() / 2];
+    assert!(
+        (50.0..=100.0).contains(&median),
+        "design-value scanning at {median} mm/s"
+    );
+    // The autonomous attempt: its time window from the report.
+    let r = report(&d);
+    let attempts = r["features"][0]["attempts"].as_array().unwrap();
+    let t_before: f64 = attempts
+        .iter()
+        .take_while(|a| a["mode"] != "autonomous")
+        .map(|a| a["machine_time_s"].as_f64().unwrap())
+        .sum();
+    let t_auto = attempts.iter().find(|a| a["mode"] == "autonomous").unwrap()["machine_time_s"]
+        .as_f64()
+        .unwrap();
+    let mut auto: Vec<f64> = rows
+        .iter()
+        .filter(|x| {
+            x[0] > t_before
+                && x[0] < t_before + t_auto
+                && (x[10] * x[10] + x[11] * x[11] + x[12] * x[12]).sqrt() > 0.1
+        })
+        .map(speed)
+        .collect();
+    auto.sort_by(f64::total_cmp);
+    let median = auto[auto.len() / 2];
+    assert!(
+        (10.0..=15.0).contains(&median),
+        "autonomous scanning at {median} mm/s"
+    );
+}

@@ -82,19 +82,19 @@ impl Cmm for TracingCmm<'_> {
 pub const TRACE_HEADER: &str =
     "t_s,x_mm,y_mm,z_mm,vx_cmd,vy_cmd,vz_cmd,vx,vy,vz,dx_mm,dy_mm,dz_mm,dl_mm";
 
-/// The trace as CSV (empty `dl_mm` where no trajectory error applies).
+/// The trace as CSV (shortest exact decimal numbers; empty `dl_mm` where
+/// no trajectory error applies).
 pub fn trace_csv(rows: &[TraceRow]) -> String {
     let mut out = String::with_capacity(rows.len() * 160 + 100);
     out.push_str(TRACE_HEADER);
     out.push('\n');
     for r in rows {
         let dl = if r.dl.is_finite() {
-            format!("{:.6}", r.dl)
+            r.dl.to_string()
         } else {
             String::new()
         };
-        out.push_str(&format!(
-            "{:.4},{:.6},{:.6},{:.6},{:.4},{:.4},{:.4},{:.4},{:.4},{:.4},{:.6},{:.6},{:.6},{}\n",
+        let cols = [
             r.t,
             r.scales.x,
             r.scales.y,
@@ -102,14 +102,21 @@ pub fn trace_csv(rows: &[TraceRow]) -> String {
             r.commanded.x,
             r.commanded.y,
             r.commanded.z,
+        ];
+        let more = [
             r.actual.x,
             r.actual.y,
             r.actual.z,
             r.deflection.x,
             r.deflection.y,
             r.deflection.z,
-            dl
-        ));
+        ];
+        for v in cols.iter().chain(&more) {
+            out.push_str(&v.to_string());
+            out.push(',');
+        }
+        out.push_str(&dl);
+        out.push('\n');
     }
     out
 }

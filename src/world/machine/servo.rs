@@ -98,13 +98,22 @@ impl AxisDynamics {
         } else {
             0.0
         };
-        let lagged = target + (velocity - target) * decay;
-        let max_change = self.max_acceleration * dt;
-        let next = lagged.clamp(velocity - max_change, velocity + max_change);
-        let distance = if next == lagged {
-            target * dt + (velocity - target) * self.lag_s * (1.0 - decay)
+        // The lag's acceleration is largest at the start of the cycle,
+        // |target - v| / lag. Within the limit the exact exponential is
+        // integrated; beyond it the axis ramps at the limit (trapezoid), so
+        // the acceleration never exceeds the limit at any instant.
+        let within =
+            self.lag_s > 0.0 && (target - velocity).abs() <= self.max_acceleration * self.lag_s;
+        let (next, distance) = if within {
+            let next = target + (velocity - target) * decay;
+            (
+                next,
+                target * dt + (velocity - target) * self.lag_s * (1.0 - decay),
+            )
         } else {
-            0.5 * (velocity + next) * dt
+            let max_change = self.max_acceleration * dt;
+            let next = velocity + (target - velocity).clamp(-max_change, max_change);
+            (next, 0.5 * (velocity + next) * dt)
         };
         (position + distance, next)
     }
