@@ -316,3 +316,47 @@ fn the_passive_variant_corrects_too() {
     );
     assert_exact(&r, 0);
 }
+
+#[test]
+fn best_fit_alignment_absorbs_a_fixture_error() {
+    let wp = common::example("blade");
+    let mut pts = Vec::new();
+    for (face, uvs) in [
+        (0usize, [(0.2, 0.2), (0.5, 0.5), (0.8, 0.8), (0.3, 0.9)]),
+        (1, [(0.2, 0.8), (0.5, 0.3), (0.8, 0.5), (0.6, 0.95)]),
+    ] {
+        for (u, v) in uvs {
+            let p = wp.faces[face].surface.point(u, v);
+            pts.push(json!([p.x, p.y, p.z]));
+        }
+    }
+    let am = json!({ "transform": { "translate_mm": [0.4, -0.3, 0.2], "rotate_deg": [0.2, -0.1, 0.5] } });
+    let mut v = program(am, json!([section("a", 60.0, "auto")]));
+    v["alignment"] = json!({ "points_mm": pts });
+    let r = run(&v, 1, true);
+    let a = &serde_json::to_value(&r).unwrap()["alignment"];
+    assert_eq!(a["points"], 8);
+    assert!(a["max_mm"].as_f64().unwrap() < 1e-6, "{a}");
+    // Aligned part frame = placement (translation only) after the transform.
+    let rot = cmm::math::rotation_xyz_deg([0.2, -0.1, 0.5]);
+    let want_t = cmm::math::Vec3::new(350.4, 499.7, 150.2);
+    let got = &r.part_to_machine;
+    for i in 0..3 {
+        assert!(
+            (got.translation_mm[i] - want_t[i]).abs() < 1e-6,
+            "{:?}",
+            got.translation_mm
+        );
+        for j in 0..3 {
+            assert!((got.rotation[i][j] - rot[(i, j)]).abs() < 1e-8);
+        }
+    }
+    // Measured in the aligned frame the part shows no deviation.
+    assert_eq!(outcomes(&r, 0), ["active:completed"]);
+    let f = &r.features[0];
+    assert!(
+        f.deviation_mm.max.abs() < 1e-4 && f.deviation_mm.min.abs() < 1e-4,
+        "{:?}",
+        f.deviation_mm
+    );
+}

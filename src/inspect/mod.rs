@@ -4,6 +4,7 @@
 //! The supervisor ([`supervisor`]) is the method of seed 000: active
 //! design-value scanning with geometric and autonomous corrections.
 
+pub mod align;
 pub mod batch;
 pub mod correction;
 mod evaluate;

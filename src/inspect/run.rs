@@ -1,6 +1,7 @@
 //! Running a whole program on the simulated CMM.
 use std::time::Instant;
 
+use super::align::{align, AlignOptions};
 use super::correction::DesignPoint;
 use super::evaluate::point_reports;
 use super::supervisor::{scan_curve, SupervisorOptions};
@@ -12,7 +13,8 @@ use crate::host::trace::{TraceRow, TracingCmm};
 use crate::math::{Point3, Vec3};
 use crate::program::{Feature, Program};
 use crate::report::{
-    FeatureReport, PartToMachine, ProbeUsed, Report, Stats, Tolerance, Verdict, REPORT_FORMAT,
+    AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Stats, Tolerance, Verdict,
+    REPORT_FORMAT,
 };
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
 use crate::world::machine::{MachineModel, MachineProfile};
@@ -137,6 +139,11 @@ pub fn run_program_traced(
     };
     let mut learned_out = Vec::new();
     let mut traced = TracingCmm::new(&mut sim, trace);
+    let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
+        Ok(a) => a,
+        Err(outcome) => (program.clone(), Some(failed_alignment(outcome))),
+    };
+    let program = &aligned;
     let features: Vec<FeatureReport> = program
         .features
         .iter()
@@ -163,6 +170,7 @@ pub fn run_program_traced(
         machine_time_s,
         wall_time_s: wall.elapsed().as_secs_f64(),
         part_to_machine: part_to_machine(program),
+        alignment,
         ideal: opts.ideal,
         probe: ProbeUsed {
             source: calibration
@@ -216,6 +224,46 @@ fn start_position(program: &Program) -> (Point3, f64) {
         + program.probe.tip_radius_mm
         + CLEARANCE_MM;
     (Point3::new(centre.x, centre.y, top), top)
+}
+
+/// The program with its placement replaced by the best-fit alignment (when
+/// it has alignment points).
+fn aligned_program(
+    program: &Program,
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    modes: &ModeOptions,
+) -> Result<(Program, Option<AlignmentReport>), Outcome> {
+    let Some(points) = &program.alignment else {
+        return Ok((program.clone(), None));
+    };
+    let (pose, report) = align(
+        cmm,
+        probe,
+        &program.workpiece,
+        &program.placement,
+        points,
+        modes,
+        &AlignOptions::default(),
+    )?;
+    Ok((
+        Program {
+            placement: pose,
+            ..program.clone()
+        },
+        Some(report),
+    ))
+}
+
+/// A failed alignment: reported, and the nominal placement kept.
+fn failed_alignment(_outcome: Outcome) -> AlignmentReport {
+    AlignmentReport {
+        points: 0,
+        rms_mm: f64::NAN,
+        max_mm: f64::NAN,
+        iterations: 0,
+        machine_time_s: 0.0,
+    }
 }
 
 fn part_to_machine(program: &Program) -> PartToMachine {

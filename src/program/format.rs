@@ -34,8 +34,25 @@ pub struct ProgramFile {
     /// How the simulated part differs from its design.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub as_machined: Option<AsMachinedSpec>,
+    /// Alignment: touch these points first and best-fit the part frame
+    /// to the design data; the features are then measured in that frame.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alignment: Option<AlignmentSpec>,
     /// What to measure, in order.
     pub features: Vec<FeatureSpec>,
+}
+
+/// A best-fit alignment from touch points on the design surfaces.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AlignmentSpec {
+    /// Approximate nominal positions (part coordinates, within 1 mm of the
+    /// surfaces), at least 6, spread so that they fix all six degrees of
+    /// freedom.
+    pub points_mm: Vec<[f64; 3]>,
+    /// Surfaces the points lie on (all when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub surfaces: Option<Vec<String>>,
 }
 
 /// `x_machine = R x_part + t`, `R = Rz(rz) Ry(ry) Rx(rx)`.

@@ -8,7 +8,9 @@ mod resolve;
 
 use std::path::PathBuf;
 
-pub use format::{Defaults, FeatureSpec, Mode, PlaneSpec, ProgramFile, PROGRAM_FORMAT};
+pub use format::{
+    AlignmentSpec, Defaults, FeatureSpec, Mode, PlaneSpec, ProgramFile, PROGRAM_FORMAT,
+};
 pub use resolve::load;
 
 use crate::geometry::{Plane, SectionCurve};
@@ -163,4 +165,6 @@ pub struct Program {
     pub as_machined: AsMachined,
     /// Features in program order.
     pub features: Vec<Feature>,
+    /// Alignment points (projected onto the design data), if any.
+    pub alignment: Option<Vec<NominalPoint>>,
 }

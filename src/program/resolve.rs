@@ -97,7 +97,12 @@ pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Progr
         .enumerate()
         .map(|(i, f)| feature(&cx, spec, &workpiece, &probe, f, i))
         .collect::<Result<Vec<_>, _>>()?;
+    let alignment = match &spec.alignment {
+        Some(a) => Some(alignment_points(&cx, &workpiece, a)?),
+        None => None,
+    };
     let program = Program {
+        alignment,
         name: spec.name.clone(),
         file: file.to_path_buf(),
         workpiece,
@@ -303,6 +308,29 @@ fn feature(
             })
         }
     }
+}
+
+/// Fewest alignment points accepted (six degrees of freedom).
+const MIN_ALIGNMENT_POINTS: usize = 6;
+
+fn alignment_points(
+    cx: &Ctx,
+    wp: &Workpiece,
+    a: &super::AlignmentSpec,
+) -> Result<Vec<NominalPoint>, ProgramError> {
+    let faces = faces_of(cx, wp, a.surfaces.as_deref(), "$.alignment")?;
+    if a.points_mm.len() < MIN_ALIGNMENT_POINTS {
+        let reason = format!(
+            "{} points cannot fix six degrees of freedom: at least {MIN_ALIGNMENT_POINTS} needed",
+            a.points_mm.len()
+        );
+        return Err(cx.err("$.alignment.points_mm", reason));
+    }
+    a.points_mm
+        .iter()
+        .enumerate()
+        .map(|(k, p)| nominal_point(cx, wp, &faces, *p, &format!("$.alignment.points_mm[{k}]")))
+        .collect()
 }
 
 fn nominal_point(

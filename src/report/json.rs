@@ -40,6 +40,7 @@ mod tests {
                 translation_mm: [0.0; 3],
             },
             ideal: true,
+            alignment: None,
             probe: ProbeUsed {
                 source: "nominal".into(),
                 tip_radius_mm: 1.0,

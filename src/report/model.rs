@@ -39,8 +39,26 @@ pub struct Report {
     pub ideal: bool,
     /// Probe values the measuring side used and where they came from.
     pub probe: ProbeUsed,
+    /// The best-fit alignment, when the program has one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub alignment: Option<AlignmentReport>,
     /// Features in program order.
     pub features: Vec<FeatureReport>,
+}
+
+/// Result of the best-fit alignment.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AlignmentReport {
+    /// Touch points used.
+    pub points: usize,
+    /// RMS distance of the touch points from the design data after the fit, mm.
+    pub rms_mm: f64,
+    /// Largest such distance, mm.
+    pub max_mm: f64,
+    /// Gauss-Newton iterations.
+    pub iterations: usize,
+    /// Machine time of the alignment, s.
+    pub machine_time_s: f64,
 }
 
 /// `x_machine = rotation x_part + translation_mm`.

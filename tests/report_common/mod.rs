@@ -130,6 +130,7 @@ pub fn report() -> Report {
             translation_mm: [250.0, 120.5, -30.25],
         },
         ideal: false,
+        alignment: None,
         probe: ProbeUsed {
             source: "nominal".into(),
             tip_radius_mm: 1.5,
