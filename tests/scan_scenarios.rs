@@ -360,3 +360,29 @@ fn best_fit_alignment_absorbs_a_fixture_error() {
         f.deviation_mm
     );
 }
+
+#[test]
+fn fitted_circle_reports_diameter_and_centre_of_a_scaled_shifted_bore() {
+    // Scale about the axis: diameter 50 -> 50.06; then shift by (0.03, -0.04).
+    let am = json!({ "transform": { "scale": [1.0012, 1.0012, 1.0], "translate_mm": [0.03, -0.04, 0.0] } });
+    let feature = json!([{ "name": "ring", "type": "section_scan", "plane": { "origin_mm": [0, 0, 10], "normal": [0, 0, 1] },
+        "mode": "active", "tolerance_mm": [-0.1, 0.1],
+        "fit": { "element": "circle", "size_mm": [-0.05, 0.05], "position_mm": 0.1 } }]);
+    let r = run(&bore_program(am, feature), 1, true);
+    let fit = serde_json::to_value(&r.features[0]).unwrap()["fit"].clone();
+    let size = fit["size_deviation_mm"].as_f64().unwrap();
+    assert!((size - 0.06).abs() < 1e-6, "{fit}");
+    assert!(
+        (fit["position_deviation_mm"].as_f64().unwrap() - 0.05).abs() < 1e-6,
+        "{fit}"
+    );
+    let c = &fit["measured"]["center"];
+    assert!(
+        (c[0].as_f64().unwrap() - 0.03).abs() < 1e-6
+            && (c[1].as_f64().unwrap() + 0.04).abs() < 1e-6,
+        "{fit}"
+    );
+    // 0.06 mm is outside the size tolerance: the feature fails although every point is within +-0.1.
+    assert_eq!(fit["status"], "fail");
+    assert_eq!(r.features[0].status, Verdict::Fail);
+}

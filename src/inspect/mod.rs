@@ -8,6 +8,7 @@ pub mod align;
 pub mod batch;
 pub mod correction;
 mod evaluate;
+pub mod fitted;
 pub mod learned;
 mod run;
 pub mod supervisor;

@@ -4,6 +4,7 @@ use std::time::Instant;
 use super::align::{align, AlignOptions};
 use super::correction::DesignPoint;
 use super::evaluate::point_reports;
+use super::fitted::fit_feature;
 use super::supervisor::{scan_curve, SupervisorOptions};
 use super::{Ctx, CurveResult, LearnedSet};
 use crate::calibrate::file::{ProbeCalError, ProbeCalibration};
@@ -293,6 +294,7 @@ fn run_feature(
             curves,
             settings,
             tolerance,
+            ..
         } => {
             let results: Vec<CurveResult> = curves
                 .iter()
@@ -358,7 +360,7 @@ fn run_feature(
             )
         }
     };
-    feature_report(
+    let mut report = feature_report(
         program,
         truth,
         feature.name(),
@@ -366,7 +368,19 @@ fn run_feature(
         results,
         &faces,
         tolerance,
-    )
+    );
+    if let Some(spec) = feature.fit() {
+        report.fit = fit_feature(spec, &report.points);
+        if report.status == Verdict::Pass
+            && report
+                .fit
+                .as_ref()
+                .is_some_and(|f| f.status != Verdict::Pass)
+        {
+            report.status = Verdict::Fail;
+        }
+    }
+    report
 }
 
 fn feature_report(
@@ -411,6 +425,7 @@ fn feature_report(
             .flat_map(|r| r.notes.iter().cloned())
             .collect(),
         points,
+        fit: None,
     }
 }
 

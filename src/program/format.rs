@@ -205,6 +205,9 @@ pub enum FeatureSpec {
         /// Trajectory tolerance override, mm.
         #[serde(default, skip_serializing_if = "Option::is_none")]
         trajectory_tolerance_mm: Option<f64>,
+        /// Fit a geometric element to the measured points and check it.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fit: Option<FitSpec>,
     },
     /// Touch points near the given nominal positions (projected onto the
     /// design data for their exact nominal point and normal).
@@ -218,7 +221,42 @@ pub enum FeatureSpec {
         surfaces: Option<Vec<String>>,
         /// Allowed deviation `[lower, upper]`, mm.
         tolerance_mm: [f64; 2],
+        /// Fit a geometric element to the measured points and check it.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        fit: Option<FitSpec>,
     },
+}
+
+/// Element kinds a feature can be fitted with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum FitElement {
+    /// Circle (a bore or shaft section): diameter, centre, roundness.
+    Circle,
+    /// Plane: flatness, position along the normal.
+    Plane,
+    /// Sphere: diameter, centre, sphericity.
+    Sphere,
+    /// Cylinder: diameter, axis, cylindricity.
+    Cylinder,
+}
+
+/// A fitted element with its tolerances; the nominal element is the same fit
+/// of the nominal points.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct FitSpec {
+    /// Which element.
+    pub element: FitElement,
+    /// Allowed diameter deviation `[lower, upper]`, mm (circle, sphere, cylinder).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size_mm: Option<[f64; 2]>,
+    /// Largest form error (range of the residuals), mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub form_mm: Option<f64>,
+    /// Largest distance of the fitted centre / axis / plane from the nominal, mm.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position_mm: Option<f64>,
 }
 
 impl FeatureSpec {

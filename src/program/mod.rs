@@ -9,7 +9,8 @@ mod resolve;
 use std::path::PathBuf;
 
 pub use format::{
-    AlignmentSpec, Defaults, FeatureSpec, Mode, PlaneSpec, ProgramFile, PROGRAM_FORMAT,
+    AlignmentSpec, Defaults, FeatureSpec, FitElement, FitSpec, Mode, PlaneSpec, ProgramFile,
+    PROGRAM_FORMAT,
 };
 pub use resolve::load;
 
@@ -127,6 +128,8 @@ pub enum Feature {
         settings: ScanSettings,
         /// Allowed deviation `(lower, upper)`, mm.
         tolerance: (f64, f64),
+        /// Element fitted to the measured points, with tolerances.
+        fit: Option<FitSpec>,
     },
     /// Touch points.
     Touch {
@@ -136,6 +139,8 @@ pub enum Feature {
         points: Vec<NominalPoint>,
         /// Allowed deviation `(lower, upper)`, mm.
         tolerance: (f64, f64),
+        /// Element fitted to the measured points, with tolerances.
+        fit: Option<FitSpec>,
     },
 }
 
@@ -144,6 +149,13 @@ impl Feature {
     pub fn name(&self) -> &str {
         match self {
             Feature::Section { name, .. } | Feature::Touch { name, .. } => name,
+        }
+    }
+
+    /// The element to fit, if any.
+    pub fn fit(&self) -> Option<&FitSpec> {
+        match self {
+            Feature::Section { fit, .. } | Feature::Touch { fit, .. } => fit.as_ref(),
         }
     }
 }

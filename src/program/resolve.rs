@@ -262,8 +262,10 @@ fn feature(
             plane,
             surfaces,
             tolerance_mm,
+            fit,
             ..
         } => {
+            let fit = check_fit(cx, fit.as_ref(), &base)?;
             let faces = faces_of(cx, wp, surfaces.as_deref(), &base)?;
             let origin = cx.finite3(plane.origin_mm, format!("{base}.plane.origin_mm"))?;
             let normal = cx.finite3(plane.normal, format!("{base}.plane.normal"))?;
@@ -284,6 +286,7 @@ fn feature(
                 curves,
                 settings,
                 tolerance: tolerance(cx, *tolerance_mm, &base)?,
+                fit,
             })
         }
         FeatureSpec::TouchPoints {
@@ -291,7 +294,9 @@ fn feature(
             points_mm,
             surfaces,
             tolerance_mm,
+            fit,
         } => {
+            let fit = check_fit(cx, fit.as_ref(), &base)?;
             let faces = faces_of(cx, wp, surfaces.as_deref(), &base)?;
             if points_mm.is_empty() {
                 return Err(cx.err(format!("{base}.points_mm"), "no points"));
@@ -305,9 +310,32 @@ fn feature(
                 name: name.clone(),
                 points,
                 tolerance: tolerance(cx, *tolerance_mm, &base)?,
+                fit,
             })
         }
     }
+}
+
+fn check_fit(
+    cx: &Ctx,
+    fit: Option<&super::FitSpec>,
+    base: &str,
+) -> Result<Option<super::FitSpec>, ProgramError> {
+    let Some(f) = fit else { return Ok(None) };
+    if let Some([lo, hi]) = f.size_mm {
+        if !(lo.is_finite() && hi.is_finite()) || lo > hi {
+            return Err(cx.err(
+                format!("{base}.fit.size_mm"),
+                format!("[{lo}, {hi}] must be finite with lower <= upper"),
+            ));
+        }
+    }
+    for (key, v) in [("form_mm", f.form_mm), ("position_mm", f.position_mm)] {
+        if let Some(v) = v {
+            cx.positive(v, 1000.0, format!("{base}.fit.{key}"))?;
+        }
+    }
+    Ok(Some(f.clone()))
 }
 
 /// Fewest alignment points accepted (six degrees of freedom).

@@ -176,6 +176,9 @@ pub struct FeatureReport {
     pub tolerance_mm: Tolerance,
     /// Human-readable notes (why incomplete, what was corrected).
     pub notes: Vec<String>,
+    /// The fitted element, when the feature asks for one.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fit: Option<crate::inspect::fitted::FitResult>,
     /// The points.
     pub points: Vec<PointReport>,
 }

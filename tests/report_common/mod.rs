@@ -36,6 +36,7 @@ fn point(nominal: [f64; 3], normal: [f64; 3], dev: f64, true_dev: f64) -> PointR
 
 fn feature(name: &str, status: Verdict, points: Vec<PointReport>) -> FeatureReport {
     FeatureReport {
+        fit: None,
         name: name.to_string(),
         kind: "section_scan",
         status,
