@@ -31,8 +31,9 @@ pub struct ProjectionOptions {
     /// stationary at the foot.
     pub step_tol_mm: f64,
     /// A Newton step shorter than this (mm) is the last one: it is taken
-    /// without line search, since quadratic convergence leaves an error of
-    /// the order of its square divided by the curvature radius.
+    /// without line search or another evaluation (Taylor expansion), since
+    /// quadratic convergence leaves an error of the order of its square
+    /// divided by the curvature radius.
     pub final_step_mm: f64,
     /// Newton iterations allowed per start before [`ProjectionError::NoConvergence`].
     pub max_iterations: usize,
@@ -49,7 +50,7 @@ impl Default for ProjectionOptions {
     fn default() -> Self {
         ProjectionOptions {
             step_tol_mm: 1e-11,
-            final_step_mm: 1e-7,
+            final_step_mm: 3e-6,
             max_iterations: 60,
             max_halvings: 40,
             leaf_flatness: 0.05,

@@ -100,7 +100,7 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
             });
         }
         if last_step <= opts.final_step_mm {
-            return Ok(final_step(&eval, p, foot, delta, it));
+            return Ok(final_step(p, foot, delta, it));
         }
         match line_search(&eval, p, &foot, delta, opts) {
             Some(next) => {
@@ -127,17 +127,13 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
 }
 
 /// Inside the region of quadratic convergence the last Newton step is
-/// taken without a line search (rounding makes the decrease unmeasurable);
-/// it is kept unless it makes the distance visibly worse.
-fn final_step<F: Fn(Vec2) -> SurfaceDerivs>(
-    eval: &F,
-    p: Point3,
-    foot: Foot,
-    delta: Vec2,
-    it: usize,
-) -> Foot {
-    let x = foot.uv + delta;
-    let cand = Foot::new(x, eval(x), p, it);
+/// taken without another evaluation: the foot at `x + delta` comes from the
+/// second-order Taylor expansion of the current derivatives (error of the
+/// order of the third derivative times the step cubed, far below the
+/// Newton error left anyway). It is kept unless it makes the distance
+/// visibly worse.
+fn final_step(p: Point3, foot: Foot, delta: Vec2, it: usize) -> Foot {
+    let cand = Foot::new(foot.uv + delta, taylor(&foot.d, delta), p, it);
     let slack = 1e-12 * foot.dist2 + 1e-24;
     if cand.dist2 <= foot.dist2 + slack {
         cand
@@ -147,6 +143,20 @@ fn final_step<F: Fn(Vec2) -> SurfaceDerivs>(
             ..foot
         }
     }
+}
+
+/// The derivative table moved by `delta` (point to second order, first
+/// derivatives to first order, second derivatives unchanged).
+fn taylor(d: &SurfaceDerivs, delta: Vec2) -> SurfaceDerivs {
+    let (du, dv) = (delta.x, delta.y);
+    let mut out = *d;
+    out.d[0][0] = d.d[0][0]
+        + d.su() * du
+        + d.sv() * dv
+        + (d.suu() * (du * du) + d.suv() * (2.0 * du * dv) + d.svv() * (dv * dv)) * 0.5;
+    out.d[1][0] = d.su() + d.suu() * du + d.suv() * dv;
+    out.d[0][1] = d.sv() + d.suv() * du + d.svv() * dv;
+    out
 }
 
 /// Backtracking: the first of `delta, delta/2, ...` that lowers the distance.
