@@ -3,51 +3,21 @@
 mod common;
 
 use cmm::math::Point3;
-use cmm::workpiece::{SurfaceSpec, WorkpieceFile};
+use cmm::workpiece::WorkpieceFile;
 use common::*;
 
 const MAJOR: f64 = 30.0;
 const MINOR: f64 = 10.0;
 
-/// Torus about z: u around the axis (9-point circle), v around the tube.
+/// Torus about z: u around the axis, v around the tube (the tube's circle
+/// revolved like the shipped sphere and bore).
 fn torus() -> WorkpieceFile {
-    let w = std::f64::consts::FRAC_1_SQRT_2;
-    let circle = [
-        [1., 0.],
-        [1., 1.],
-        [0., 1.],
-        [-1., 1.],
-        [-1., 0.],
-        [-1., -1.],
-        [0., -1.],
-        [1., -1.],
-        [1., 0.],
-    ];
-    let cw = [1., w, 1., w, 1., w, 1., w, 1.];
-    let knots = vec![0., 0., 0., 0.25, 0.25, 0.5, 0.5, 0.75, 0.75, 1., 1., 1.];
-    // Tube profile in (radius, z): centre (MAJOR, 0), radius MINOR.
+    let (circle, weights, knots) = cmm::workpiece::examples::unit_circle();
     let profile: Vec<[f64; 2]> = circle
         .iter()
         .map(|[a, b]| [MAJOR + MINOR * a, MINOR * b])
         .collect();
-    let control_points = circle
-        .iter()
-        .map(|[x, y]| profile.iter().map(|[r, z]| [x * r, y * r, *z]).collect())
-        .collect();
-    let weights = cw
-        .iter()
-        .map(|a| cw.iter().map(|b| a * b).collect())
-        .collect();
-    let spec = SurfaceSpec {
-        name: "torus".into(),
-        degree: [2, 2],
-        knots_u: knots.clone(),
-        knots_v: knots,
-        control_points,
-        weights: Some(weights),
-        reversed: false,
-        trim: None,
-    };
+    let spec = cmm::workpiece::examples::revolve("torus", &profile, &weights, knots, false);
     WorkpieceFile {
         format: "cmm-workpiece/1".into(),
         name: "torus".into(),

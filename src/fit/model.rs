@@ -28,8 +28,10 @@ pub(crate) trait Model: Clone {
     /// Whether the parameters are finite (a diverged step is rejected).
     fn is_finite(&self) -> bool;
     /// Whether local parameter `k` is an angle (radians); a step of it moves
-    /// the element by up to `angle * extent` within the data.
-    fn angular(k: usize) -> bool;
+    /// the element by up to `angle * extent` within the data. None by default.
+    fn angular(_k: usize) -> bool {
+        false
+    }
 }
 
 /// Largest movement (mm) of the element within the data that a step makes:

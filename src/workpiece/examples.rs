@@ -24,8 +24,9 @@ fn file(name: &str, surfaces: Vec<SurfaceSpec>) -> WorkpieceFile {
     }
 }
 
-/// Full circle of radius 1 as a 9-point rational quadratic: points `[x, y]`, weights.
-fn unit_circle() -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
+/// Full circle of radius 1 as a 9-point rational quadratic: points `[x, y]`,
+/// weights and knots.
+pub fn unit_circle() -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
     let pts = vec![
         [1., 0.],
         [1., 1.],
@@ -43,8 +44,9 @@ fn unit_circle() -> (Vec<[f64; 2]>, Vec<f64>, Vec<f64>) {
     (pts, weights, knots)
 }
 
-/// Surface of revolution about z of a rational profile `[(r, z)]` with weights.
-fn revolve(
+/// Surface of revolution about z of a rational profile `[(r, z)]` with
+/// weights `pw` and knots `knots_v`.
+pub fn revolve(
     name: &str,
     profile: &[[f64; 2]],
     pw: &[f64],

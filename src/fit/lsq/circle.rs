@@ -56,11 +56,6 @@ impl Model for CircleModel {
         }
     }
 
-    fn angular(k: usize) -> bool {
-        let _ = k;
-        false
-    }
-
     fn is_finite(&self) -> bool {
         self.radius.is_finite() && self.center.x.is_finite() && self.center.y.is_finite()
     }

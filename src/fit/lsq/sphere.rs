@@ -52,11 +52,6 @@ impl Model for SphereModel {
         }
     }
 
-    fn angular(k: usize) -> bool {
-        let _ = k;
-        false
-    }
-
     fn is_finite(&self) -> bool {
         self.radius.is_finite() && crate::math::all_finite(self.center.as_slice())
     }
