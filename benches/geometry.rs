@@ -4,7 +4,7 @@
 use std::hint::black_box;
 use std::path::Path;
 
-use cmm::geometry::projection::project_from;
+use cmm::geometry::projection::{project_from, project_warm, WarmStart};
 use cmm::math::{Point3, Vec2};
 use cmm::workpiece::Workpiece;
 use criterion::{criterion_group, criterion_main, Criterion};
@@ -58,6 +58,15 @@ fn bench(c: &mut Criterion) {
                 k = (k + 1) % queries.len();
                 let (p, hint) = queries[k];
                 black_box(project_from(&face.surface, p, hint, &wp.options).ok())
+            })
+        });
+        c.bench_function(&format!("project_warm_path/{stem}"), |b| {
+            let mut k = 0;
+            let mut warm = WarmStart::new(queries[0].1);
+            b.iter(|| {
+                k = (k + 1) % queries.len();
+                let p = queries[k].0;
+                black_box(project_warm(&face.surface, p, &mut warm, &wp.options).ok())
             })
         });
         c.bench_function(&format!("project_cold/{stem}"), |b| {

@@ -6,6 +6,7 @@
 use std::hint::black_box;
 use std::path::Path;
 
+use cmm::host::machine::Cmm;
 use cmm::host::modes::{design_value_scan, HostProbe, ModeOptions, ScanKind, ScanTargets};
 use cmm::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
 use cmm::inspect::{run_program, RunOptions};
@@ -63,7 +64,9 @@ fn path_and_plan(p: &Program) -> (BallPath, SpeedPlan) {
     (path, plan)
 }
 
-fn scan_once(p: &Program, path: &BallPath, plan: &SpeedPlan) -> f64 {
+/// One active scan of the section from 5.3 mm off its start; returns the
+/// number of control cycles simulated (approach included).
+fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &SpeedPlan) -> u64 {
     let part = TruePart {
         workpiece: &p.workpiece,
         as_machined: &p.as_machined,
@@ -74,7 +77,7 @@ fn scan_once(p: &Program, path: &BallPath, plan: &SpeedPlan) -> f64 {
     let start = path.position(0.0) + path.normal(0.0) * 5.3 - pv;
     let Ok(mut sim) = SimulatedCmm::new(
         part,
-        MachineModel::default_bridge(),
+        model.clone(),
         MachineProfile::default(),
         probe,
         1,
@@ -96,18 +99,20 @@ fn scan_once(p: &Program, path: &BallPath, plan: &SpeedPlan) -> f64 {
         ScanKind::Active,
         targets,
         &ModeOptions::default(),
-    )
-    .machine_time_s
+    );
+    (sim.readings().time_s / sim.cycle_s()).round() as u64
 }
 
 fn bench(c: &mut Criterion) {
     let p = program("blade-z60.json");
     let (path, plan) = path_and_plan(&p);
-    let cycles = (scan_once(&p, &path, &plan) / 0.001).round() as u64;
+    let model = MachineModel::default_bridge();
+    let cycles = scan_once(&p, &model, &path, &plan);
+    println!("active scan of blade z60: {cycles} control cycles per run");
     let mut g = c.benchmark_group("simulation");
     g.throughput(Throughput::Elements(cycles));
     g.bench_function("active_scan_blade_z60_cycles", |b| {
-        b.iter(|| black_box(scan_once(&p, &path, &plan)))
+        b.iter(|| black_box(scan_once(&p, &model, &path, &plan)))
     });
     g.finish();
     let overcut = program("blade-overcut.json");

@@ -2,7 +2,8 @@
 mod common;
 
 use cmm::math::{Point3, Vec2, Vec3};
-use cmm::workpiece::as_machined::{AsMachined, AsMachinedSpec};
+use cmm::workpiece::as_machined::{AsMachined, AsMachinedSpec, TrueWarm};
+use cmm::world::cmm::contact_options;
 use common::*;
 
 fn spec(json: &str) -> AsMachinedSpec {
@@ -140,6 +141,38 @@ fn warm_and_cold_true_distances_agree_along_a_path() {
         );
         hint = (warm.face, warm.uv);
     }
+}
+
+/// The simulator's per-cycle contact search (cached derivatives, looser
+/// last-step rule) against the cold search, 0.08 mm per cycle over a bump.
+#[test]
+fn contact_search_along_a_path_matches_the_cold_search() {
+    let wp = example("blade");
+    let json = r#"{"form":[{"kind":"bump","center_mm":[30,8,50],"radius_mm":10,"height_mm":1.0},
+        {"kind":"waviness","amplitude_mm":0.05,"wavelength_mm":7,"direction":[1,0,0.3],"phase_deg":10}]}"#;
+    let am = AsMachined::from_spec(&spec(json), &wp).unwrap();
+    let s = &wp.faces[1].surface;
+    let opts = contact_options(&wp.options);
+    let first = s.point(0.2, 0.5) + s.normal(0.2, 0.5) * 1.2;
+    let mut warm = TrueWarm::new(1, am.closest_point(&wp, first).unwrap().uv);
+    let (mut t, mut k) = (0.2f64, 0);
+    while t < 0.8 {
+        let v = 0.5 + 0.2 * (5.0 * t).sin();
+        let x = s.point(t, v) + s.normal(t, v) * (1.2 + 0.2 * (9.0 * t).cos());
+        let along = am.closest_point_along(&wp, x, &mut warm, &opts).unwrap();
+        let cold = am.closest_point(&wp, x).unwrap();
+        assert!(
+            (along.distance - cold.distance).abs() < 1e-7 * 1e-3,
+            "cycle {k}"
+        );
+        assert!(
+            (along.normal - cold.normal).norm() < 1e-6,
+            "normal at cycle {k}"
+        );
+        t += 0.08 / s.derivs(t, v, 1).su().norm();
+        k += 1;
+    }
+    assert!(k > 300, "{k} cycles");
 }
 
 #[test]

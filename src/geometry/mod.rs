@@ -10,6 +10,7 @@ pub mod trim;
 pub use nurbs::bezier::BezierPatch;
 pub use nurbs::curve::NurbsCurve;
 pub use nurbs::insert::InsertError;
+pub use nurbs::jet::Jet2;
 pub use nurbs::knots::{KnotError, KnotVector};
 pub use nurbs::surface::{Curvature, NurbsSurface, SurfaceDerivs};
 pub use nurbs::NurbsError;

@@ -3,14 +3,14 @@
 use rand::rngs::ChaCha8Rng;
 use rand::SeedableRng;
 
-use super::machine::{AxisKind, MachineModel, MachineProfile, Servo, ServoError};
+use super::machine::{AxisKind, GeometricErrors, MachineModel, MachineProfile, Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
-use crate::geometry::ProjectionError;
+use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::host::machine::{Cmm, MachineStatus, Readings};
 use crate::math::{Point3, Vec2, Vec3};
 use crate::program::Pose;
-use crate::workpiece::as_machined::{AsMachined, TrueProjection};
+use crate::workpiece::as_machined::{AsMachined, TrueProjection, TrueWarm};
 use crate::workpiece::Workpiece;
 
 /// Contact is evaluated only when the ball may be this close to the part
@@ -20,6 +20,27 @@ const CONTACT_MARGIN_MM: f64 = 0.5;
 /// A warm-started contact deeper than this many times the stylus range is
 /// taken for a wrong local foot and recomputed cold (dimensionless).
 const WRONG_FOOT_DEFLECTIONS: f64 = 2.0;
+
+/// The contact needs the ball's distance to the true surface to 0.1 um.
+/// A foot-point error `e` changes that distance by about `e^2 / R` and the
+/// contact normal by `e / R` (R the curvature radius), so the contact's
+/// Newton may end once quadratic convergence predicts a foot error below
+/// this, mm (distance error far below 1e-12 mm).
+pub const CONTACT_FINAL_ERROR_MM: f64 = 1e-9;
+
+/// Longest Newton step of the contact search taken as the last one (by
+/// Taylor expansion), mm.
+pub const CONTACT_FINAL_STEP_MAX_MM: f64 = 1e-3;
+
+/// Projection options of the per-cycle contact: `base` with the looser
+/// last-step rule above.
+pub fn contact_options(base: &ProjectionOptions) -> ProjectionOptions {
+    ProjectionOptions {
+        final_error_mm: CONTACT_FINAL_ERROR_MM,
+        final_step_max_mm: CONTACT_FINAL_STEP_MAX_MM,
+        ..*base
+    }
+}
 
 /// The true part on the machine table.
 #[derive(Debug, Clone, Copy)]
@@ -51,11 +72,18 @@ pub struct SimulatedCmm<'a> {
     probe: TrueProbe,
     servo: Servo,
     rng: ChaCha8Rng,
-    /// Warm-start hint of the last contact computation.
-    hint: Option<(usize, Vec2)>,
+    /// Warm start of the next contact computation (the last foot).
+    hint: Option<TrueWarm>,
     /// Lower bound of the ball's distance to the part, mm.
     clearance: f64,
     last: Readings,
+    /// Projection options of the contact search.
+    contact: ProjectionOptions,
+    /// Whether the profile has any geometric error term.
+    geometric: bool,
+    /// Reused per-cycle buffers (axis commands, scale readings).
+    command: Vec<f64>,
+    scales: Vec<f64>,
 }
 
 impl<'a> SimulatedCmm<'a> {
@@ -81,6 +109,7 @@ impl<'a> SimulatedCmm<'a> {
             status: MachineStatus::Ok,
         };
         let rng = ChaCha8Rng::seed_from_u64(seed);
+        let geometric = profile.geometric != GeometricErrors::default();
         let mut sim = SimulatedCmm {
             part,
             model,
@@ -91,6 +120,10 @@ impl<'a> SimulatedCmm<'a> {
             hint: None,
             clearance: 0.0,
             last,
+            contact: contact_options(&part.workpiece.options),
+            geometric,
+            command: Vec::new(),
+            scales: Vec::new(),
         };
         sim.last = sim.observe(Vec3::zeros(), MachineStatus::Ok);
         Ok(sim)
@@ -99,14 +132,16 @@ impl<'a> SimulatedCmm<'a> {
     /// True undeflected ball centre (machine coordinates) for axis positions.
     fn ball_centre(&self, q: &[f64]) -> Point3 {
         let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
-        let err = self.profile.geometric_error(xyz, &self.probe.probe_vector);
-        Point3::from(xyz) + self.probe.probe_vector + err
+        let tip = Point3::from(xyz) + self.probe.probe_vector;
+        if !self.geometric {
+            return tip;
+        }
+        tip + self.profile.geometric_error(xyz, &self.probe.probe_vector)
     }
 
     /// True deflection for the current state (zero when not touching).
     fn contact(&mut self, velocity: Vec3) -> Vec3 {
-        let state = self.servo.state();
-        let a0 = self.ball_centre(&state.position);
+        let a0 = self.ball_centre(self.servo.position());
         let r = self.probe.tip_radius_mm;
         if self.clearance > r + CONTACT_MARGIN_MM {
             self.clearance -= velocity.norm() * self.servo.cycle_s();
@@ -120,7 +155,6 @@ impl<'a> SimulatedCmm<'a> {
             self.hint = None;
             return Vec3::zeros();
         };
-        self.hint = Some((tp.face, tp.uv));
         let rough = gaussian(&mut self.rng, self.part.as_machined.roughness_mm);
         // Beyond a face's edge the ball can only touch the edge from outside:
         // the distance is unsigned and the push points away from the edge.
@@ -138,17 +172,19 @@ impl<'a> SimulatedCmm<'a> {
     /// Closest true point to `y` (part frame), warm-started from the last
     /// contact; a warm result deeper than the stylus can ever be pushed is
     /// a wrong local foot and is redone cold.
-    fn project(&self, y: Point3) -> Result<TrueProjection, ProjectionError> {
+    fn project(&mut self, y: Point3) -> Result<TrueProjection, ProjectionError> {
         let (am, wp) = (self.part.as_machined, self.part.workpiece);
-        let Some((face, uv)) = self.hint else {
-            return am.closest_point(wp, y);
-        };
-        let warm = am.closest_point_from(wp, y, face, uv)?;
-        let limit = WRONG_FOOT_DEFLECTIONS * self.probe.max_deflection_mm;
-        if self.probe.tip_radius_mm - warm.signed_distance > limit {
-            return am.closest_point(wp, y);
+        if let Some(mut warm) = self.hint {
+            let tp = am.closest_point_along(wp, y, &mut warm, &self.contact)?;
+            let limit = WRONG_FOOT_DEFLECTIONS * self.probe.max_deflection_mm;
+            if self.probe.tip_radius_mm - tp.signed_distance <= limit {
+                self.hint = Some(warm);
+                return Ok(tp);
+            }
         }
-        Ok(warm)
+        let tp = am.closest_point(wp, y)?;
+        self.hint = Some(TrueWarm::new(tp.face, tp.uv));
+        Ok(tp)
     }
 
     fn on_edge(&self, face: usize, uv: Vec2) -> bool {
@@ -168,10 +204,10 @@ impl<'a> SimulatedCmm<'a> {
         } else {
             status
         };
-        let scales = self.servo.read_scales(&mut self.rng);
+        self.servo.read_scales_into(&mut self.rng, &mut self.scales);
         let deflection = self.probe.sense(d, &mut self.rng);
-        let time_s = self.servo.state().time_s;
-        let xyz = Point3::from(self.model.linear_xyz(&scales).unwrap_or([0.0; 3]));
+        let time_s = self.servo.time_s();
+        let xyz = Point3::from(self.model.linear_xyz(&self.scales).unwrap_or([0.0; 3]));
         Readings {
             time_s,
             scales: xyz,
@@ -184,17 +220,21 @@ impl<'a> SimulatedCmm<'a> {
 /// Axis values (chain order) whose linear axes add up to `v` (x, y, z);
 /// rotary axes stay at zero.
 fn to_axes(model: &MachineModel, v: Vec3) -> Vec<f64> {
-    model
-        .axes()
-        .iter()
-        .map(|a| {
-            if a.kind == AxisKind::Prismatic {
-                a.home_direction.dot(&v)
-            } else {
-                0.0
-            }
-        })
-        .collect()
+    let mut out = Vec::new();
+    to_axes_into(model, v, &mut out);
+    out
+}
+
+/// [`to_axes`] into a reused buffer.
+fn to_axes_into(model: &MachineModel, v: Vec3, out: &mut Vec<f64>) {
+    out.clear();
+    out.extend(model.axes().iter().map(|a| {
+        if a.kind == AxisKind::Prismatic {
+            a.home_direction.dot(&v)
+        } else {
+            0.0
+        }
+    }));
 }
 
 impl Cmm for SimulatedCmm<'_> {
@@ -207,9 +247,9 @@ impl Cmm for SimulatedCmm<'_> {
     }
 
     fn step(&mut self, velocity: Vec3) -> Readings {
-        let command = to_axes(&self.model, velocity);
-        let status = match self.servo.step(&command) {
-            Ok(_) => MachineStatus::Ok,
+        to_axes_into(&self.model, velocity, &mut self.command);
+        let status = match self.servo.advance(&self.command) {
+            Ok(()) => MachineStatus::Ok,
             Err(ServoError::AxisLimit { axis, position, .. }) => {
                 MachineStatus::AxisLimit { axis, position }
             }
@@ -218,8 +258,11 @@ impl Cmm for SimulatedCmm<'_> {
                 position: f64::NAN,
             },
         };
-        let state = self.servo.state();
-        let actual = Vec3::from(self.model.linear_xyz(&state.velocity).unwrap_or([0.0; 3]));
+        let actual = Vec3::from(
+            self.model
+                .linear_xyz(self.servo.velocity())
+                .unwrap_or([0.0; 3]),
+        );
         self.last = self.observe(actual, status);
         self.last.clone()
     }

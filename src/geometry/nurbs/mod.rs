@@ -7,6 +7,7 @@
 pub mod bezier;
 pub mod curve;
 pub mod insert;
+pub mod jet;
 pub mod knots;
 mod power;
 pub mod surface;

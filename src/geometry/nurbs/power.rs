@@ -6,6 +6,7 @@
 //! it is used for (up to [`FAST_MAX_DEGREE`]).
 use super::bezier::{decompose, BezierPatch};
 use super::binomial;
+use super::jet::Jet2;
 use super::surface::NurbsSurface;
 use crate::math::{Vec3, Vec4};
 
@@ -58,6 +59,17 @@ impl PowerPatches {
     /// rational surfaces, which need the homogeneous path.
     #[inline]
     pub fn derivs_polynomial(&self, u: f64, v: f64, nd: usize, out: &mut [[Vec3; 4]; 4]) -> bool {
+        self.polynomial_into(u, v, nd, out)
+    }
+
+    /// [`Self::derivs_polynomial`] to second order straight into a jet.
+    #[inline]
+    pub fn jet2_polynomial(&self, u: f64, v: f64, out: &mut Jet2) -> bool {
+        self.polynomial_into(u, v, 2, out)
+    }
+
+    #[inline(always)]
+    fn polynomial_into<S: Sink>(&self, u: f64, v: f64, nd: usize, out: &mut S) -> bool {
         if self.coef3.is_empty() {
             return false;
         }
@@ -69,14 +81,24 @@ impl PowerPatches {
         let Some(patch) = self.coef3.get(start..start + stride) else {
             return false;
         };
-        match (p + 1, q + 1) {
-            (4, 4) => poly_kernel::<4, 4>(patch, (s, hu), (t, hv), nd, out),
-            (3, 3) => poly_kernel::<3, 3>(patch, (s, hu), (t, hv), nd, out),
-            (2, 2) => poly_kernel::<2, 2>(patch, (s, hu), (t, hv), nd, out),
+        let (su, tv) = ((s, hu), (t, hv));
+        match (p + 1, q + 1, nd) {
+            // Bicubic patches with the orders Newton iterations ask for get
+            // fully unrolled kernels.
+            (4, 4, 2) => poly_kernel::<4, 4, 2, _>(patch, su, tv, out),
+            (4, 4, 3) => poly_kernel::<4, 4, 3, _>(patch, su, tv, out),
+            (4, 4, _) => poly_kernel_nd::<4, 4, _>(patch, su, tv, nd, out),
+            (3, 3, _) => poly_kernel_nd::<3, 3, _>(patch, su, tv, nd, out),
+            (2, 2, _) => poly_kernel_nd::<2, 2, _>(patch, su, tv, nd, out),
             _ => {
                 let (_, su) = local(&self.breaks_u, u, p, nd);
                 let (_, tv) = local(&self.breaks_v, v, q, nd);
-                *out = kernel_any(patch, &su, &tv, nd, p + 1, q + 1);
+                let all = kernel_any(patch, &su, &tv, nd, p + 1, q + 1);
+                for (k, row) in all.iter().enumerate() {
+                    for (l, &d) in row.iter().enumerate().take(nd + 1 - k.min(nd)) {
+                        out.put(k, l, d);
+                    }
+                }
             }
         }
         true
@@ -227,14 +249,25 @@ fn monomials<const NP: usize>(s: f64, h: f64, nd: usize) -> [[f64; NP]; 4] {
     out
 }
 
+/// [`poly_kernel_nd`] with the derivative order known at compile time.
+#[inline(always)]
+fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, S: Sink>(
+    patch: &[Vec3],
+    su: (f64, f64),
+    tv: (f64, f64),
+    out: &mut S,
+) {
+    poly_kernel_nd::<NP, NQ, S>(patch, su, tv, ND, out)
+}
+
 /// Non-rational patch evaluation for compile-time sizes, into `out`.
 #[inline(always)]
-fn poly_kernel<const NP: usize, const NQ: usize>(
+fn poly_kernel_nd<const NP: usize, const NQ: usize, S: Sink>(
     patch: &[Vec3],
     (s, hu): (f64, f64),
     (t, hv): (f64, f64),
     nd: usize,
-    out: &mut [[Vec3; 4]; 4],
+    out: &mut S,
 ) {
     let su = monomials::<NP>(s, hu, nd);
     let tv = monomials::<NQ>(t, hv, nd);
@@ -248,14 +281,44 @@ fn poly_kernel<const NP: usize, const NQ: usize>(
             *r = acc;
         }
     }
-    for (k, outk) in out.iter_mut().enumerate().take(nd + 1) {
-        for (l, o) in outk.iter_mut().enumerate().take(nd - k + 1) {
+    for (k, suk) in su.iter().enumerate().take(nd + 1) {
+        for l in 0..=nd - k {
             let mut acc = Vec3::zeros();
-            for i in 0..NP {
-                acc += rows[i][l] * su[k][i];
+            for (row, &s) in rows.iter().zip(suk) {
+                acc += row[l] * s;
             }
-            *o = acc;
+            out.put(k, l, acc);
         }
+    }
+}
+
+/// Where a kernel writes derivative `d^(k+l) S / du^k dv^l`.
+trait Sink {
+    fn put(&mut self, k: usize, l: usize, v: Vec3);
+}
+
+impl Sink for [[Vec3; 4]; 4] {
+    #[inline(always)]
+    fn put(&mut self, k: usize, l: usize, v: Vec3) {
+        if let Some(slot) = self.get_mut(k).and_then(|row| row.get_mut(l)) {
+            *slot = v;
+        }
+    }
+}
+
+impl Sink for Jet2 {
+    #[inline(always)]
+    fn put(&mut self, k: usize, l: usize, v: Vec3) {
+        let slot = match (k, l) {
+            (0, 0) => 0,
+            (1, 0) => 1,
+            (0, 1) => 2,
+            (2, 0) => 3,
+            (1, 1) => 4,
+            (0, 2) => 5,
+            _ => return,
+        };
+        self.d[slot] = v;
     }
 }
 

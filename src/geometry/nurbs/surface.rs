@@ -4,6 +4,7 @@ use super::knots::{KnotVector, MAX_DEGREE};
 use super::{binomial, homogeneous, xyz, NurbsError};
 use std::sync::OnceLock;
 
+use super::jet::Jet2;
 use super::power::PowerPatches;
 use crate::math::{Point3, Vec2, Vec3, Vec4};
 
@@ -208,6 +209,23 @@ impl NurbsSurface {
         self.derivs_de_boor(u, v, nd)
     }
 
+    /// The point with its derivatives to second order (the table Newton
+    /// iterations use); written straight from the power-basis kernel for
+    /// non-rational surfaces.
+    #[inline]
+    pub fn jet2(&self, u: f64, v: f64) -> Jet2 {
+        if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
+            let uv = self.clamp(Vec2::new(u, v));
+            let mut out = Jet2 {
+                d: [Vec3::zeros(); 6],
+            };
+            if fast.jet2_polynomial(uv.x, uv.y, &mut out) {
+                return out;
+            }
+        }
+        Jet2::from(&self.derivs(u, v, 2))
+    }
+
     /// [`Self::derivs`] by the B-spline basis recursion (any degree); the
     /// reference for the power-basis fast path.
     pub fn derivs_de_boor(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
@@ -278,6 +296,11 @@ impl NurbsSurface {
     /// Unit outward normal from precomputed derivatives (order >= 2 is
     /// needed only at degenerate points; `uv` locates them).
     pub fn normal_from(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
+        self.normal_from_jet(&Jet2::from(d), uv)
+    }
+
+    /// [`Self::normal_from`] for a second-order jet.
+    pub fn normal_from_jet(&self, d: &Jet2, uv: Vec2) -> Vec3 {
         let sign = if self.reversed { -1.0 } else { 1.0 };
         let n = d.su().cross(&d.sv());
         let (lu, lv) = (d.su().norm(), d.sv().norm());
@@ -303,7 +326,7 @@ impl NurbsSurface {
         uv.x - u0 <= eu || u1 - uv.x <= eu || uv.y - v0 <= ev || v1 - uv.y <= ev
     }
 
-    fn degenerate_normal(&self, d: &SurfaceDerivs, uv: Vec2) -> Vec3 {
+    fn degenerate_normal(&self, d: &Jet2, uv: Vec2) -> Vec3 {
         let ((u0, u1), (v0, v1)) = self.domain();
         // Step inward from the degenerate edge: Su(u, v + h) ~ h Suv.
         let candidate = if d.su().norm() <= d.sv().norm() {

@@ -17,10 +17,10 @@ mod newton;
 mod trimmed;
 
 pub use index::ProjectionIndex;
-pub(crate) use newton::{minimise_with, Bounds, Foot};
+pub(crate) use newton::{minimise_cached, minimise_with, Bounds, Foot};
 pub(crate) use trimmed::closest_on_boundary;
 
-use crate::geometry::NurbsSurface;
+use crate::geometry::{Jet2, NurbsSurface};
 use crate::math::{Point3, Vec2, Vec3};
 
 /// Tolerances and limits of projection (lengths in mm).
@@ -35,6 +35,14 @@ pub struct ProjectionOptions {
     /// quadratic convergence leaves an error of the order of its square
     /// divided by the curvature radius.
     pub final_step_mm: f64,
+    /// A longer Newton step is also the last one when quadratic convergence,
+    /// with its constant estimated from the previous full step, predicts a
+    /// foot error below this (mm) after it...
+    pub final_error_mm: f64,
+    /// ... and the step is at most this long (mm; bounds the Taylor
+    /// remainder, of the order of the step cubed over the curvature radius
+    /// squared).
+    pub final_step_max_mm: f64,
     /// Newton iterations allowed per start before [`ProjectionError::NoConvergence`].
     pub max_iterations: usize,
     /// Halvings allowed in the line search of one Newton step.
@@ -51,6 +59,8 @@ impl Default for ProjectionOptions {
         ProjectionOptions {
             step_tol_mm: 1e-11,
             final_step_mm: 3e-6,
+            final_error_mm: 1e-12,
+            final_step_max_mm: 3e-4,
             max_iterations: 60,
             max_halvings: 40,
             leaf_flatness: 0.05,
@@ -124,13 +134,87 @@ pub fn project_from(
     opts: &ProjectionOptions,
 ) -> Result<Projection, ProjectionError> {
     check_finite(p)?;
+    let foot = newton::minimise(surface, p, hint, &domain_bounds(surface), opts)?;
+    Ok(foot.into_projection(surface, p))
+}
+
+/// Where the next warm query starts: the parameters of the previous foot
+/// and, once a query has run, the derivative table there, so that the first
+/// Newton step of the next query needs no evaluation of the surface. This
+/// is how a query along a path (one per control cycle) costs about one
+/// evaluation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct WarmStart {
+    uv: Vec2,
+    table: Option<Jet2>,
+}
+
+impl WarmStart {
+    /// A start at parameters `uv` with no derivative table yet.
+    pub fn new(uv: Vec2) -> WarmStart {
+        WarmStart { uv, table: None }
+    }
+
+    /// Parameters of the last foot (or of the start).
+    pub fn uv(&self) -> Vec2 {
+        self.uv
+    }
+
+    /// Runs `minimise` from this start and keeps the new foot's table.
+    pub(crate) fn run<F: Fn(Vec2) -> Jet2>(
+        &mut self,
+        eval: F,
+        p: Point3,
+        bounds: &Bounds,
+        opts: &ProjectionOptions,
+    ) -> Result<Foot, ProjectionError> {
+        let foot = match &self.table {
+            Some(t) => minimise_cached(eval, p, self.uv, t, bounds, opts)?,
+            None => minimise_with(eval, p, self.uv, bounds, opts)?,
+        };
+        *self = WarmStart {
+            uv: foot.uv,
+            table: Some(foot.d),
+        };
+        Ok(foot)
+    }
+}
+
+/// Warm projection along a path: like [`project_from`], starting from
+/// `warm` (the previous query's foot) and updating it to the new foot.
+///
+/// ```
+/// use cmm::geometry::{NurbsSurface, ProjectionOptions};
+/// use cmm::geometry::projection::{project_warm, WarmStart};
+/// use cmm::math::{Point3, Vec2};
+/// let s = NurbsSurface::try_new([1, 1], vec![0., 0., 1., 1.], vec![0., 0., 1., 1.],
+///     &[vec![[0., 0., 0.], [0., 10., 0.]], vec![[10., 0., 0.], [10., 10., 0.]]], None, false).unwrap();
+/// let mut warm = WarmStart::new(Vec2::new(0.5, 0.5));
+/// for k in 0..5 {
+///     let x = 3.0 + 0.05 * k as f64;
+///     let pr = project_warm(&s, Point3::new(x, 4., 2.), &mut warm, &ProjectionOptions::default()).unwrap();
+///     assert!((pr.point.x - x).abs() < 1e-12 && (pr.signed_distance - 2.0).abs() < 1e-12);
+/// }
+/// assert!((warm.uv().x - 0.32).abs() < 1e-12);
+/// ```
+pub fn project_warm(
+    surface: &NurbsSurface,
+    p: Point3,
+    warm: &mut WarmStart,
+    opts: &ProjectionOptions,
+) -> Result<Projection, ProjectionError> {
+    check_finite(p)?;
+    let bounds = domain_bounds(surface);
+    let foot = warm.run(|x| surface.jet2(x.x, x.y), p, &bounds, opts)?;
+    Ok(foot.into_projection(surface, p))
+}
+
+fn domain_bounds(surface: &NurbsSurface) -> Bounds {
     let ((u0, u1), (v0, v1)) = surface.domain();
-    let bounds = newton::Bounds {
+    Bounds {
         lo: Vec2::new(u0, v0),
         hi: Vec2::new(u1, v1),
-    };
-    let foot = newton::minimise(surface, p, hint, &bounds, opts)?;
-    Ok(foot.into_projection(surface, p))
+    }
 }
 
 fn check_finite(p: Point3) -> Result<(), ProjectionError> {

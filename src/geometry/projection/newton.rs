@@ -2,7 +2,7 @@
 //! with an active set for the box faces, a regularised Hessian and a
 //! backtracking line search.
 use super::{Projection, ProjectionError, ProjectionOptions};
-use crate::geometry::{NurbsSurface, SurfaceDerivs};
+use crate::geometry::{Jet2, NurbsSurface};
 use crate::math::{Mat2, Point3, Vec2};
 
 /// A parameter box (crate-internal).
@@ -28,8 +28,8 @@ impl Bounds {
 pub struct Foot {
     /// Parameters.
     pub uv: Vec2,
-    /// Derivatives there.
-    pub d: SurfaceDerivs,
+    /// Derivatives there (to second order).
+    pub d: Jet2,
     /// Squared distance, mm^2.
     pub dist2: f64,
     /// Iterations used.
@@ -37,7 +37,7 @@ pub struct Foot {
 }
 
 impl Foot {
-    fn new(uv: Vec2, d: SurfaceDerivs, p: Point3, iterations: usize) -> Foot {
+    fn new(uv: Vec2, d: Jet2, p: Point3, iterations: usize) -> Foot {
         Foot {
             uv,
             d,
@@ -48,7 +48,7 @@ impl Foot {
 
     /// Finishes the foot into a projection with the outward normal.
     pub fn into_projection(self, surface: &NurbsSurface, p: Point3) -> Projection {
-        let normal = surface.normal_from(&self.d, self.uv);
+        let normal = surface.normal_from_jet(&self.d, self.uv);
         let point = self.d.point();
         let distance = self.dist2.sqrt();
         let sign = if (p - point).dot(&normal) < 0.0 {
@@ -75,12 +75,12 @@ pub(crate) fn minimise(
     bounds: &Bounds,
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
-    minimise_with(|x| surface.derivs(x.x, x.y, 2), p, start, bounds, opts)
+    minimise_with(|x| surface.jet2(x.x, x.y), p, start, bounds, opts)
 }
 
 /// [`minimise`] for any parametric surface given by its second-order
 /// derivative table at a parameter.
-pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
+pub(crate) fn minimise_with<F: Fn(Vec2) -> Jet2>(
     eval: F,
     p: Point3,
     start: Vec2,
@@ -88,9 +88,45 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
     let x0 = bounds.clamp(start);
-    let mut foot = Foot::new(x0, eval(x0), p, 0);
+    newton_from(&eval, p, Foot::new(x0, eval(x0), p, 0), None, bounds, opts)
+}
+
+/// [`minimise_with`] starting from the derivative table `cached` of an
+/// earlier foot at `start` (exact or Taylor-moved): the first Newton step is
+/// taken from it without evaluating the surface. If that step does not
+/// lower the distance, Newton restarts from an evaluation at `start`.
+pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
+    eval: F,
+    p: Point3,
+    start: Vec2,
+    cached: &Jet2,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Result<Foot, ProjectionError> {
+    let x0 = bounds.clamp(start);
+    let prev = Foot::new(x0, *cached, p, 0);
+    let delta = bounds.clamp(x0 + newton_step(&prev.d, p, x0, bounds)) - x0;
+    let step = (prev.d.su() * delta.x + prev.d.sv() * delta.y).norm();
+    let first = Foot::new(x0 + delta, eval(x0 + delta), p, 1);
+    if first.dist2 <= prev.dist2 * (1.0 + 1e-12) + 1e-24 {
+        newton_from(&eval, p, first, Some(step), bounds, opts)
+    } else {
+        minimise_with(eval, p, start, bounds, opts)
+    }
+}
+
+/// The Newton iteration from an evaluated foot; `full_step` is the length
+/// of the full Newton step (no line-search halving) that led to it, if any.
+fn newton_from<F: Fn(Vec2) -> Jet2>(
+    eval: &F,
+    p: Point3,
+    mut foot: Foot,
+    mut full_step: Option<f64>,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Result<Foot, ProjectionError> {
     let mut last_step = f64::INFINITY;
-    for it in 1..=opts.max_iterations {
+    for it in foot.iterations + 1..=opts.max_iterations {
         let delta = bounds.clamp(foot.uv + newton_step(&foot.d, p, foot.uv, bounds)) - foot.uv;
         last_step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
         if last_step <= opts.step_tol_mm {
@@ -99,11 +135,12 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
                 ..foot
             });
         }
-        if last_step <= opts.final_step_mm {
+        if is_final(last_step, full_step, opts) {
             return Ok(final_step(p, foot, delta, it));
         }
-        match line_search(&eval, p, &foot, delta, opts) {
-            Some(next) => {
+        match line_search(eval, p, &foot, delta, opts) {
+            Some((next, full)) => {
+                full_step = full.then_some(last_step);
                 foot = Foot {
                     iterations: it,
                     ..next
@@ -126,6 +163,21 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
     })
 }
 
+/// Whether a Newton step of `step` mm is the last one: it is tiny, or
+/// quadratic convergence (error ~ K step^2, K estimated from the previous
+/// full step as `step / previous^2`) predicts a foot error below
+/// `final_error_mm` after it.
+fn is_final(step: f64, previous: Option<f64>, opts: &ProjectionOptions) -> bool {
+    if step <= opts.final_step_mm {
+        return true;
+    }
+    let Some(prev) = previous.filter(|&d| d > 0.0) else {
+        return false;
+    };
+    let predicted = step * step * step / (prev * prev);
+    step <= opts.final_step_max_mm && step <= 0.1 * prev && predicted <= opts.final_error_mm
+}
+
 /// Inside the region of quadratic convergence the last Newton step is
 /// taken without another evaluation: the foot at `x + delta` comes from the
 /// second-order Taylor expansion of the current derivatives (error of the
@@ -133,7 +185,7 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> SurfaceDerivs>(
 /// Newton error left anyway). It is kept unless it makes the distance
 /// visibly worse.
 fn final_step(p: Point3, foot: Foot, delta: Vec2, it: usize) -> Foot {
-    let cand = Foot::new(foot.uv + delta, taylor(&foot.d, delta), p, it);
+    let cand = Foot::new(foot.uv + delta, foot.d.taylor(delta), p, it);
     let slack = 1e-12 * foot.dist2 + 1e-24;
     if cand.dist2 <= foot.dist2 + slack {
         cand
@@ -145,34 +197,21 @@ fn final_step(p: Point3, foot: Foot, delta: Vec2, it: usize) -> Foot {
     }
 }
 
-/// The derivative table moved by `delta` (point to second order, first
-/// derivatives to first order, second derivatives unchanged).
-fn taylor(d: &SurfaceDerivs, delta: Vec2) -> SurfaceDerivs {
-    let (du, dv) = (delta.x, delta.y);
-    let mut out = *d;
-    out.d[0][0] = d.d[0][0]
-        + d.su() * du
-        + d.sv() * dv
-        + (d.suu() * (du * du) + d.suv() * (2.0 * du * dv) + d.svv() * (dv * dv)) * 0.5;
-    out.d[1][0] = d.su() + d.suu() * du + d.suv() * dv;
-    out.d[0][1] = d.sv() + d.suv() * du + d.svv() * dv;
-    out
-}
-
-/// Backtracking: the first of `delta, delta/2, ...` that lowers the distance.
-fn line_search<F: Fn(Vec2) -> SurfaceDerivs>(
+/// Backtracking: the first of `delta, delta/2, ...` that lowers the
+/// distance, and whether it was the full step.
+fn line_search<F: Fn(Vec2) -> Jet2>(
     eval: &F,
     p: Point3,
     foot: &Foot,
     delta: Vec2,
     opts: &ProjectionOptions,
-) -> Option<Foot> {
+) -> Option<(Foot, bool)> {
     let mut t = 1.0;
     for _ in 0..=opts.max_halvings {
         let x = foot.uv + delta * t;
         let cand = Foot::new(x, eval(x), p, foot.iterations);
         if cand.dist2 < foot.dist2 {
-            return Some(cand);
+            return Some((cand, t == 1.0));
         }
         t *= 0.5;
     }
@@ -181,7 +220,7 @@ fn line_search<F: Fn(Vec2) -> SurfaceDerivs>(
 
 /// Newton step for the free variables (those not pinned at a box face with
 /// the gradient pushing outward).
-fn newton_step(d: &SurfaceDerivs, p: Point3, x: Vec2, bounds: &Bounds) -> Vec2 {
+fn newton_step(d: &Jet2, p: Point3, x: Vec2, bounds: &Bounds) -> Vec2 {
     let r = d.point() - p;
     let (su, sv) = (d.su(), d.sv());
     let g = Vec2::new(su.dot(&r), sv.dot(&r));

@@ -2,7 +2,7 @@
 //! straight line in (u, v) whose image on the surface is minimised over by a
 //! bounded one-dimensional Newton iteration.
 use super::{Foot, ProjectionError, ProjectionOptions};
-use crate::geometry::{NurbsSurface, SurfaceDerivs, Trim};
+use crate::geometry::{Jet2, NurbsSurface, SurfaceDerivs, Trim};
 use crate::math::{Point3, Vec2};
 
 /// The closest boundary point closer than `sqrt(best_dist2)`, if any.
@@ -49,7 +49,7 @@ fn foot_at(surface: &NurbsSurface, uv: Vec2, p: Point3) -> (Foot, SurfaceDerivs)
     (
         Foot {
             uv,
-            d,
+            d: Jet2::from(&d),
             dist2: (d.point() - p).norm_squared(),
             iterations: 0,
         },

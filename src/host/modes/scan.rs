@@ -120,8 +120,8 @@ fn passive(
         let Some(st) = plan.profile().state_at_cycle(k) else {
             break;
         };
-        let target = path.position(st.s);
-        let v = path.tangent(st.s) * st.v + (target - tr.ball_undeflected()) * opts.gain_correction;
+        let (target, tangent, _) = path.frame(&path.location(st.s));
+        let v = tangent * st.v + (target - tr.ball_undeflected()) * opts.gain_correction;
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
@@ -158,21 +158,18 @@ fn active(
 ) -> Result<(), Outcome> {
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
+    let mut here = path.location(0.0);
     for _ in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
-        let s_loc = path
-            .closest_s(&a0, Some(path.wrap(progress)))
+        here = path
+            .closest(&a0, Some(&here))
             .map_err(|_| Outcome::Aborted)?;
-        progress += wrapped_step(path, progress, s_loc);
+        progress += wrapped_step(path, progress, here.s);
         let remaining = length - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
         }
-        let (p, tan, n_path) = (
-            path.position(s_loc),
-            path.tangent(s_loc),
-            path.normal(s_loc),
-        );
+        let (p, tan, n_path) = path.frame(&here);
         let dl = (a0 - p).dot(&n_path);
         cmm.note_trajectory_error(dl);
         *max_dl = f64::max(*max_dl, dl.abs());

@@ -20,6 +20,19 @@ pub struct PathSample {
     pub s: f64,
 }
 
+/// A point of a path: segment, local parameter and global arc length. The
+/// per-cycle scanning loop keeps one so the next closest-point query starts
+/// from it without converting arc length back into a parameter.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathLocation {
+    /// Segment index.
+    pub segment: usize,
+    /// Local parameter on the segment.
+    pub u: f64,
+    /// Global arc length, mm.
+    pub s: f64,
+}
+
 /// Ball-centre path of design-value scanning: a C2 chain of parametric cubic
 /// curve segments through the offset points, parameterised by arc length
 /// `s` in `[0, length]`. Segment `i` runs from sample `i` to sample `i + 1`
@@ -112,8 +125,30 @@ impl BallPath {
     /// one where they cancel).
     pub fn normal(&self, s: f64) -> Vec3 {
         let s = self.wrap(s);
-        let i = self.segment_index(s);
-        let t = (s - self.starts[i]) / self.segments[i].arc_len();
+        self.normal_on(self.segment_index(s), s)
+    }
+
+    /// The location of arc length `s`.
+    pub fn location(&self, s: f64) -> PathLocation {
+        let (segment, u) = self.locate(s);
+        PathLocation {
+            segment,
+            u,
+            s: self.wrap(s),
+        }
+    }
+
+    /// Position, unit tangent and path normal ([`Self::normal`]) at a
+    /// location (no arc-length inversion).
+    pub fn frame(&self, at: &PathLocation) -> (Point3, Vec3, Vec3) {
+        let i = at.segment.min(self.segments.len() - 1);
+        let seg = &self.segments[i];
+        let tangent = seg.d1(at.u).try_normalize(0.0).unwrap_or_else(Vec3::zeros);
+        (seg.position(at.u), tangent, self.normal_on(i, at.s))
+    }
+
+    fn normal_on(&self, i: usize, s: f64) -> Vec3 {
+        let t = ((s - self.starts[i]) / self.segments[i].arc_len()).clamp(0.0, 1.0);
         let n0 = self.samples[i].normal;
         let n1 = self.samples[(i + 1) % self.samples.len()].normal;
         let blend = n0 * (1.0 - t) + n1 * t;

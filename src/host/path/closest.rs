@@ -2,7 +2,7 @@
 //! parameter of one segment, walking to neighbouring segments when the
 //! minimum lies beyond a segment end.
 
-use super::ball_path::BallPath;
+use super::ball_path::{BallPath, PathLocation};
 use super::pcc::CubicSegment;
 use super::{ClosestOptions, PathError};
 use crate::math::{all_finite, Point3};
@@ -42,12 +42,31 @@ impl BallPath {
         if !all_finite(point.coords.as_slice()) || !hint_ok {
             return Err(PathError::NonFiniteQuery);
         }
-        let (i, u) = match hint_s {
-            Some(s) => self.locate(s),
+        let hint = hint_s.map(|s| self.location(s));
+        Ok(self.closest(point, hint.as_ref())?.s)
+    }
+
+    /// [`Self::closest_s`] from a location (e.g. the previous control
+    /// cycle's answer), returning the location of the closest point.
+    pub fn closest(
+        &self,
+        point: &Point3,
+        hint: Option<&PathLocation>,
+    ) -> Result<PathLocation, PathError> {
+        let hint_ok = hint.is_none_or(|h| h.u.is_finite() && h.segment < self.segments().len());
+        if !all_finite(point.coords.as_slice()) || !hint_ok {
+            return Err(PathError::NonFiniteQuery);
+        }
+        let (i, u) = match hint {
+            Some(h) => (h.segment, h.u),
             None => self.cold_start(point),
         };
-        let (i, u) = self.walk(point, i, u);
-        Ok(self.wrap(self.arc_of(i, u)))
+        let (segment, u) = self.walk(point, i, u);
+        Ok(PathLocation {
+            segment,
+            u,
+            s: self.wrap(self.arc_of(segment, u)),
+        })
     }
 
     /// Segment and local parameter of the nearest of the coarse samples.

@@ -41,7 +41,7 @@ mod radius;
 mod speed;
 mod spline;
 
-pub use ball_path::{BallPath, PathSample};
+pub use ball_path::{BallPath, PathLocation, PathSample};
 pub use options::{ClosestOptions, EndCondition, PathOptions};
 pub use pcc::CubicSegment;
 pub use profile::{MotionProfile, MotionSample};

@@ -9,8 +9,8 @@ pub mod form;
 mod normal_jet;
 pub mod spec;
 
-use crate::geometry::projection::{minimise_with, Bounds, Foot};
-use crate::geometry::{ProjectionError, SurfaceDerivs};
+use crate::geometry::projection::{minimise_with, Bounds, Foot, WarmStart};
+use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
 use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
 use form::Form;
@@ -132,7 +132,7 @@ impl AsMachined {
         self.face_terms(face).map(|f| f.value(p)).sum()
     }
 
-    fn face_terms(&self, face: usize) -> impl Iterator<Item = &Form> + '_ {
+    fn face_terms(&self, face: usize) -> impl Iterator<Item = &Form> + Clone + '_ {
         self.terms
             .iter()
             .filter(move |(_, faces)| faces.as_ref().is_none_or(|fs| fs.contains(&face)))
@@ -156,13 +156,28 @@ impl AsMachined {
                 d: [[Vec3::zeros(); 4]; 4],
             };
         };
-        let terms: Vec<Form> = self.face_terms(face).copied().collect();
-        let g = if terms.is_empty() {
+        let g = if self.face_terms(face).next().is_none() {
             f.surface.derivs(uv.x, uv.y, nd)
         } else {
-            normal_jet::displaced(&f.surface, &terms, uv, nd)
+            normal_jet::displaced(&f.surface, self.face_terms(face), uv, nd).into()
         };
         self.apply_linear(g)
+    }
+
+    /// `q(u, v)` with its derivatives to second order on `face` (the
+    /// Newton iterations' evaluation).
+    fn jet(&self, wp: &Workpiece, face: usize, uv: Vec2) -> Jet2 {
+        let Some(f) = wp.faces.get(face) else {
+            return Jet2 {
+                d: [Vec3::zeros(); 6],
+            };
+        };
+        let g = if self.face_terms(face).next().is_none() {
+            f.surface.jet2(uv.x, uv.y)
+        } else {
+            normal_jet::displaced(&f.surface, self.face_terms(face), uv, 2)
+        };
+        g.mapped(&self.linear, self.offset)
     }
 
     fn apply_linear(&self, mut g: SurfaceDerivs) -> SurfaceDerivs {
@@ -184,9 +199,30 @@ impl AsMachined {
         face: usize,
         uv: Vec2,
     ) -> Result<TrueProjection, ProjectionError> {
-        let foot = self.newton(wp, x, face, uv)?;
+        let mut warm = TrueWarm::new(face, uv);
+        self.closest_point_along(wp, x, &mut warm, &wp.options)
+    }
+
+    /// Warm closest point along a path (one query per control cycle): Newton
+    /// from `warm` (the previous foot and its derivatives), which is moved to
+    /// the new foot; falls back to the cold search when the foot ends on the
+    /// face boundary.
+    pub fn closest_point_along(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        warm: &mut TrueWarm,
+        opts: &ProjectionOptions,
+    ) -> Result<TrueProjection, ProjectionError> {
+        let face = warm.face;
+        let bounds = face_bounds(wp, face, x)?;
+        let foot = warm
+            .start
+            .run(|p| self.jet(wp, face, p), x, &bounds, opts)?;
         if on_boundary(wp, face, foot.uv) {
-            return self.closest_point(wp, x);
+            let tp = self.closest_point(wp, x)?;
+            *warm = TrueWarm::new(tp.face, tp.uv);
+            return Ok(tp);
         }
         Ok(self.finish(wp, x, face, foot))
     }
@@ -247,19 +283,8 @@ impl AsMachined {
         face: usize,
         uv: Vec2,
     ) -> Result<Foot, ProjectionError> {
-        let Some(f) = wp.faces.get(face) else {
-            return Err(ProjectionError::NotFinite {
-                x: x.x,
-                y: x.y,
-                z: x.z,
-            });
-        };
-        let ((u0, u1), (v0, v1)) = f.surface.domain();
-        let bounds = Bounds {
-            lo: Vec2::new(u0, v0),
-            hi: Vec2::new(u1, v1),
-        };
-        minimise_with(|p| self.derivs(wp, face, p, 2), x, uv, &bounds, &wp.options)
+        let bounds = face_bounds(wp, face, x)?;
+        minimise_with(|p| self.jet(wp, face, p), x, uv, &bounds, &wp.options)
     }
 
     fn finish(&self, wp: &Workpiece, x: Point3, face: usize, foot: Foot) -> TrueProjection {
@@ -307,6 +332,40 @@ impl AsMachined {
         let q = self.closest_point(wp, m)?.point;
         Ok(wp.closest_point(q)?.projection.signed_distance)
     }
+}
+
+/// Where a warm true closest-point search starts: a face and the state of
+/// its Newton iteration.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrueWarm {
+    face: usize,
+    start: WarmStart,
+}
+
+impl TrueWarm {
+    /// A start at nominal parameters `uv` of `face`.
+    pub fn new(face: usize, uv: Vec2) -> TrueWarm {
+        TrueWarm {
+            face,
+            start: WarmStart::new(uv),
+        }
+    }
+}
+
+/// The parameter box of `face` (an unknown face is reported for `x`).
+fn face_bounds(wp: &Workpiece, face: usize, x: Point3) -> Result<Bounds, ProjectionError> {
+    let Some(f) = wp.faces.get(face) else {
+        return Err(ProjectionError::NotFinite {
+            x: x.x,
+            y: x.y,
+            z: x.z,
+        });
+    };
+    let ((u0, u1), (v0, v1)) = f.surface.domain();
+    Ok(Bounds {
+        lo: Vec2::new(u0, v0),
+        hi: Vec2::new(u1, v1),
+    })
 }
 
 fn on_boundary(wp: &Workpiece, face: usize, uv: Vec2) -> bool {

@@ -1,7 +1,7 @@
 //! The displaced surface `G = S + h(S) n` and its derivatives to second
 //! order, from the NURBS derivatives to third order.
 use super::form::{sum_jets, Form, Jet};
-use crate::geometry::{NurbsSurface, SurfaceDerivs};
+use crate::geometry::{Jet2, NurbsSurface, SurfaceDerivs};
 use crate::math::{Vec2, Vec3};
 
 /// Unit normal with its first and second parameter derivatives:
@@ -9,20 +9,20 @@ use crate::math::{Vec2, Vec3};
 type NormalJet = [Vec3; 6];
 
 /// `G(u, v)` and its derivatives to order `nd` (values 1..3 give order 2).
-pub(super) fn displaced(
+pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface: &NurbsSurface,
-    terms: &[Form],
+    terms: I,
     uv: Vec2,
     nd: usize,
-) -> SurfaceDerivs {
+) -> Jet2 {
     let s = surface.derivs(uv.x, uv.y, if nd == 0 { 1 } else { 3 });
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
-    let jet = sum_jets(terms.iter(), s.point());
+    let jet = sum_jets(terms.clone(), s.point());
     let Some(n) = normal_jet(&s, sign) else {
         return displaced_degenerate(surface, terms, uv, nd);
     };
-    let mut g = s;
-    g.d[0][0] += n[0] * jet.h;
+    let mut g = Jet2::from(&s);
+    g.d[0] += n[0] * jet.h;
     if nd > 0 {
         second_order(&mut g, &s, &n, &jet);
     }
@@ -31,12 +31,12 @@ pub(super) fn displaced(
 
 /// At a degenerate normal (pole) the displacement uses the limit normal and
 /// the derivatives of the point nudged slightly inside the domain.
-fn displaced_degenerate(
+fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface: &NurbsSurface,
-    terms: &[Form],
+    terms: I,
     uv: Vec2,
     nd: usize,
-) -> SurfaceDerivs {
+) -> Jet2 {
     let n = surface.normal(uv.x, uv.y);
     let ((u0, u1), (v0, v1)) = surface.domain();
     let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
@@ -44,19 +44,15 @@ fn displaced_degenerate(
     let s0 = surface.derivs(uv.x, uv.y, 0);
     let inner = surface.derivs(nudged.x, nudged.y, 3);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
-    let mut g = match normal_jet(&inner, sign) {
-        Some(nj) if nd > 0 => {
-            let mut g = inner;
-            second_order(&mut g, &inner, &nj, &sum_jets(terms.iter(), inner.point()));
-            g
-        }
-        _ => inner,
-    };
-    g.d[0][0] = s0.d[0][0] + n * sum_jets(terms.iter(), s0.point()).h;
+    let mut g = Jet2::from(&inner);
+    if let Some(nj) = normal_jet(&inner, sign).filter(|_| nd > 0) {
+        second_order(&mut g, &inner, &nj, &sum_jets(terms.clone(), inner.point()));
+    }
+    g.d[0] = s0.d[0][0] + n * sum_jets(terms, s0.point()).h;
     g
 }
 
-fn second_order(g: &mut SurfaceDerivs, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
+fn second_order(g: &mut Jet2, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
     let (su, sv) = (s.su(), s.sv());
     let hu = jet.grad.dot(&su);
     let hv = jet.grad.dot(&sv);
@@ -64,11 +60,11 @@ fn second_order(g: &mut SurfaceDerivs, s: &SurfaceDerivs, n: &NormalJet, jet: &J
     let huv = su.dot(&(jet.hess * sv)) + jet.grad.dot(&s.suv());
     let hvv = sv.dot(&(jet.hess * sv)) + jet.grad.dot(&s.svv());
     let h = jet.h;
-    g.d[1][0] = su + n[0] * hu + n[1] * h;
-    g.d[0][1] = sv + n[0] * hv + n[2] * h;
-    g.d[2][0] = s.suu() + n[0] * huu + n[1] * (2.0 * hu) + n[3] * h;
-    g.d[1][1] = s.suv() + n[0] * huv + n[2] * hu + n[1] * hv + n[4] * h;
-    g.d[0][2] = s.svv() + n[0] * hvv + n[2] * (2.0 * hv) + n[5] * h;
+    g.d[1] = su + n[0] * hu + n[1] * h;
+    g.d[2] = sv + n[0] * hv + n[2] * h;
+    g.d[3] = s.suu() + n[0] * huu + n[1] * (2.0 * hu) + n[3] * h;
+    g.d[4] = s.suv() + n[0] * huv + n[2] * hu + n[1] * hv + n[4] * h;
+    g.d[5] = s.svv() + n[0] * hvv + n[2] * (2.0 * hv) + n[5] * h;
 }
 
 /// Unit normal `sign * N / |N|`, `N = Su x Sv`, and its derivatives, or

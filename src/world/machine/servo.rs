@@ -235,6 +235,12 @@ impl Servo {
     /// rad/s, chain order). Leaving the travel range halts the machine and
     /// returns [`ServoError::AxisLimit`].
     pub fn step(&mut self, commanded_velocity: &[f64]) -> Result<AxisState, ServoError> {
+        self.advance(commanded_velocity)?;
+        Ok(self.state())
+    }
+
+    /// [`Self::step`] without returning (copying) the new state.
+    pub fn advance(&mut self, commanded_velocity: &[f64]) -> Result<(), ServoError> {
         check_count(self.axes.len(), commanded_velocity.len())?;
         check_finite(commanded_velocity)?;
         let states = self.position.iter_mut().zip(self.velocity.iter_mut());
@@ -244,15 +250,38 @@ impl Servo {
         self.time_s += self.cycle_s;
         match self.first_outside() {
             Some(err) => Err(self.halt(err)),
-            None => Ok(self.state()),
+            None => Ok(()),
         }
+    }
+
+    /// True axis positions now (chain order, mm or rad).
+    pub fn position(&self) -> &[f64] {
+        &self.position
+    }
+
+    /// True axis velocities now (chain order, mm/s or rad/s).
+    pub fn velocity(&self) -> &[f64] {
+        &self.velocity
+    }
+
+    /// Machine time since the start, s.
+    pub fn time_s(&self) -> f64 {
+        self.time_s
     }
 
     /// Scale readings of the current positions (quantised, with noise drawn
     /// from `rng` in axis order; an ideal profile draws nothing).
     pub fn read_scales(&self, rng: &mut impl Rng) -> Vec<f64> {
+        let mut out = Vec::with_capacity(self.axes.len());
+        self.read_scales_into(rng, &mut out);
+        out
+    }
+
+    /// [`Self::read_scales`] into a reused buffer (cleared first).
+    pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
+        out.clear();
         let pairs = self.axes.iter().zip(&self.position);
-        pairs.map(|(axis, p)| axis.read(*p, rng)).collect()
+        out.extend(pairs.map(|(axis, p)| axis.read(*p, rng)));
     }
 
     /// The first axis outside its travel, as an error.
