@@ -267,7 +267,8 @@ pub(super) fn travel(
 /// Whether a move with the last waypoint `err` away has ended.
 fn arrived(err: Vec3, v: Vec3, end_speed: f64, dt: f64, opts: &ModeOptions) -> bool {
     if end_speed > 0.0 {
-        err.norm() <= (end_speed * dt).max(opts.arrive_tol_mm) || err.dot(&v) < 0.0
+        let passed = err.norm() <= WAYPOINT_PASS_MM && err.dot(&v) < 0.0;
+        err.norm() <= (end_speed * dt).max(opts.arrive_tol_mm) || passed
     } else {
         err.norm() <= opts.arrive_tol_mm && v.norm() < ARRIVED_SPEED_MM_S
     }
