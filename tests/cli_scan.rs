@@ -322,7 +322,7 @@ fn trace_shows_scanning_speeds_and_no_axis_beyond_its_limits() {
     assert_eq!(o.status.code(), Some(0));
     let rows = trace_rows(&csv);
     let speed = |r: &Vec<f64>| (r[7] * r[7] + r[8] * r[8] + r[9] * r[9]).sqrt();
-    // Bridge CMM defaults: 500 mm/s per axis (rapids run at 200), 2000 mm/s^2.
+    // Bridge CMM defaults: 500 mm/s per axis (rapids run at 400), 2000 mm/s^2.
     for w in rows.windows(2) {
         let dt = w[1][0] - w[0][0];
         for k in 7..10 {

@@ -48,4 +48,53 @@ pub trait Cmm {
     /// The software's current trajectory error, for traces; machines that
     /// keep no trace ignore it.
     fn note_trajectory_error(&mut self, _dl_mm: f64) {}
+    /// What the software is doing from the next cycle on, for traces;
+    /// machines that keep no trace ignore it.
+    fn note_phase(&mut self, _phase: Phase) {}
+}
+
+/// What the measuring software is doing, as recorded in motion traces.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Phase {
+    /// Not said (before the first note).
+    #[default]
+    Idle,
+    /// Positioning in free air.
+    Position,
+    /// Backing the stylus off the surface.
+    Retract,
+    /// Approaching the surface to start a scan.
+    Approach,
+    /// Approaching the surface for a touch point.
+    Touch,
+    /// Design-value scanning (passive or active).
+    Scan,
+    /// Autonomous scanning.
+    Autonomous,
+}
+
+impl Phase {
+    /// Every phase, in the order of [`Phase::name`] tables.
+    pub const ALL: [Phase; 7] = [
+        Phase::Idle,
+        Phase::Position,
+        Phase::Retract,
+        Phase::Approach,
+        Phase::Touch,
+        Phase::Scan,
+        Phase::Autonomous,
+    ];
+
+    /// Lower-case name used in trace files.
+    pub fn name(self) -> &'static str {
+        match self {
+            Phase::Idle => "idle",
+            Phase::Position => "position",
+            Phase::Retract => "retract",
+            Phase::Approach => "approach",
+            Phase::Touch => "touch",
+            Phase::Scan => "scan",
+            Phase::Autonomous => "autonomous",
+        }
+    }
 }

@@ -2,7 +2,7 @@
 //! positions, commanded and actual velocity, deflection reading and, during
 //! active scanning, the trajectory error. Recorded at the seam, so it shows
 //! exactly what the measuring software commanded and saw.
-use super::machine::{Cmm, Readings};
+use super::machine::{Cmm, Phase, Readings};
 use crate::math::{Point3, Vec3};
 
 /// One control cycle.
@@ -20,6 +20,8 @@ pub struct TraceRow {
     pub deflection: Vec3,
     /// Trajectory error dL, mm (NaN outside active scanning).
     pub dl: f64,
+    /// What the software was doing.
+    pub phase: Phase,
 }
 
 /// A [`Cmm`] that records every cycle of the machine it wraps.
@@ -27,6 +29,7 @@ pub struct TracingCmm<'a> {
     inner: &'a mut dyn Cmm,
     rows: Vec<TraceRow>,
     enabled: bool,
+    phase: Phase,
 }
 
 impl<'a> TracingCmm<'a> {
@@ -36,6 +39,7 @@ impl<'a> TracingCmm<'a> {
             inner,
             rows: Vec::new(),
             enabled,
+            phase: Phase::Idle,
         }
     }
 
@@ -66,6 +70,7 @@ impl Cmm for TracingCmm<'_> {
                 actual: (now.scales - before.scales) / dt,
                 deflection: now.deflection,
                 dl: f64::NAN,
+                phase: self.phase,
             });
         }
         now
@@ -76,14 +81,19 @@ impl Cmm for TracingCmm<'_> {
             last.dl = dl;
         }
     }
+
+    fn note_phase(&mut self, phase: Phase) {
+        self.phase = phase;
+        self.inner.note_phase(phase);
+    }
 }
 
 /// Header of the trace CSV.
 pub const TRACE_HEADER: &str =
-    "t_s,x_mm,y_mm,z_mm,vx_cmd,vy_cmd,vz_cmd,vx,vy,vz,dx_mm,dy_mm,dz_mm,dl_mm";
+    "t_s,x_mm,y_mm,z_mm,vx_cmd,vy_cmd,vz_cmd,vx,vy,vz,dx_mm,dy_mm,dz_mm,dl_mm,phase";
 
 /// The trace as CSV (shortest exact decimal numbers; empty `dl_mm` where
-/// no trajectory error applies).
+/// no trajectory error applies; `phase` names what the software was doing).
 pub fn trace_csv(rows: &[TraceRow]) -> String {
     let mut out = String::with_capacity(rows.len() * 160 + 100);
     out.push_str(TRACE_HEADER);
@@ -116,7 +126,22 @@ pub fn trace_csv(rows: &[TraceRow]) -> String {
             out.push(',');
         }
         out.push_str(&dl);
+        out.push(',');
+        out.push_str(r.phase.name());
         out.push('\n');
+    }
+    out
+}
+
+/// Machine time per phase, s, in the order of [`Phase::ALL`].
+pub fn time_by_phase(rows: &[TraceRow]) -> [(Phase, f64); 7] {
+    let mut out = Phase::ALL.map(|p| (p, 0.0));
+    let mut before = 0.0;
+    for r in rows {
+        if let Some(slot) = out.iter_mut().find(|(p, _)| *p == r.phase) {
+            slot.1 += r.t - before;
+        }
+        before = r.t;
     }
     out
 }

@@ -6,6 +6,7 @@
 
 pub mod align;
 pub mod batch;
+pub mod clearance;
 pub mod correction;
 mod evaluate;
 pub mod fitted;
@@ -19,7 +20,7 @@ use correction::{Correction, DesignPoint};
 use supervisor::SupervisorOptions;
 
 use crate::host::machine::Cmm;
-use crate::host::modes::{Attempt, HostProbe, Measured, ModeOptions, Outcome};
+use crate::host::modes::{Attempt, FreeSpace, HostProbe, Measured, ModeOptions, Outcome};
 use crate::math::Vec3;
 use crate::program::{Pose, ScanSettings};
 use crate::report::{AttemptReport, CorrectionReport};
@@ -42,6 +43,9 @@ pub struct Ctx<'c> {
     pub supervisor: SupervisorOptions,
     /// A correction learned on an earlier part, applied before the first scan.
     pub learned: Option<Learned>,
+    /// Free space around the part for direct moves between measurements
+    /// (`None`: every move goes over the clearance height).
+    pub free: Option<&'c dyn FreeSpace>,
 }
 
 /// Corrections learned per (feature name, curve index), carried from part

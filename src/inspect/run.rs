@@ -2,6 +2,7 @@
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
+use super::clearance::{ClearanceOptions, PartClearance};
 use super::correction::DesignPoint;
 use super::evaluate::point_reports;
 use super::fitted::fit_feature;
@@ -9,7 +10,7 @@ use super::supervisor::{scan_curve, SupervisorOptions};
 use super::{Ctx, CurveResult, LearnedSet};
 use crate::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::machine::Cmm;
-use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
+use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::math::{Point3, Vec3};
 use crate::program::{Feature, Program};
@@ -37,6 +38,11 @@ pub struct RunOptions {
     /// Probe calibration to use (`--probe-cal`); overrides the program's
     /// `probe.calibration`. Nominal probe values when neither is given.
     pub probe_calibration: Option<ProbeCalibration>,
+    /// Move straight between measurements when the line is clear of the
+    /// part (else always over the clearance height).
+    pub direct_moves: bool,
+    /// Margins of the direct-move check.
+    pub clearance: ClearanceOptions,
 }
 
 impl Default for RunOptions {
@@ -48,6 +54,8 @@ impl Default for RunOptions {
             supervisor: SupervisorOptions::default(),
             learned: Vec::new(),
             probe_calibration: None,
+            direct_moves: true,
+            clearance: ClearanceOptions::default(),
         }
     }
 }
@@ -138,6 +146,13 @@ pub fn run_program_traced(
         clearance_z_mm: Some(top),
         ..opts.modes
     };
+    let free = PartClearance {
+        workpiece: &program.workpiece,
+        pose: program.placement,
+        stylus: -host_probe.probe_vector,
+        tip_radius_mm: host_probe.tip_radius_mm,
+        opts: opts.clearance,
+    };
     let mut learned_out = Vec::new();
     let mut traced = TracingCmm::new(&mut sim, trace);
     let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
@@ -145,6 +160,10 @@ pub fn run_program_traced(
         Err(outcome) => (program.clone(), Some(failed_alignment(outcome))),
     };
     let program = &aligned;
+    let free = PartClearance {
+        pose: program.placement,
+        ..free
+    };
     let features: Vec<FeatureReport> = program
         .features
         .iter()
@@ -157,6 +176,7 @@ pub fn run_program_traced(
                 host_probe,
                 &modes,
                 opts,
+                &free,
                 &mut learned_out,
             )
         })
@@ -284,6 +304,7 @@ fn run_feature(
     probe: HostProbe,
     modes: &ModeOptions,
     opts: &RunOptions,
+    free: &dyn FreeSpace,
     learned_out: &mut LearnedSet,
 ) -> FeatureReport {
     let (results, faces, tolerance, kind) = match feature {
@@ -323,6 +344,7 @@ fn run_feature(
                         modes: *modes,
                         supervisor: opts.supervisor,
                         learned,
+                        free: opts.direct_moves.then_some(free),
                     };
                     let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
                     if let Some(l) = &res.learned {

@@ -5,8 +5,9 @@
 use super::correction::{fit_correction, DesignPoint};
 use super::{Ctx, CurveResult};
 use crate::host::modes::{
-    autonomous_scan, design_value_scan, move_through, recover, touch_point, Attempt,
-    AutonomousTask, Measured, Outcome, ScanKind, ScanTargets, Tracker,
+    autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
+    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, Outcome, ScanKind,
+    ScanTargets, Tracker,
 };
 use crate::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
 use crate::math::{Point3, Vec3};
@@ -154,13 +155,26 @@ fn design_attempt(
         pitch_mm: ctx.settings.pitch_mm,
         trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
     };
-    let attempt = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, kind, targets, &ctx.modes);
+    let t0 = ctx.cmm.readings().time_s;
+    position(ctx, scan_start(&path, targets.deflection_mm, &ctx.modes));
+    let mut attempt =
+        design_value_scan(ctx.cmm, ctx.probe, &path, &plan, kind, targets, &ctx.modes);
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let mode = if kind == ScanKind::Active {
         "active"
     } else {
         "passive"
     };
     res.record(mode, attempt)
+}
+
+/// Goes straight to a probing start point (ball centre) when the line is
+/// clear of the part; otherwise the measuring mode repositions over the
+/// clearance height by itself, which also handles any failure here.
+fn position(ctx: &mut Ctx, start: Point3) {
+    if let Some(free) = ctx.free {
+        let _ = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes);
+    }
 }
 
 /// Indices of `n` design points spread evenly by arc length.
@@ -203,8 +217,9 @@ fn geometric(
             ctx.pose.to_machine(d.point),
             ctx.pose.dir_to_machine(d.normal),
         );
-        if let Some(&prev) = k.checked_sub(1).and_then(|j| picks.get(j)) {
-            travel_outside(ctx, design, prev, i);
+        match k.checked_sub(1).and_then(|j| picks.get(j)) {
+            Some(&prev) => travel_outside(ctx, design, prev, i),
+            None => position(ctx, touch_start(ctx.probe, p, n, &ctx.modes)),
         }
         let a = touch_point(
             ctx.cmm,
@@ -316,7 +331,10 @@ fn autonomous_attempt(
     res: &mut CurveResult,
 ) -> Option<Vec<Measured>> {
     let task = autonomous_task(ctx, design, closed)?;
-    let attempt = autonomous_scan(ctx.cmm, ctx.probe, &task, &ctx.modes);
+    let t0 = ctx.cmm.readings().time_s;
+    position(ctx, autonomous_start(ctx.probe, &task, &ctx.modes));
+    let mut attempt = autonomous_scan(ctx.cmm, ctx.probe, &task, &ctx.modes);
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let points = attempt.points.clone();
     (res.record("autonomous", attempt) == Outcome::Completed).then_some(points)
 }

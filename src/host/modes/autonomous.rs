@@ -4,7 +4,7 @@
 //! section end for an open one.
 use super::touch::finish;
 use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::Cmm;
+use crate::host::machine::{Cmm, Phase};
 use crate::math::{Point3, Vec3};
 
 /// Where and how an autonomous scan runs (machine coordinates).
@@ -36,12 +36,17 @@ pub fn autonomous_scan(
     opts: &ModeOptions,
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe);
-    let r = probe.tip_radius_mm;
-    let above = task.start + task.start_normal * (r + opts.standoff_mm);
+    let above = autonomous_start(probe, task, opts);
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))
         .and_then(|_| follow(cmm, &mut tr, task, opts));
     finish(tr, result)
+}
+
+/// Where the approach of an autonomous scan starts (ball centre, the
+/// standoff outside the nominal start point).
+pub fn autonomous_start(probe: HostProbe, task: &AutonomousTask, opts: &ModeOptions) -> Point3 {
+    task.start + task.start_normal * (probe.tip_radius_mm + opts.standoff_mm)
 }
 
 fn touch_down(
@@ -50,6 +55,7 @@ fn touch_down(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
+    cmm.note_phase(Phase::Approach);
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= task.deflection_mm {
             return Ok(());
@@ -70,6 +76,7 @@ fn follow(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
+    cmm.note_phase(Phase::Autonomous);
     let (o, pn) = task.plane;
     let mut dir = task.direction;
     let start = tr.ball_undeflected();

@@ -3,14 +3,16 @@
 //! Every attempt ends with exactly one [`Outcome`] and its machine time.
 
 mod autonomous;
+mod direct;
 mod motion;
 mod scan;
 mod touch;
 
-pub use autonomous::{autonomous_scan, AutonomousTask};
+pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask};
+pub use direct::{direct_move, FreeSpace};
 pub use motion::{move_through, move_to, recover, reposition, Tracker};
-pub use scan::{design_value_scan, ScanKind, ScanTargets};
-pub use touch::touch_point;
+pub use scan::{design_value_scan, scan_start, ScanKind, ScanTargets};
+pub use touch::{touch_point, touch_start};
 
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
@@ -105,9 +107,11 @@ pub struct Attempt {
 /// Gains, speeds and thresholds of the measuring modes (mm, s).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModeOptions {
-    /// Positioning speed in free air, mm/s.
+    /// Positioning speed in free air, mm/s (bridge CMMs position at several
+    /// hundred mm/s; the default machine profile allows 500 per axis).
     pub rapid_speed_mm_s: f64,
-    /// Positioning acceleration, mm/s^2.
+    /// Positioning acceleration, mm/s^2 (the default machine profile
+    /// allows 2000 per axis; the rest is margin for path corrections).
     pub rapid_accel_mm_s2: f64,
     /// Approach speed towards the surface, mm/s.
     pub approach_speed_mm_s: f64,
@@ -139,7 +143,9 @@ pub struct ModeOptions {
     pub tangential_accel_mm_s2: f64,
     /// Safety cap on the cycles of one attempt.
     pub max_cycles: usize,
-    /// Position tolerance ending a positioning move, mm.
+    /// Position tolerance ending a positioning move at rest, mm (moves end
+    /// in free air before a probing approach, so micrometres are not
+    /// needed; a tighter tolerance only lengthens the settling tail).
     pub arrive_tol_mm: f64,
     /// Height (machine z of the ball centre) above the part for moves
     /// between measurements; `None` moves in a straight line.
@@ -149,7 +155,7 @@ pub struct ModeOptions {
 impl Default for ModeOptions {
     fn default() -> Self {
         ModeOptions {
-            rapid_speed_mm_s: 200.0,
+            rapid_speed_mm_s: 400.0,
             rapid_accel_mm_s2: 1500.0,
             approach_speed_mm_s: 10.0,
             standoff_mm: 5.0,
@@ -165,7 +171,7 @@ impl Default for ModeOptions {
             lateral_accel_mm_s2: 1000.0,
             tangential_accel_mm_s2: 500.0,
             max_cycles: 3_000_000,
-            arrive_tol_mm: 0.002,
+            arrive_tol_mm: 0.01,
             clearance_z_mm: None,
         }
     }

@@ -1,6 +1,13 @@
 //! Positioning moves and the bookkeeping every mode shares.
+//!
+//! Moves run at the positioning speed and acceleration of [`ModeOptions`].
+//! A move through several waypoints does not stop at the intermediate ones:
+//! it slows to a corner speed that keeps each corner's rounding within
+//! [`CORNER_BLEND_MM`] and brakes as late as the acceleration allows. A
+//! move to a probing start point ends moving towards the surface at the
+//! approach speed, so the approach follows without a stop.
 use super::{HostProbe, Measured, ModeOptions, Outcome};
-use crate::host::machine::{Cmm, MachineStatus, Readings};
+use crate::host::machine::{Cmm, MachineStatus, Phase, Readings};
 use crate::math::{Point3, Vec3};
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
@@ -79,11 +86,28 @@ impl Tracker {
     }
 }
 
-/// Proportional gain of the final approach of a positioning move, 1/s.
-const POSITION_GAIN: f64 = 30.0;
+/// Proportional gain of the last millimetre of a positioning move, 1/s
+/// (below `1 / (4 lag)`, the critical gain of a 5 ms servo lag).
+const POSITION_GAIN: f64 = 50.0;
 
-/// Moves the undeflected ball centre to `target` in a straight line
-/// (trapezoidal speed, proportional correction), stopping at rest.
+/// Share of the positioning acceleration used for planned braking; the
+/// rest is margin for the servo lag.
+const BRAKE_SHARE: f64 = 0.8;
+
+/// Largest distance by which a blended move cuts a corner, mm.
+const CORNER_BLEND_MM: f64 = 1.0;
+
+/// Within this distance of a waypoint the move turns to the next one, mm.
+const WAYPOINT_PASS_MM: f64 = 1.0;
+
+/// Below this commanded speed a move that ends at rest has arrived, mm/s.
+const ARRIVED_SPEED_MM_S: f64 = 1.0;
+
+/// How far outside the target point a repositioning move comes down, mm.
+const REPOSITION_OUTSIDE_MM: f64 = 15.0;
+
+/// Moves the undeflected ball centre to `target` in a straight line at up
+/// to `speed`, stopping at rest within [`ModeOptions::arrive_tol_mm`].
 pub fn move_to(
     cmm: &mut dyn Cmm,
     tr: &mut Tracker,
@@ -91,19 +115,146 @@ pub fn move_to(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    let dt = cmm.cycle_s();
-    let mut v_prev = Vec3::zeros();
+    cmm.note_phase(Phase::Position);
+    travel(cmm, tr, &[target], speed, 0.0, opts)
+}
+
+/// Moves through `waypoints` without stopping at the intermediate ones
+/// (corner speeds limited, braking only where needed), ending at rest on
+/// the last.
+pub fn move_through(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    waypoints: &[Point3],
+    speed: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    cmm.note_phase(Phase::Position);
+    travel(cmm, tr, waypoints, speed, 0.0, opts)
+}
+
+/// Moves to `target` between measurements, arriving along `approach`
+/// (the outward direction at the target) and still moving towards the
+/// surface at the approach speed, so the caller's approach follows
+/// without a stop: first free the stylus if it is touching, then up to the
+/// clearance height, across to a point outside the target, down, and in
+/// (straight when no clearance height is set or the target is near), all
+/// in one blended move.
+pub fn reposition(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    let away = free_stylus(cmm, tr, opts)?;
+    cmm.note_phase(Phase::Position);
+    let here = away.unwrap_or_else(|| tr.ball_undeflected());
+    let mut waypoints: Vec<Point3> = away.into_iter().collect();
+    waypoints.extend(detour(here, target, approach, opts));
+    waypoints.push(target);
+    travel(
+        cmm,
+        tr,
+        &waypoints,
+        opts.rapid_speed_mm_s,
+        opts.approach_speed_mm_s,
+        opts,
+    )
+}
+
+/// Waypoints over the clearance height from `here` to the point outside
+/// `target` (none when no clearance height is set or `target` is near).
+fn detour(here: Point3, target: Point3, approach: Vec3, opts: &ModeOptions) -> Vec<Point3> {
+    let Some(z) = opts.clearance_z_mm else {
+        return Vec::new();
+    };
+    if (here - target).norm() <= opts.standoff_mm {
+        return Vec::new();
+    }
+    let outside = target + approach * REPOSITION_OUTSIDE_MM;
+    let top = z.max(here.z);
+    let mut out = Vec::new();
+    if (here.xy() - outside.xy()).norm() > opts.arrive_tol_mm {
+        out.push(Point3::new(here.x, here.y, top));
+        out.push(Point3::new(outside.x, outside.y, top));
+    }
+    out.push(outside);
+    out
+}
+
+/// Backs the stylus off the part along its deflection until it is free,
+/// then by the standoff at positioning speed.
+pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
+    match free_stylus(cmm, tr, opts)? {
+        Some(away) => move_to(cmm, tr, away, opts.rapid_speed_mm_s, opts),
+        None => Ok(()),
+    }
+}
+
+/// Backs the stylus off along its deflection at the approach speed until
+/// it is free; returns the point one standoff further out (`None` when it
+/// was free already).
+pub(super) fn free_stylus(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    opts: &ModeOptions,
+) -> Result<Option<Point3>, Outcome> {
+    let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
+        return Ok(None);
+    };
+    cmm.note_phase(Phase::Retract);
     for _ in 0..opts.max_cycles {
-        let err = target - tr.ball_undeflected();
-        let dist = err.norm();
-        if dist <= opts.arrive_tol_mm && v_prev.norm() < 1.0 {
+        if tr.deflection() < opts.contact_mm * 0.5 {
+            return Ok(Some(tr.ball_undeflected() + dir * opts.standoff_mm));
+        }
+        if let Some(o) = tr.step(cmm, dir * opts.approach_speed_mm_s) {
+            if o != Outcome::OverDeflection {
+                return Err(o);
+            }
+        }
+    }
+    Err(Outcome::Aborted)
+}
+
+/// The blended move behind [`move_through`] and [`reposition`]: through
+/// `waypoints` at up to `speed`, ending on the last at `end_speed` (at rest
+/// within the arrival tolerance when 0; otherwise still moving along the
+/// last leg). Starts from the velocity last commanded through `tr`.
+pub(super) fn travel(
+    cmm: &mut dyn Cmm,
+    tr: &mut Tracker,
+    waypoints: &[Point3],
+    speed: f64,
+    end_speed: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    let a = opts.rapid_accel_mm_s2;
+    let corners = corner_speeds(tr.ball_undeflected(), waypoints, speed, end_speed, a);
+    let max_dv = a * cmm.cycle_s();
+    let mut v_prev = tr.command;
+    let mut k = 0;
+    for _ in 0..opts.max_cycles {
+        let here = tr.ball_undeflected();
+        while k + 1 < waypoints.len()
+            && waypoints
+                .get(k)
+                .is_some_and(|w| (w - here).norm() <= WAYPOINT_PASS_MM)
+        {
+            k += 1;
+        }
+        let (Some(&w), Some(ahead)) = (waypoints.get(k), waypoints.get(k..)) else {
+            return Ok(());
+        };
+        let err = w - here;
+        if k + 1 == waypoints.len() && arrived(err, v_prev, end_speed, cmm.cycle_s(), opts) {
             return Ok(());
         }
-        let brake = (2.0 * opts.rapid_accel_mm_s2 * dist).sqrt();
-        let dir = err.try_normalize(1e-12).unwrap_or_else(Vec3::zeros);
-        let want = dir * speed.min(brake).min(POSITION_GAIN * dist);
+        let limit = speed_limit(here, ahead, corners.get(k..).unwrap_or(&[]), speed, a);
+        let want = err
+            .try_normalize(1e-12)
+            .map_or(Vec3::zeros(), |d| d * limit.max(end_speed));
         let dv = want - v_prev;
-        let max_dv = opts.rapid_accel_mm_s2 * dt;
         let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
@@ -113,110 +264,68 @@ pub fn move_to(
     Err(Outcome::Aborted)
 }
 
-/// Moves to `target` between measurements, arriving along `approach`
-/// (the outward direction at the target): first free the stylus if it is
-/// touching, then up to the clearance height, across to a point `far`
-/// outside the target, down, and in (straight when no clearance height is
-/// set).
-pub fn reposition(
-    cmm: &mut dyn Cmm,
-    tr: &mut Tracker,
-    target: Point3,
-    approach: Vec3,
-    opts: &ModeOptions,
-) -> Result<(), Outcome> {
-    recover(cmm, tr, opts)?;
-    let speed = opts.rapid_speed_mm_s;
-    let Some(z) = opts.clearance_z_mm else {
-        return move_to(cmm, tr, target, speed, opts);
-    };
-    let here = tr.ball_undeflected();
-    if (here - target).norm() <= opts.standoff_mm {
-        return move_to(cmm, tr, target, speed, opts);
+/// Whether a move with the last waypoint `err` away has ended.
+fn arrived(err: Vec3, v: Vec3, end_speed: f64, dt: f64, opts: &ModeOptions) -> bool {
+    if end_speed > 0.0 {
+        let passed = err.norm() <= WAYPOINT_PASS_MM && err.dot(&v) < 0.0;
+        err.norm() <= (end_speed * dt).max(opts.arrive_tol_mm) || passed
+    } else {
+        err.norm() <= opts.arrive_tol_mm && v.norm() < ARRIVED_SPEED_MM_S
     }
-    let outside = target + approach * REPOSITION_OUTSIDE_MM;
-    if (here.xy() - outside.xy()).norm() > opts.arrive_tol_mm {
-        move_to(
-            cmm,
-            tr,
-            Point3::new(here.x, here.y, z.max(here.z)),
-            speed,
-            opts,
-        )?;
-        move_to(
-            cmm,
-            tr,
-            Point3::new(outside.x, outside.y, z.max(here.z)),
-            speed,
-            opts,
-        )?;
-    }
-    move_to(cmm, tr, outside, speed, opts)?;
-    move_to(cmm, tr, target, speed, opts)
 }
 
-/// How far outside the target point a repositioning move comes down, mm.
-const REPOSITION_OUTSIDE_MM: f64 = 15.0;
-
-/// Backs the stylus off the part along its deflection until it is free,
-/// then by the standoff.
-pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
-    let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
-        return Ok(());
-    };
-    for _ in 0..opts.max_cycles {
-        if tr.deflection() < opts.contact_mm * 0.5 {
-            let away = tr.ball_undeflected() + dir * opts.standoff_mm;
-            return move_to(cmm, tr, away, opts.approach_speed_mm_s, opts);
-        }
-        if let (Some(o), true) = (tr.step(cmm, dir * opts.approach_speed_mm_s), true) {
-            if o != Outcome::OverDeflection {
-                return Err(o);
-            }
-        }
+/// Speed allowed now: the braking curves to every corner ahead and to the
+/// end, and a proportional approach to the end.
+fn speed_limit(here: Point3, ahead: &[Point3], corners: &[f64], speed: f64, a: f64) -> f64 {
+    let a_brake = BRAKE_SHARE * a;
+    let mut dist = 0.0;
+    let mut prev = here;
+    let mut limit = speed;
+    for (w, &vc) in ahead.iter().zip(corners) {
+        dist += (w - prev).norm();
+        prev = *w;
+        limit = limit.min((vc * vc + 2.0 * a_brake * dist).sqrt());
     }
-    Err(Outcome::Aborted)
+    let end = corners.last().copied().unwrap_or(0.0);
+    limit.min(end + POSITION_GAIN * dist)
 }
 
-/// Within this distance of a waypoint the move turns to the next one, mm.
-const WAYPOINT_PASS_MM: f64 = 1.0;
-
-/// Moves through `waypoints` without stopping at the intermediate ones
-/// (accelerations limited, braking only for the last), ending at rest on
-/// the last.
-pub fn move_through(
-    cmm: &mut dyn Cmm,
-    tr: &mut Tracker,
+/// Speed at each waypoint: limited by the turn there (the corner is cut by
+/// at most [`CORNER_BLEND_MM`]), `end_speed` at the last.
+fn corner_speeds(
+    start: Point3,
     waypoints: &[Point3],
     speed: f64,
-    opts: &ModeOptions,
-) -> Result<(), Outcome> {
-    let Some((&last, via)) = waypoints.split_last() else {
-        return Ok(());
-    };
-    let dt = cmm.cycle_s();
-    let mut v_prev = Vec3::zeros();
-    for (k, &w) in via.iter().enumerate() {
-        for _ in 0..opts.max_cycles {
-            let err = w - tr.ball_undeflected();
-            if err.norm() <= WAYPOINT_PASS_MM {
-                break;
+    end_speed: f64,
+    a: f64,
+) -> Vec<f64> {
+    let n = waypoints.len();
+    (0..n)
+        .map(|k| {
+            if k + 1 == n {
+                return end_speed;
             }
-            let rest: f64 = err.norm() + polyline_length(&waypoints[k..]);
-            let brake = (2.0 * opts.rapid_accel_mm_s2 * rest).sqrt();
-            let want = err.normalize() * speed.min(brake);
-            let dv = want - v_prev;
-            let max_dv = opts.rapid_accel_mm_s2 * dt;
-            let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
-            if let Some(o) = tr.step(cmm, v) {
-                return Err(o);
+            let before = if k == 0 {
+                Some(&start)
+            } else {
+                waypoints.get(k - 1)
+            };
+            let turn = match (before, waypoints.get(k), waypoints.get(k + 1)) {
+                (Some(b), Some(w), Some(c)) => {
+                    let (u, v) = (w - b, c - w);
+                    u.try_normalize(1e-9).zip(v.try_normalize(1e-9))
+                }
+                _ => None,
+            };
+            match turn {
+                Some((u, v)) => {
+                    let half_sin = ((u - v).norm() / 2.0).max(1e-9);
+                    // The turn shares the acceleration between braking the
+                    // old direction and speeding up in the new one.
+                    speed.min((a * CORNER_BLEND_MM / (2.0 * half_sin)).sqrt())
+                }
+                None => speed,
             }
-            v_prev = v;
-        }
-    }
-    move_to(cmm, tr, last, speed, opts)
-}
-
-fn polyline_length(points: &[Point3]) -> f64 {
-    points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+        })
+        .collect()
 }

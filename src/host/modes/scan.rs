@@ -5,7 +5,7 @@
 //! trajectory error `dL` leaves its tolerance).
 use super::touch::finish;
 use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::Cmm;
+use crate::host::machine::{Cmm, Phase};
 use crate::host::path::{BallPath, SpeedPlan};
 use crate::math::{Point3, Vec3};
 
@@ -62,10 +62,13 @@ fn approach(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
-    reposition(cmm, tr, p0 + n0 * (ep + opts.standoff_mm), n0, opts)?;
+    reposition(cmm, tr, scan_start(path, ep, opts), n0, opts)?;
     if kind == ScanKind::Passive {
-        return move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts);
+        move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
+        cmm.note_phase(Phase::Scan);
+        return Ok(());
     }
+    cmm.note_phase(Phase::Approach);
     let reach = 2.0 * (ep + opts.standoff_mm) + 2.0;
     let from = tr.ball_undeflected();
     for _ in 0..opts.max_cycles {
@@ -80,6 +83,12 @@ fn approach(
         }
     }
     Err(Outcome::Aborted)
+}
+
+/// Where the approach of a scan along `path` starts (ball centre, the
+/// standoff outside the path start, `ep` being the wanted deflection).
+pub fn scan_start(path: &BallPath, ep: f64, opts: &ModeOptions) -> Point3 {
+    path.position(0.0) + path.normal(0.0) * (ep + opts.standoff_mm)
 }
 
 fn contact_check(
@@ -156,6 +165,7 @@ fn active(
     opts: &ModeOptions,
     max_dl: &mut f64,
 ) -> Result<(), Outcome> {
+    cmm.note_phase(Phase::Scan);
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
     let mut here = path.location(0.0);

@@ -1,7 +1,8 @@
 //! Touch-point measurement: approach along the nominal normal until the
 //! deflection reaches the trigger, record, retract.
-use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::Cmm;
+use super::motion::travel;
+use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use crate::host::machine::{Cmm, Phase};
 use crate::math::{Point3, Vec3};
 
 /// Measures one point near `nominal` (machine coordinates) with outward
@@ -15,15 +16,21 @@ pub fn touch_point(
     opts: &ModeOptions,
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe);
-    let r = probe.tip_radius_mm;
-    let start = nominal + normal * (r + opts.standoff_mm);
+    let start = touch_start(probe, nominal, normal, opts);
     let outcome = reposition(cmm, &mut tr, start, normal, opts)
         .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());
-            move_to(cmm, &mut tr, start, opts.approach_speed_mm_s * 2.0, opts)
+            cmm.note_phase(Phase::Retract);
+            travel(cmm, &mut tr, &[start], opts.rapid_speed_mm_s, 0.0, opts)
         });
     finish(tr, outcome)
+}
+
+/// Where the approach of a touch point at `nominal` starts (ball centre,
+/// the standoff outside the nominal surface).
+pub fn touch_start(probe: HostProbe, nominal: Point3, normal: Vec3, opts: &ModeOptions) -> Point3 {
+    nominal + normal * (probe.tip_radius_mm + opts.standoff_mm)
 }
 
 /// Moves along `-normal` until the deflection reaches the trigger.
@@ -34,6 +41,7 @@ fn approach(
     reach: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
+    cmm.note_phase(Phase::Touch);
     let from = tr.ball_undeflected();
     let v = -normal * opts.approach_speed_mm_s;
     for _ in 0..opts.max_cycles {

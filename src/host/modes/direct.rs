@@ -1,0 +1,39 @@
+//! Direct moves between measurements: straight from where the stylus comes
+//! free to the next probing start point when that line is clear of the
+//! part, instead of the detour over the clearance height.
+use super::motion::{free_stylus, travel};
+use super::{HostProbe, ModeOptions, Outcome, Tracker};
+use crate::host::machine::{Cmm, Phase};
+use crate::math::Point3;
+
+/// Free space around the part, as the measuring software knows it.
+pub trait FreeSpace {
+    /// Whether the probe (ball and stylus) can move in a straight line
+    /// with its ball centre going from `from` to `to` (machine
+    /// coordinates) without touching the part.
+    fn segment_clear(&self, from: Point3, to: Point3) -> bool;
+}
+
+/// Moves straight to `target` (ball centre, ending at rest) when the line
+/// from where the stylus is free to `target` is clear; returns whether it
+/// did. When it is not, the probe is left free of the part, for the
+/// measuring mode's own repositioning.
+pub fn direct_move(
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    target: Point3,
+    free: &dyn FreeSpace,
+    opts: &ModeOptions,
+) -> Result<bool, Outcome> {
+    let mut tr = Tracker::new(cmm, probe);
+    let away = free_stylus(cmm, &mut tr, opts)?;
+    let from = away.unwrap_or_else(|| tr.ball_undeflected());
+    let clear = free.segment_clear(from, target);
+    let mut waypoints: Vec<Point3> = away.into_iter().collect();
+    if clear {
+        waypoints.push(target);
+    }
+    cmm.note_phase(Phase::Position);
+    travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)?;
+    Ok(clear)
+}
