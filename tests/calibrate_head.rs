@@ -430,3 +430,50 @@ fn cli_writes_every_orientation_with_its_truth() {
     // The file reads back (the truth is skipped unread).
     cmm::calibrate::file::ProbeCalibration::read(&out).unwrap();
 }
+
+#[test]
+fn the_simulated_head_refuses_bad_orientations_through_the_seam() {
+    use cmm::calibrate::simulate::{sphere_pose, sphere_world};
+    use cmm::host::machine::{Cmm, HeadCommandError};
+    use cmm::world::cmm::{SimulatedCmm, TruePart};
+    use cmm::world::probe::TrueProbe;
+    let opts = CalibrationOptions::default();
+    let (sphere, am) = sphere_world(&opts).unwrap();
+    let part = TruePart {
+        workpiece: &sphere,
+        as_machined: &am,
+        pose: sphere_pose(&opts),
+    };
+    let probe = TrueProbe::ideal(Vec3::new(0.0, 0.0, -50.0), 1.5);
+    let start = Point3::new(300.0, 300.0, 400.0);
+    let new = |machine: MachineModel| {
+        let profile = MachineProfile::default();
+        SimulatedCmm::new(part, machine, profile, probe.clone(), 1, start).unwrap()
+    };
+    let mut plain = new(MachineModel::default_bridge());
+    assert_eq!(plain.head_axes(), 0);
+    assert_eq!(plain.index_head(&[0.0]), Err(HeadCommandError::NoHead));
+    let mut head = new(head_machine());
+    assert_eq!(head.head_axes(), 2);
+    assert!(matches!(
+        head.index_head(&[0.0]),
+        Err(HeadCommandError::Count {
+            expected: 2,
+            found: 1
+        })
+    ));
+    // Chain order: b, then a (0..105 deg).
+    match head.index_head(&[0.0, 2.0]) {
+        Err(HeadCommandError::Travel {
+            axis, angle_rad, ..
+        }) => {
+            assert_eq!((axis.as_str(), angle_rad), ("a", 2.0));
+        }
+        other => panic!("expected a travel error, got {other:?}"),
+    }
+    let t0 = head.readings().time_s;
+    let encoders = head.index_head(&[0.5, 1.0]).unwrap();
+    assert!((encoders[0] - 0.5).abs() < 1e-5 && (encoders[1] - 1.0).abs() < 1e-5);
+    // Indexing takes the longest move at the rotary speed limit (1.5 rad/s).
+    assert!((head.readings().time_s - t0 - 1.0 / 1.5).abs() < 1e-9);
+}
