@@ -18,6 +18,7 @@ fn setup(seed: u64, ideal: bool) -> SimulatedSetup {
         stylus_length_mm: 50.0,
         seed,
         ideal,
+        keep_geometric_errors: false,
     }
 }
 

@@ -8,8 +8,15 @@
 //!   "deflection_correction": { "gain": [E0, E1, E2],
 //!       "tilt_rad": { "xy": { "cw": [..], "ccw": [..] }, "xz": .., "yz": .. } },
 //!   "scans": [ ... ], "conditions": { ... },
-//!   "simulation_truth": { "probe_vector_mm": [..], "tip_radius_mm": r } }
+//!   "head_axes": ["a", "b"], "head_angles_deg": [0, 0],
+//!   "orientations": [ { "head_angles_deg": [90, 0], "probe_vector_mm": [..],
+//!                       "tip_radius_mm": r, ... }, ... ],
+//!   "simulation_truth": { "probe_vector_mm": [..], "tip_radius_mm": r,
+//!                         "orientations": [ ... ] } }
 //! ```
+//! On a machine with a probe head the top-level probe keys belong to the
+//! reference orientation `head_angles_deg`; `orientations` lists every
+//! calibrated orientation, the reference first (see [`super::file_head`]).
 //! `sphere_center_mm` is the sphere's centre as measured with the nominal
 //! probe vector; the sphere's known position is in `conditions`. The
 //! gain matrices `E_k` are row-major 3x3 (units 1/mm^k) and the tilts
@@ -22,6 +29,7 @@ use std::path::{Path, PathBuf};
 use serde::de::IgnoredAny;
 use serde::{Deserialize, Serialize};
 
+use super::file_head::{OrientationJson, OrientationTruthJson};
 use super::simulate::ProbeTruth;
 use super::{Calibration, CalibrationOptions, ScanSummary};
 use crate::host::modes::HostProbe;
@@ -120,6 +128,18 @@ pub struct ProbeCalFile {
     /// Measuring conditions.
     #[serde(default)]
     pub conditions: Option<Conditions>,
+    /// Probe-head axes (URDF joint names) in the order angles are listed;
+    /// absent without a head.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub head_axes: Option<Vec<String>>,
+    /// Head angles of the reference orientation, deg: the orientation the
+    /// keys above belong to. Absent without a head.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub head_angles_deg: Option<Vec<f64>>,
+    /// Every calibrated head orientation, the reference first
+    /// ([`super::file_head`]); empty without a head.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub orientations: Vec<OrientationJson>,
     /// Accepted and discarded unread.
     #[serde(default, skip_serializing)]
     pub simulation_truth: Option<IgnoredAny>,
@@ -128,10 +148,13 @@ pub struct ProbeCalFile {
 /// The simulator's truth as written.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct TruthJson {
-    /// True probe vector, mm.
+    /// True probe vector, mm (the reference orientation's with a head).
     pub probe_vector_mm: [f64; 3],
     /// True tip radius, mm.
     pub tip_radius_mm: f64,
+    /// The truth per head orientation, in the order of `orientations`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub orientations: Option<Vec<OrientationTruthJson>>,
 }
 
 #[derive(Serialize)]
@@ -201,6 +224,9 @@ pub fn to_file(cal: &Calibration, opts: &CalibrationOptions) -> ProbeCalFile {
         deflection_correction: Some(correction_json(&cal.probe.correction)),
         scans: cal.scans.clone(),
         conditions: Some(conditions(cal, opts)),
+        head_axes: None,
+        head_angles_deg: None,
+        orientations: Vec::new(),
         simulation_truth: None,
     }
 }
@@ -244,12 +270,19 @@ fn correction_json(c: &DeflectionCorrection) -> CorrectionJson {
 
 /// Pretty JSON of a calibration file with the simulation truth appended.
 pub fn to_json(file: &ProbeCalFile, truth: Option<ProbeTruth>) -> String {
+    let truth = truth.map(|t| TruthJson {
+        probe_vector_mm: t.probe_vector.into(),
+        tip_radius_mm: t.tip_radius_mm,
+        orientations: None,
+    });
+    to_json_with_truth(file, truth)
+}
+
+/// Pretty JSON of a calibration file with the given truth appended.
+pub fn to_json_with_truth(file: &ProbeCalFile, truth: Option<TruthJson>) -> String {
     let written = Written {
         body: file,
-        simulation_truth: truth.map(|t| TruthJson {
-            probe_vector_mm: t.probe_vector.into(),
-            tip_radius_mm: t.tip_radius_mm,
-        }),
+        simulation_truth: truth,
     };
     let mut text = serde_json::to_string_pretty(&written).unwrap_or_default();
     text.push('\n');
@@ -284,6 +317,11 @@ impl ProbeCalibration {
                 None => DeflectionCorrection::identity(),
             },
         };
+        for (k, o) in file.orientations.iter().enumerate() {
+            let at = format!("$.orientations[{k}]");
+            check.vector(o.probe_vector_mm, &format!("{at}.probe_vector_mm"))?;
+            check.positive(o.tip_radius_mm, &format!("{at}.tip_radius_mm"))?;
+        }
         Ok(ProbeCalibration {
             source: path.to_path_buf(),
             probe,

@@ -50,7 +50,8 @@ pub fn measure_sphere(
     Ok(SphereReadings { touches, scans })
 }
 
-fn modes(opts: &CalibrationOptions, probe: &HostProbe) -> ModeOptions {
+/// Mode options with moves through the clearance height above the sphere.
+pub fn modes(opts: &CalibrationOptions, probe: &HostProbe) -> ModeOptions {
     let top = opts.sphere_center_mm.z + opts.sphere_radius() + probe.tip_radius_mm;
     ModeOptions {
         clearance_z_mm: Some(top + opts.clearance_mm),
@@ -63,11 +64,32 @@ fn touches(
     probe: HostProbe,
     opts: &CalibrationOptions,
 ) -> Result<Vec<Measured>, CalibrateError> {
+    let dirs = iso_25_directions();
+    touch_pattern(cmm, probe, opts.sphere_center_mm, &dirs, opts)
+}
+
+/// Touches the sphere once along every outward direction in `dirs`; the
+/// sphere's centre is expected at `centre` in the host's uncorrected ball
+/// coordinates (scales + probe vector).
+pub fn touch_pattern(
+    cmm: &mut dyn Cmm,
+    probe: HostProbe,
+    centre: Point3,
+    dirs: &[Vec3],
+    opts: &CalibrationOptions,
+) -> Result<Vec<Measured>, CalibrateError> {
     let modes = modes(opts, &probe);
-    let (c, radius) = (opts.sphere_center_mm, opts.sphere_radius());
+    let radius = opts.sphere_radius();
     let mut out = Vec::new();
-    for (index, n) in iso_25_directions().into_iter().enumerate() {
-        let a = touch_point(cmm, probe, c + n * radius, n, opts.touch_search_mm, &modes);
+    for (index, n) in dirs.iter().enumerate() {
+        let a = touch_point(
+            cmm,
+            probe,
+            centre + n * radius,
+            *n,
+            opts.touch_search_mm,
+            &modes,
+        );
         match (a.outcome, a.points.first()) {
             (Outcome::Completed, Some(m)) => out.push(*m),
             (outcome, _) => return Err(CalibrateError::Touch { index, outcome }),

@@ -6,18 +6,28 @@
 //! XY, XZ and YZ planes at several deflections in both directions — and
 //! computes, from the readings only, the probe vector, the effective tip
 //! radius and the condition-dependent deflection correction
-//! ([`crate::host::probe_correction`]). [`simulate`] sets up the simulated
-//! machine for it; [`file`] reads and writes `cmm-probe-cal/1`.
+//! ([`crate::host::probe_correction`]). With the machine's geometric error
+//! map ([`crate::host::compensation`]) every reading is corrected through
+//! the probe vector (seed 003). On a machine with a probe head,
+//! [`orientation`] calibrates the reference orientation in full and every
+//! further one from a few points around its predicted sphere centre (seed
+//! 003's iterative inverse). [`simulate`] and [`simulate_head`] set up the
+//! simulated machine; [`file`] and [`file_head`] read and write
+//! `cmm-probe-cal/1`.
 pub mod file;
+pub mod file_head;
 pub mod measure;
+pub mod orientation;
 pub mod pattern;
 pub mod simulate;
+pub mod simulate_head;
 pub mod solve;
 
 use measure::{measure_sphere, SphereReadings};
 use pattern::{ScanPlane, SCAN_PLANES};
 
 use crate::fit::{fit, ElementKind, FitOptions, Method};
+use crate::host::compensation::ErrorMap;
 use crate::host::machine::Cmm;
 use crate::host::modes::{HostProbe, Measured, ModeOptions, Outcome};
 use crate::math::{Point3, Vec3};
@@ -133,6 +143,51 @@ pub enum CalibrateError {
         /// Iterations made.
         iterations: usize,
     },
+    /// The probe head refused an orientation.
+    #[error("orientation {orientation}: cannot index the probe head: {source}")]
+    Head {
+        /// Orientation number (1-based, as listed).
+        orientation: usize,
+        /// Why.
+        source: crate::host::machine::HeadCommandError,
+    },
+    /// The iterative inverse correction did not converge.
+    #[error("orientation {orientation}: predicted sphere centre: {source}")]
+    Inverse {
+        /// Orientation number (1-based, as listed).
+        orientation: usize,
+        /// Why.
+        source: crate::host::compensation::InverseError,
+    },
+    /// A touch point at a head orientation failed.
+    #[error("orientation {orientation}: point {index} on the sphere failed: {outcome:?}")]
+    OrientationTouch {
+        /// Orientation number (1-based, as listed).
+        orientation: usize,
+        /// Index of the point (0 = the pole).
+        index: usize,
+        /// How it ended.
+        outcome: Outcome,
+    },
+    /// The move to free air before turning the head failed.
+    #[error(
+        "orientation {orientation}: move clear of the sphere before indexing failed: {outcome:?}"
+    )]
+    Clear {
+        /// Orientation number (1-based, as listed).
+        orientation: usize,
+        /// How it ended.
+        outcome: Outcome,
+    },
+    /// No head orientation was listed.
+    #[error("no probe-head orientation listed")]
+    NoOrientation,
+    /// Too few points for a sphere at a head orientation.
+    #[error("orientation options: {points} points per orientation, at least 4 are needed")]
+    TooFewPoints {
+        /// Points asked for.
+        points: usize,
+    },
     /// Bad options.
     #[error("{what} = {value} must be {requirement}")]
     Option {
@@ -192,15 +247,35 @@ pub struct Calibration {
 }
 
 /// Calibrates the probe on the sphere through the seam; `nominal` is what
-/// the host knows before (nominal probe vector and radius).
+/// the host knows before (nominal probe vector and radius). No geometric
+/// error compensation.
 pub fn calibrate(
     cmm: &mut dyn Cmm,
     nominal: HostProbe,
     opts: &CalibrationOptions,
 ) -> Result<Calibration, CalibrateError> {
+    calibrate_compensated(cmm, nominal, &ErrorMap::none(), opts)
+}
+
+/// [`calibrate`] on a machine whose geometric errors the host corrects
+/// with `map`: every reading's scales are corrected through the probe
+/// vector (seed 003), first the nominal one, then — once solved — the
+/// calibrated one, and the model is solved again.
+pub fn calibrate_compensated(
+    cmm: &mut dyn Cmm,
+    nominal: HostProbe,
+    map: &ErrorMap,
+    opts: &CalibrationOptions,
+) -> Result<Calibration, CalibrateError> {
     check(opts)?;
-    let data = measure_sphere(cmm, nominal, opts)?;
-    let solved = solve::solve(&data, nominal.probe_vector, opts)?;
+    let raw = measure_sphere(cmm, nominal, opts)?;
+    let mut data = compensated(&raw, map, &nominal.probe_vector);
+    let mut solved = solve::solve(&data, nominal.probe_vector, opts)?;
+    if !map.is_zero() {
+        let p = nominal.probe_vector + (opts.sphere_center_mm - solved.centre);
+        data = compensated(&raw, map, &p);
+        solved = solve::solve(&data, nominal.probe_vector, opts)?;
+    }
     let probe = HostProbe {
         probe_vector: nominal.probe_vector + (opts.sphere_center_mm - solved.centre),
         tip_radius_mm: solved.tip_radius_mm,
@@ -214,6 +289,33 @@ pub fn calibrate(
         scans: scan_summaries(&data, &nominal, &probe, opts),
         solved,
     })
+}
+
+/// Readings with their scales corrected by `map` for probe vector `p`.
+fn compensated(raw: &SphereReadings, map: &ErrorMap, p: &Vec3) -> SphereReadings {
+    let fix = |ms: &[Measured]| compensate_readings(ms, map, p);
+    SphereReadings {
+        touches: fix(&raw.touches),
+        scans: raw
+            .scans
+            .iter()
+            .map(|s| measure::ScanRecord {
+                samples: fix(&s.samples),
+                ..s.clone()
+            })
+            .collect(),
+    }
+}
+
+/// Readings whose `scales` are corrected by `map` for probe vector `p`
+/// (`scales + P` is then the corrected undeflected ball centre).
+pub fn compensate_readings(ms: &[Measured], map: &ErrorMap, p: &Vec3) -> Vec<Measured> {
+    ms.iter()
+        .map(|m| Measured {
+            scales: map.compensate(m.scales, p),
+            ..*m
+        })
+        .collect()
 }
 
 fn check(opts: &CalibrationOptions) -> Result<(), CalibrateError> {

@@ -54,6 +54,72 @@ pub fn iso_25_directions() -> Vec<Vec3> {
         .collect()
 }
 
+/// An orthonormal frame `(u, w, pole)` around `pole` (unit), with `u`
+/// pointing as far up (+z) as possible; `x` when the pole is vertical.
+fn pole_frame(pole: &Vec3) -> (Vec3, Vec3) {
+    let up = Vec3::z() - pole * pole.z;
+    let u = up
+        .try_normalize(1e-9)
+        .unwrap_or_else(|| (Vec3::x() - pole * pole.x).normalize());
+    (u, pole.cross(&u))
+}
+
+/// `dir` (a direction of a pattern around +z) turned so that +z goes to
+/// `pole` and +x to the frame's upward direction.
+fn turn_to(pole: &Vec3, dir: &Vec3) -> Vec3 {
+    let (u, w) = pole_frame(pole);
+    u * dir.x + w * dir.y + pole * dir.z
+}
+
+/// The 25-point pattern around `pole` (unit outward direction facing the
+/// probe mount) instead of +z.
+pub fn iso_25_around(pole: &Vec3) -> Vec<Vec3> {
+    iso_25_directions()
+        .iter()
+        .map(|d| turn_to(pole, d))
+        .collect()
+}
+
+/// `count` probing directions for a quick sphere measurement (seed 003
+/// uses 4): the pole, then `count - 1` points at `polar_deg` from it. They
+/// are spread evenly around the pole, starting upwards, over no more of the
+/// ring than keeps every point at least `min_elevation_deg` above the
+/// horizontal (points low under the sphere cannot be reached by the moves
+/// through the clearance height above it).
+pub fn cap_around(pole: &Vec3, count: usize, polar_deg: f64, min_elevation_deg: f64) -> Vec<Vec3> {
+    let ring = count.max(2) - 1;
+    let polar = polar_deg.to_radians();
+    let spread = ring_spread(pole, polar, min_elevation_deg.to_radians(), ring);
+    let on_ring = (0..ring).map(|k| {
+        let azimuth = if ring == 1 {
+            0.0
+        } else {
+            -spread + 2.0 * spread * k as f64 / (ring - 1) as f64
+        };
+        let local = Vec3::new(
+            polar.sin() * azimuth.cos(),
+            polar.sin() * azimuth.sin(),
+            polar.cos(),
+        );
+        turn_to(pole, &local)
+    });
+    std::iter::once(*pole).chain(on_ring).collect()
+}
+
+/// Half the azimuth range (rad, from the upward direction) that `ring`
+/// evenly spread points may use: a full even ring when every point of it is
+/// high enough, otherwise only the part at or above the lowest elevation.
+fn ring_spread(pole: &Vec3, polar: f64, min_elevation: f64, ring: usize) -> f64 {
+    let full = PI * (ring as f64 - 1.0) / ring as f64;
+    let (sin_p, cos_p) = (pole.z.clamp(-1.0, 1.0), pole.xy().norm());
+    let across = cos_p * polar.sin();
+    if across < 1e-9 {
+        return full;
+    }
+    let limit = ((min_elevation.sin() - sin_p * polar.cos()) / across).clamp(-1.0, 1.0);
+    full.min(limit.acos())
+}
+
 /// Outward unit directions of a circle scan in `plane`, `count` + 1 points in
 /// scanning order. The XY circle is closed (full turn) at elevation
 /// `xy_elevation_deg` above the equator; the XZ and YZ arcs run from

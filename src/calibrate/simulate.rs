@@ -4,7 +4,10 @@
 //! itself ([`super::calibrate`]) sees the machine through the seam alone.
 use std::path::Path;
 
-use super::{calibrate, nominal_probe, CalibrateError, Calibration, CalibrationOptions};
+use super::{
+    calibrate_compensated, nominal_probe, CalibrateError, Calibration, CalibrationOptions,
+};
+use crate::host::compensation::ErrorMap;
 use crate::math::{rotation_xyz_deg, Vec3};
 use crate::program::Pose;
 use crate::workpiece::as_machined::AsMachined;
@@ -36,6 +39,25 @@ pub struct SimulatedSetup {
     pub seed: u64,
     /// Switch off every simulated error and all noise.
     pub ideal: bool,
+    /// With `ideal`, keep the profile's 21 geometric error terms (the host
+    /// corrects them with its error map), to check the correction and the
+    /// iterative inverse free of noise.
+    pub keep_geometric_errors: bool,
+}
+
+impl Default for SimulatedSetup {
+    /// The embedded bridge, default profile, 3 mm tip, 50 mm stylus, seed 1.
+    fn default() -> Self {
+        SimulatedSetup {
+            machine: MachineModel::default_bridge(),
+            profile: MachineProfile::default(),
+            tip_diameter_mm: 3.0,
+            stylus_length_mm: 50.0,
+            seed: 1,
+            ideal: false,
+            keep_geometric_errors: false,
+        }
+    }
 }
 
 /// The simulator's true probe values, for comparison only.
@@ -59,6 +81,9 @@ pub enum SimulatedCalError {
     /// The calibration failed.
     #[error("calibration failed")]
     Calibrate(#[from] CalibrateError),
+    /// The head or an orientation does not fit the machine.
+    #[error("probe head orientations")]
+    Head(#[from] crate::host::head::HeadModelError),
 }
 
 /// The true probe of a setup (realistic unless ideal).
@@ -71,22 +96,52 @@ pub fn true_probe(setup: &SimulatedSetup) -> TrueProbe {
     }
 }
 
+/// The machine profile the world runs with: the given one, or its ideal
+/// version (keeping the geometric errors when asked).
+pub fn world_profile(setup: &SimulatedSetup) -> MachineProfile {
+    if !setup.ideal {
+        return setup.profile.clone();
+    }
+    let mut ideal = setup.profile.ideal();
+    if setup.keep_geometric_errors {
+        ideal.geometric = setup.profile.geometric.clone();
+    }
+    ideal
+}
+
+/// The host's error map: the machine's geometric error terms as its own
+/// calibration found them, here taken to be exactly the world's terms.
+pub fn host_error_map(profile: &MachineProfile) -> ErrorMap {
+    ErrorMap::new(profile.geometric.clone())
+}
+
+/// The reference sphere as a true part: workpiece and (nominal) as-machined
+/// model, placed by [`sphere_pose`].
+pub fn sphere_world(opts: &CalibrationOptions) -> Result<(Workpiece, AsMachined), WorkpieceError> {
+    let file = reference_sphere(opts.sphere_diameter_mm);
+    let sphere = Workpiece::from_file(&file, Path::new("<reference sphere>"))?;
+    Ok((sphere, AsMachined::nominal()))
+}
+
+/// Where the sphere sits on the machine.
+pub fn sphere_pose(opts: &CalibrationOptions) -> Pose {
+    Pose {
+        rotation: rotation_xyz_deg(SPHERE_POLES_DEG),
+        translation: opts.sphere_center_mm.coords,
+    }
+}
+
 /// Calibrates on the simulated machine; returns the calibration and the
 /// truth to write beside it.
 pub fn calibrate_simulated(
     setup: &SimulatedSetup,
     opts: &CalibrationOptions,
 ) -> Result<(Calibration, ProbeTruth), SimulatedCalError> {
-    let file = reference_sphere(opts.sphere_diameter_mm);
-    let sphere = Workpiece::from_file(&file, Path::new("<reference sphere>"))?;
-    let truth_part = AsMachined::nominal();
+    let (sphere, truth_part) = sphere_world(opts)?;
     let part = TruePart {
         workpiece: &sphere,
         as_machined: &truth_part,
-        pose: Pose {
-            rotation: rotation_xyz_deg(SPHERE_POLES_DEG),
-            translation: opts.sphere_center_mm.coords,
-        },
+        pose: sphere_pose(opts),
     };
     let probe = true_probe(setup);
     let truth = ProbeTruth {
@@ -96,11 +151,8 @@ pub fn calibrate_simulated(
     let nominal = nominal_probe(setup.tip_diameter_mm, setup.stylus_length_mm);
     let lift = opts.sphere_radius() + nominal.tip_radius_mm + opts.clearance_mm;
     let start = opts.sphere_center_mm + Vec3::z() * lift - nominal.probe_vector;
-    let profile = if setup.ideal {
-        setup.profile.ideal()
-    } else {
-        setup.profile.clone()
-    };
+    let profile = world_profile(setup);
+    let map = host_error_map(&profile);
     let mut cmm = SimulatedCmm::new(
         part,
         setup.machine.clone(),
@@ -109,6 +161,6 @@ pub fn calibrate_simulated(
         setup.seed,
         start,
     )?;
-    let cal = calibrate(&mut cmm, nominal, opts)?;
+    let cal = calibrate_compensated(&mut cmm, nominal, &map, opts)?;
     Ok((cal, truth))
 }

@@ -41,6 +41,22 @@ pub struct CalibrateArgs {
     /// Switch off every simulated error and all noise.
     #[arg(long)]
     pub ideal: bool,
+    /// With --ideal, keep the machine profile's geometric error terms (the
+    /// measuring side corrects them with its error map).
+    #[arg(long, requires = "ideal")]
+    pub keep_geometric_errors: bool,
+    /// Probe-head orientations to calibrate, deg: entries separated by ';',
+    /// one angle per head axis (order of --head-axes) separated by ','.
+    /// The first entry is the reference, calibrated in full; every other
+    /// one with a few points from its predicted sphere centre.
+    #[arg(long, value_name = "A,B;A,B;...")]
+    pub head_angles: Option<String>,
+    /// Head axes (URDF joint names) in the order of --head-angles' values.
+    #[arg(long, value_delimiter = ',', default_values_t = vec!["a".to_string(), "b".to_string()])]
+    pub head_axes: Vec<String>,
+    /// Points on the sphere at every further head orientation (at least 4).
+    #[arg(long, default_value_t = 4)]
+    pub orientation_points: usize,
     /// Calibration file to write.
     #[arg(long, default_value = "probe-cal.json")]
     pub out: PathBuf,
@@ -61,6 +77,7 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
         stylus_length_mm: args.stylus_length,
         seed: args.seed,
         ideal: args.ideal,
+        keep_geometric_errors: args.keep_geometric_errors,
     };
     let opts = CalibrationOptions {
         sphere_diameter_mm: args.sphere_diameter,
@@ -68,6 +85,9 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
         directions: args.directions.iter().map(|d| d == "ccw").collect(),
         ..CalibrationOptions::default()
     };
+    if let Some(text) = &args.head_angles {
+        return super::calibrate_head::run(args, &setup, &opts, text);
+    }
     let (cal, truth) = calibrate_simulated(&setup, &opts)?;
     let text = to_json(&to_file(&cal, &opts), Some(truth));
     crate::output::write_atomic(&args.out, text.as_bytes())?;
@@ -75,7 +95,8 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
     Ok(Status::Pass)
 }
 
-fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) {
+/// Prints the reference calibration's figures.
+pub(super) fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) {
     let p = cal.probe.probe_vector;
     println!("probe vector     [{:.5}, {:.5}, {:.5}] mm", p.x, p.y, p.z);
     println!("tip radius       {:.5} mm", cal.probe.tip_radius_mm);

@@ -6,6 +6,7 @@ use crate::output::WriteError;
 use crate::pointfile::PointsError;
 
 mod calibrate;
+mod calibrate_head;
 mod check;
 mod evaluate;
 mod examples;

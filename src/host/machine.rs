@@ -51,6 +51,46 @@ pub trait Cmm {
     /// What the software is doing from the next cycle on, for traces;
     /// machines that keep no trace ignore it.
     fn note_phase(&mut self, _phase: Phase) {}
+    /// Number of probe-head axes (0: no head).
+    fn head_axes(&self) -> usize {
+        0
+    }
+    /// Turns an indexing probe head to `angles_rad` (one per head axis, in
+    /// the machine's chain order), locks it and returns the head's encoder
+    /// readings, rad. The linear axes stay where they are, so the ball
+    /// moves with the head: the caller first brings it to free air.
+    fn index_head(&mut self, angles_rad: &[f64]) -> Result<Vec<f64>, HeadCommandError> {
+        let _ = angles_rad;
+        Err(HeadCommandError::NoHead)
+    }
+}
+
+/// Why a head orientation command was refused.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum HeadCommandError {
+    /// The machine has no probe head.
+    #[error("the machine has no probe head")]
+    NoHead,
+    /// Wrong number of angles.
+    #[error("the head has {expected} axes, {found} angles were given")]
+    Count {
+        /// Head axes.
+        expected: usize,
+        /// Angles given.
+        found: usize,
+    },
+    /// An angle outside the axis's travel (or not finite).
+    #[error("head axis '{axis}': {angle_rad} rad is outside its travel {lower}..{upper} rad")]
+    Travel {
+        /// Axis name.
+        axis: String,
+        /// The angle commanded, rad.
+        angle_rad: f64,
+        /// Lowest angle, rad.
+        lower: f64,
+        /// Highest angle, rad.
+        upper: f64,
+    },
 }
 
 /// What the measuring software is doing, as recorded in motion traces.

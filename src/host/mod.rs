@@ -11,7 +11,14 @@
 //!   control cycle (seeds 000, 001, 004).
 //! - [`probe_correction`]: condition-dependent correction of the probe's
 //!   deflection readings from a calibration (seed 002).
+//! - [`compensation`]: the machine's geometric error map applied at the
+//!   stylus tip through the probe vector, and its iterative inverse (seed
+//!   003).
+//! - [`head`]: the nominal probe-head model (URDF) giving a probe vector per
+//!   head orientation.
 
+pub mod compensation;
+pub mod head;
 pub mod machine;
 pub mod modes;
 pub mod path;

@@ -111,6 +111,17 @@ impl DeflectionCorrection {
             .fold(Mat3::zeros(), |acc, e| acc * dp + e)
     }
 
+    /// The gain correction of a probe turned by `turn` (a probe head
+    /// orientation relative to the one calibrated): the sensor's frame turns
+    /// with the stylus, so `E_k -> R E_k R^T`. The scanning tilts belong to
+    /// machine planes and are kept as they are.
+    pub fn turned(&self, turn: &Mat3) -> DeflectionCorrection {
+        DeflectionCorrection {
+            gain: self.gain.map(|e| turn * e * turn.transpose()),
+            tilt: self.tilt,
+        }
+    }
+
     /// Corrected deflection vector for the raw reading `m`, mm.
     pub fn deflection(&self, m: Vec3) -> Vec3 {
         m + self.gain_at(m.norm()) * m

@@ -1,5 +1,11 @@
 //! The simulated CMM: servo axes, true probe and the as-machined part,
 //! stepped one control cycle at a time behind the [`Cmm`] seam.
+//!
+//! The ball centre follows the machine's (true) URDF chain: linear axes,
+//! then the probe head when there is one, whose revolute axes are indexed
+//! (turned and locked) by [`Cmm::index_head`]; the 21 geometric error terms
+//! act through the effective probe vector. The probe's sensor turns with
+//! the head.
 use rand::rngs::ChaCha8Rng;
 use rand::SeedableRng;
 
@@ -7,8 +13,8 @@ use super::machine::{AxisKind, GeometricErrors, MachineModel, MachineProfile, Se
 use super::noise::gaussian;
 use super::probe::TrueProbe;
 use crate::geometry::{ProjectionError, ProjectionOptions};
-use crate::host::machine::{Cmm, MachineStatus, Readings};
-use crate::math::{Point3, Vec2, Vec3};
+use crate::host::machine::{Cmm, HeadCommandError, MachineStatus, Readings};
+use crate::math::{Iso3, Point3, Vec2, Vec3};
 use crate::program::Pose;
 use crate::workpiece::as_machined::{AsMachined, TrueProjection, TrueWarm};
 use crate::workpiece::Workpiece;
@@ -81,6 +87,8 @@ pub struct SimulatedCmm<'a> {
     contact: ProjectionOptions,
     /// Whether the profile has any geometric error term.
     geometric: bool,
+    /// Probe mount relative to the linear axes (the locked head's turn).
+    mount: Iso3,
     /// Reused per-cycle buffers (axis commands, scale readings).
     command: Vec<f64>,
     scales: Vec<f64>,
@@ -122,21 +130,47 @@ impl<'a> SimulatedCmm<'a> {
             last,
             contact: contact_options(&part.workpiece.options),
             geometric,
+            mount: Iso3::identity(),
             command: Vec::new(),
             scales: Vec::new(),
         };
+        sim.update_mount();
         sim.last = sim.observe(Vec3::zeros(), MachineStatus::Ok);
         Ok(sim)
     }
 
-    /// True undeflected ball centre (machine coordinates) for axis positions.
+    /// True undeflected ball centre (machine coordinates) for axis positions:
+    /// the stylus vector carried through the URDF chain (linear axes, then
+    /// the probe head when there is one), plus the displacement of the 21
+    /// geometric error terms acting through the effective probe vector
+    /// (spindle reference point `B` to the ball, seed 003).
     fn ball_centre(&self, q: &[f64]) -> Point3 {
         let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
-        let tip = Point3::from(xyz) + self.probe.probe_vector;
+        let ball = Point3::from(xyz) + (self.mount * Point3::from(self.probe.probe_vector)).coords;
         if !self.geometric {
-            return tip;
+            return ball;
         }
-        tip + self.profile.geometric_error(xyz, &self.probe.probe_vector)
+        ball + self
+            .profile
+            .geometric_error(xyz, &(ball - Point3::from(xyz)))
+    }
+
+    /// Pose of the probe mount (URDF tip link) for axis positions `q`.
+    fn tip_pose(&self, q: &[f64]) -> Iso3 {
+        let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
+        self.model
+            .pose(q)
+            .unwrap_or_else(|_| Iso3::translation(xyz[0], xyz[1], xyz[2]))
+    }
+
+    /// The probe mount's pose relative to the linear axes' translation,
+    /// fixed while the head is locked (the linear axes come first in the
+    /// chain); recomputed when the head is indexed.
+    fn update_mount(&mut self) {
+        let q = self.servo.position();
+        let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
+        let linear = Iso3::translation(xyz[0], xyz[1], xyz[2]);
+        self.mount = linear.inverse() * self.tip_pose(q);
     }
 
     /// True deflection for the current state (zero when not touching).
@@ -205,7 +239,9 @@ impl<'a> SimulatedCmm<'a> {
             status
         };
         self.servo.read_scales_into(&mut self.rng, &mut self.scales);
-        let deflection = self.probe.sense(d, &mut self.rng);
+        // The sensor turns with the head: its gain acts in the probe's frame.
+        let turn = self.mount.rotation;
+        let deflection = turn * self.probe.sense(turn.inverse() * d, &mut self.rng);
         let time_s = self.servo.time_s();
         let xyz = Point3::from(self.model.linear_xyz(&self.scales).unwrap_or([0.0; 3]));
         Readings {
@@ -237,7 +273,68 @@ fn to_axes_into(model: &MachineModel, v: Vec3, out: &mut Vec<f64>) {
     }));
 }
 
+impl SimulatedCmm<'_> {
+    /// The indexing command behind [`Cmm::index_head`].
+    fn index(&mut self, angles_rad: &[f64]) -> Result<Vec<f64>, HeadCommandError> {
+        let head = self.model.revolute_axes();
+        if head.is_empty() {
+            return Err(HeadCommandError::NoHead);
+        }
+        if head.len() != angles_rad.len() {
+            let (expected, found) = (head.len(), angles_rad.len());
+            return Err(HeadCommandError::Count { expected, found });
+        }
+        let targets: Vec<(usize, f64)> = head
+            .iter()
+            .copied()
+            .zip(angles_rad.iter().copied())
+            .collect();
+        self.servo
+            .index_to(&targets)
+            .map_err(|e| self.refused(e, head.len()))?;
+        self.hint = None;
+        self.clearance = 0.0;
+        self.update_mount();
+        self.last = self.observe(Vec3::zeros(), MachineStatus::Ok);
+        let encoders = self.servo.read_scales(&mut self.rng);
+        Ok(head
+            .iter()
+            .filter_map(|&i| encoders.get(i).copied())
+            .collect())
+    }
+}
+
+impl SimulatedCmm<'_> {
+    /// The servo's refusal of an indexing command as the seam's error.
+    fn refused(&self, e: ServoError, expected: usize) -> HeadCommandError {
+        let travel = |index: usize, angle_rad: f64| {
+            let axis = self.model.axes().get(index);
+            HeadCommandError::Travel {
+                axis: axis.map(|a| a.name.clone()).unwrap_or_default(),
+                angle_rad,
+                lower: axis.map_or(f64::NAN, |a| a.limits.lower),
+                upper: axis.map_or(f64::NAN, |a| a.limits.upper),
+            }
+        };
+        match e {
+            ServoError::AxisLimit {
+                index, position, ..
+            } => travel(index, position),
+            ServoError::NotFinite { index, value } => travel(index, value),
+            ServoError::AxisCount { found, .. } => HeadCommandError::Count { expected, found },
+        }
+    }
+}
+
 impl Cmm for SimulatedCmm<'_> {
+    fn head_axes(&self) -> usize {
+        self.model.revolute_axes().len()
+    }
+
+    fn index_head(&mut self, angles_rad: &[f64]) -> Result<Vec<f64>, HeadCommandError> {
+        self.index(angles_rad)
+    }
+
     fn cycle_s(&self) -> f64 {
         self.servo.cycle_s()
     }

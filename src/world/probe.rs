@@ -9,11 +9,15 @@ use crate::math::{Mat3, Vec3};
 /// True probe parameters.
 #[derive(Debug, Clone, PartialEq)]
 pub struct TrueProbe {
-    /// Probe mount (scale reference) to the undeflected ball centre, mm.
+    /// Probe mount to the undeflected ball centre, mm, in the frame of the
+    /// machine's tip link (the spindle reference point on a machine without
+    /// a head, where it is the probe vector in machine coordinates; the
+    /// probe mount of the head otherwise, turned with the head).
     pub probe_vector: Vec3,
     /// Effective tip radius, mm.
     pub tip_radius_mm: f64,
-    /// Sensor gain and cross-talk: reading = G d (+ nonlinearity + noise).
+    /// Sensor gain and cross-talk in the probe's own frame: reading = G d
+    /// (+ nonlinearity + noise).
     pub gain: Mat3,
     /// Cubic nonlinearity: adds `k |d|^2 d` to the reading, 1/mm^2.
     pub cubic_per_mm2: f64,

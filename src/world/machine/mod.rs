@@ -13,6 +13,7 @@ pub mod builtin;
 mod chain;
 mod error;
 pub mod geometric;
+pub mod head_errors;
 mod kinematics;
 mod model;
 pub mod profile;
@@ -22,6 +23,7 @@ pub mod urdf;
 
 pub use error::MachineError;
 pub use geometric::{ErrorPolynomial, GeometricErrors, LinearAxisErrors, Squareness, Stacking};
+pub use head_errors::HeadErrors;
 pub use model::{Axis, AxisKind, AxisLimits, MachineModel};
 pub use profile::{LinearAxesProfile, MachineProfile, ProfileError, RotaryAxesProfile};
 pub use servo::{AxisDynamics, AxisState, Servo, ServoError};

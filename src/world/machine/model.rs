@@ -178,6 +178,20 @@ impl MachineModel {
         Ok([sum.x, sum.y, sum.z])
     }
 
+    /// Joint links and axes for the world's error models (same module tree).
+    pub(super) fn parts_mut(&mut self) -> (&mut [ChainLink], &mut [Axis]) {
+        (&mut self.links, &mut self.axes)
+    }
+
+    /// Index in `q` of every revolute (rotary) axis, chain order.
+    pub fn revolute_axes(&self) -> Vec<usize> {
+        let rotary = self.axes.iter().enumerate();
+        rotary
+            .filter(|(_, a)| a.kind == AxisKind::Revolute)
+            .map(|(i, _)| i)
+            .collect()
+    }
+
     fn check_count(&self, q: &[f64]) -> Result<(), MachineError> {
         if q.len() == self.axes.len() {
             return Ok(());

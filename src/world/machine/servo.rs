@@ -269,6 +269,47 @@ impl Servo {
         self.time_s
     }
 
+    /// Indexes axes to fixed positions and locks them there (a probe head
+    /// that turns to an orientation and clamps): `targets` are (axis index,
+    /// position) pairs, mm or rad. The axes arrive at rest; the machine time
+    /// advances by the longest move at its axis's speed limit. A target
+    /// outside an axis's travel (or a wrong index) changes nothing and is
+    /// returned as an error.
+    pub fn index_to(&mut self, targets: &[(usize, f64)]) -> Result<AxisState, ServoError> {
+        let mut longest_s: f64 = 0.0;
+        for &(index, target) in targets {
+            let axis = self.axes.get(index).ok_or(ServoError::AxisCount {
+                expected: self.axes.len(),
+                found: index + 1,
+            })?;
+            if !target.is_finite() {
+                return Err(ServoError::NotFinite {
+                    index,
+                    value: target,
+                });
+            }
+            if !(axis.lower..=axis.upper).contains(&target) {
+                return Err(ServoError::AxisLimit {
+                    axis: axis.name.clone(),
+                    index,
+                    position: target,
+                    lower: axis.lower,
+                    upper: axis.upper,
+                });
+            }
+            let from = self.position.get(index).copied().unwrap_or(target);
+            longest_s = longest_s.max((target - from).abs() / axis.max_velocity.max(1e-12));
+        }
+        for &(index, target) in targets {
+            if let (Some(p), Some(v)) = (self.position.get_mut(index), self.velocity.get_mut(index))
+            {
+                (*p, *v) = (target, 0.0);
+            }
+        }
+        self.time_s += longest_s;
+        Ok(self.state())
+    }
+
     /// Scale readings of the current positions (quantised, with noise drawn
     /// from `rng` in axis order; an ideal profile draws nothing).
     pub fn read_scales(&self, rng: &mut impl Rng) -> Vec<f64> {
