@@ -237,3 +237,57 @@ fn power_basis_fast_path_agrees_with_the_basis_recursion() {
         }
     }
 }
+
+/// The non-rational fast path (Horner kernels for bicubic patches, the
+/// general kernel otherwise) and the second-order `jet2` against the basis
+/// recursion, on random non-rational surfaces of degrees 1 to 4.
+#[test]
+fn polynomial_fast_path_and_jet2_agree_with_the_basis_recursion() {
+    let mut r = rng(17);
+    for case in 0..60 {
+        let mut spec = random_surface(&mut r, "s");
+        spec.weights = None;
+        if case % 2 == 0 {
+            spec.degree = [3, 3];
+            let (ku, nu) = random_knots(&mut r, 3);
+            let (kv, nv) = random_knots(&mut r, 3);
+            spec.knots_u = ku;
+            spec.knots_v = kv;
+            spec.control_points = (0..nu)
+                .map(|i| {
+                    (0..nv)
+                        .map(|j| [i as f64 * 10.0, j as f64 * 10.0, uniform(&mut r, -8.0, 8.0)])
+                        .collect()
+                })
+                .collect();
+        }
+        let s = build(&spec);
+        let ((u0, u1), (v0, v1)) = s.domain();
+        for _ in 0..20 {
+            let (u, v) = (uniform(&mut r, u0, u1), uniform(&mut r, v0, v1));
+            for nd in [1, 2, 3] {
+                let (a, b) = (s.derivs(u, v, nd), s.derivs_de_boor(u, v, nd));
+                let scale = 1.0 + b.d[0][0].norm() + b.d[1][0].norm() + b.d[0][1].norm();
+                for k in 0..=nd {
+                    for l in 0..=nd - k {
+                        let err = (a.d[k][l] - b.d[k][l]).norm();
+                        assert!(
+                            err <= 1e-10 * scale * (1.0 + b.d[k][l].norm()),
+                            "case {case} nd {nd} d[{k}][{l}]"
+                        );
+                    }
+                }
+            }
+            let (j, b) = (s.jet2(u, v), s.derivs_de_boor(u, v, 2));
+            let want = [
+                b.d[0][0], b.d[1][0], b.d[0][1], b.d[2][0], b.d[1][1], b.d[0][2],
+            ];
+            for (got, want) in j.d.iter().zip(want) {
+                assert!(
+                    (got - want).norm() <= 1e-10 * (1.0 + want.norm()),
+                    "case {case} jet2"
+                );
+            }
+        }
+    }
+}

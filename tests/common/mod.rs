@@ -112,7 +112,7 @@ pub fn random_surface(rng: &mut TestRng, name: &str) -> cmm::workpiece::SurfaceS
     }
 }
 
-fn random_knots(rng: &mut TestRng, p: usize) -> (Vec<f64>, usize) {
+pub fn random_knots(rng: &mut TestRng, p: usize) -> (Vec<f64>, usize) {
     use rand::RngExt;
     let lo = uniform(rng, -2.0, 2.0);
     let spans = rng.random_range(1..=4usize);

@@ -249,15 +249,64 @@ fn monomials<const NP: usize>(s: f64, h: f64, nd: usize) -> [[f64; NP]; 4] {
     out
 }
 
-/// [`poly_kernel_nd`] with the derivative order known at compile time.
+/// Non-rational patch evaluation with the derivative order known at
+/// compile time, by Horner's rule with derivatives: first along `t` for
+/// every row of coefficients, then along `s` for every order in `t`.
 #[inline(always)]
 fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, S: Sink>(
     patch: &[Vec3],
-    su: (f64, f64),
-    tv: (f64, f64),
+    (s, hu): (f64, f64),
+    (t, hv): (f64, f64),
     out: &mut S,
 ) {
-    poly_kernel_nd::<NP, NQ, S>(patch, su, tv, ND, out)
+    let mut cols = [[Vec3::zeros(); NP]; 4];
+    for (i, row) in patch.chunks_exact(NQ).take(NP).enumerate() {
+        let r = horner::<ND>(row, t);
+        for (col, v) in cols.iter_mut().zip(r).take(ND + 1) {
+            col[i] = v;
+        }
+    }
+    let (mut scale_l, mut fact_l) = (1.0, 1.0);
+    for (l, col) in cols.iter().enumerate().take(ND + 1) {
+        let c = horner_upto(col, s, ND - l);
+        let (mut scale_k, mut fact_k) = (1.0, 1.0);
+        for (k, v) in c.iter().enumerate().take(ND - l + 1) {
+            out.put(k, l, v * (scale_k * scale_l * fact_k * fact_l));
+            scale_k *= hu;
+            fact_k *= (k + 1) as f64;
+        }
+        scale_l *= hv;
+        fact_l *= (l + 1) as f64;
+    }
+}
+
+/// `q[l] = P^(l)(x) / l!` for `l <= ND` of `P(x) = sum_j c[j] x^j`.
+#[inline(always)]
+fn horner<const ND: usize>(c: &[Vec3], x: f64) -> [Vec3; 4] {
+    let mut q = [Vec3::zeros(); 4];
+    let Some((last, rest)) = c.split_last() else {
+        return q;
+    };
+    q[0] = *last;
+    for &cj in rest.iter().rev() {
+        for l in (1..=ND.min(3)).rev() {
+            q[l] = q[l] * x + q[l - 1];
+        }
+        q[0] = q[0] * x + cj;
+    }
+    q
+}
+
+/// [`horner`] with the order given at run time (a constant after
+/// unrolling in the kernels).
+#[inline(always)]
+fn horner_upto(c: &[Vec3], x: f64, nd: usize) -> [Vec3; 4] {
+    match nd {
+        0 => horner::<0>(c, x),
+        1 => horner::<1>(c, x),
+        2 => horner::<2>(c, x),
+        _ => horner::<3>(c, x),
+    }
 }
 
 /// Non-rational patch evaluation for compile-time sizes, into `out`.
