@@ -303,8 +303,9 @@ impl NurbsSurface {
     pub fn normal_from_jet(&self, d: &Jet2, uv: Vec2) -> Vec3 {
         let sign = if self.reversed { -1.0 } else { 1.0 };
         let n = d.su().cross(&d.sv());
-        let (lu, lv) = (d.su().norm(), d.sv().norm());
-        let near_degenerate = lu < NEAR_DEGENERATE_RATIO * lv || lv < NEAR_DEGENERATE_RATIO * lu;
+        let (lu2, lv2) = (d.su().norm_squared(), d.sv().norm_squared());
+        let r2 = NEAR_DEGENERATE_RATIO * NEAR_DEGENERATE_RATIO;
+        let near_degenerate = lu2 < r2 * lv2 || lv2 < r2 * lu2;
         if !near_degenerate && n.norm_squared() > 0.0 {
             return n.normalize() * sign;
         }

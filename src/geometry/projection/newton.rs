@@ -37,6 +37,7 @@ pub struct Foot {
 }
 
 impl Foot {
+    #[inline(always)]
     fn new(uv: Vec2, d: Jet2, p: Point3, iterations: usize) -> Foot {
         Foot {
             uv,
@@ -95,6 +96,7 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> Jet2>(
 /// earlier foot at `start` (exact or Taylor-moved): the first Newton step is
 /// taken from it without evaluating the surface. If that step does not
 /// lower the distance, Newton restarts from an evaluation at `start`.
+#[inline]
 pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
     eval: F,
     p: Point3,
@@ -104,11 +106,11 @@ pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
     let x0 = bounds.clamp(start);
-    let prev = Foot::new(x0, *cached, p, 0);
-    let delta = bounds.clamp(x0 + newton_step(&prev.d, p, x0, bounds)) - x0;
-    let step = (prev.d.su() * delta.x + prev.d.sv() * delta.y).norm();
+    let prev_dist2 = (cached.point() - p).norm_squared();
+    let delta = bounds.clamp(x0 + newton_step(cached, p, x0, bounds)) - x0;
+    let step = (cached.su() * delta.x + cached.sv() * delta.y).norm();
     let first = Foot::new(x0 + delta, eval(x0 + delta), p, 1);
-    if first.dist2 <= prev.dist2 * (1.0 + 1e-12) + 1e-24 {
+    if first.dist2 <= prev_dist2 * (1.0 + 1e-12) + 1e-24 {
         newton_from(&eval, p, first, Some(step), bounds, opts)
     } else {
         minimise_with(eval, p, start, bounds, opts)
@@ -117,6 +119,7 @@ pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
 
 /// The Newton iteration from an evaluated foot; `full_step` is the length
 /// of the full Newton step (no line-search halving) that led to it, if any.
+#[inline]
 fn newton_from<F: Fn(Vec2) -> Jet2>(
     eval: &F,
     p: Point3,
@@ -184,6 +187,7 @@ fn is_final(step: f64, previous: Option<f64>, opts: &ProjectionOptions) -> bool 
 /// order of the third derivative times the step cubed, far below the
 /// Newton error left anyway). It is kept unless it makes the distance
 /// visibly worse.
+#[inline(always)]
 fn final_step(p: Point3, foot: Foot, delta: Vec2, it: usize) -> Foot {
     let cand = Foot::new(foot.uv + delta, foot.d.taylor(delta), p, it);
     let slack = 1e-12 * foot.dist2 + 1e-24;
@@ -257,8 +261,14 @@ fn regularised(h: f64, metric: f64) -> f64 {
 fn solve_2x2(h: Mat2, g: Vec2, metric: f64) -> Vec2 {
     let tr = h.m11 + h.m22;
     let det = h.m11 * h.m22 - h.m12 * h.m21;
-    let disc = (0.25 * tr * tr - det).max(0.0).sqrt();
-    let lambda_min = 0.5 * tr - disc;
+    // The smaller eigenvalue is at least det / tr when both are positive, so
+    // a clearly positive-definite Hessian needs no eigenvalue.
+    let clearly_convex = tr > 0.0 && det > MIN_CURVATURE_RATIO * metric * tr;
+    let lambda_min = if clearly_convex {
+        det / tr
+    } else {
+        0.5 * tr - (0.25 * tr * tr - det).max(0.0).sqrt()
+    };
     let shift = if lambda_min > MIN_CURVATURE_RATIO * metric {
         0.0
     } else {
