@@ -139,13 +139,23 @@ impl Limits {
 
     /// Largest feasible acceleration for the cycle from `(s, v)` (full
     /// braking, or the weaker braking that just stops, if none is).
-    fn best_accel(&self, s: f64, v: f64, iters: usize) -> f64 {
+    fn best_accel(&self, s: f64, v: f64, iters: usize, last: f64) -> f64 {
         let lo = (-self.a_tan).max(-v / self.dt);
         if self.feasible(s, v, self.a_tan) {
             return self.a_tan;
         }
         if !self.feasible(s, v, lo) {
             return lo;
+        }
+        // Cruising repeats the last cycle's answer: keep it when it is
+        // still feasible and one bisection resolution more is not.
+        let resolution = (self.a_tan - lo) * 0.5f64.powi(iters.min(1000) as i32);
+        if last > lo
+            && last < self.a_tan
+            && self.feasible(s, v, last)
+            && !self.feasible(s, v, last + resolution)
+        {
+            return last;
         }
         let (mut lo, mut hi) = (lo, self.a_tan);
         for _ in 0..iters {
@@ -166,7 +176,7 @@ impl MotionProfile {
         let length = limits.length();
         let dt = opts.cycle_s;
         let mut samples = Vec::new();
-        let (mut s, mut v) = (0.0, 0.0);
+        let (mut s, mut v, mut a_last) = (0.0, 0.0, f64::NAN);
         for k in 0..opts.max_cycles {
             let t = k as f64 * dt;
             if v == 0.0 && length - s <= opts.end_tol_mm {
@@ -177,7 +187,8 @@ impl MotionProfile {
                     cycle_s: dt,
                 });
             }
-            let a = limits.best_accel(s, v, opts.accel_search_iters);
+            let a = limits.best_accel(s, v, opts.accel_search_iters, a_last);
+            a_last = a;
             samples.push(MotionSample { t, s, v, a });
             (s, v) = limits.step(s, v, a);
         }
