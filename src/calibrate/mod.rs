@@ -19,6 +19,7 @@ pub mod file_head;
 pub mod measure;
 pub mod orientation;
 pub mod pattern;
+pub mod probe_file;
 pub mod simulate;
 pub mod simulate_head;
 pub mod solve;

@@ -1,11 +1,12 @@
 //! `cmm calibrate-probe [--machine URDF] [--machine-profile FILE]
-//! [--probe-tip-diameter D] [--stylus-length L] [--sphere-diameter 25]
+//! [--probe FILE | --probe-tip-diameter D --stylus-length L] [--sphere-diameter 25]
 //! [--deflections 0.1,0.2,0.3,0.5] [--directions cw,ccw] [--seed N]
 //! [--ideal] [--out probe-cal.json]`.
 use std::path::PathBuf;
 
 use super::{CliError, Status};
 use crate::calibrate::file::{to_file, to_json};
+use crate::calibrate::probe_file::{read_probe_file, NominalProbe};
 use crate::calibrate::simulate::{calibrate_simulated, ProbeTruth, SimulatedSetup};
 use crate::calibrate::{Calibration, CalibrationOptions};
 use crate::world::machine::{MachineModel, MachineProfile};
@@ -19,6 +20,11 @@ pub struct CalibrateArgs {
     /// Machine profile (cmm-machine-profile/1); defaults when omitted.
     #[arg(long)]
     pub machine_profile: Option<PathBuf>,
+    /// Nominal probe from a file: a part program's `probe` block
+    /// (`{"tip_diameter_mm": 3, "stylus_length_mm": 50}`) or a whole part
+    /// program; replaces --probe-tip-diameter and --stylus-length.
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["probe_tip_diameter", "stylus_length"])]
+    pub probe: Option<PathBuf>,
     /// Nominal tip (ball) diameter, mm.
     #[arg(long, default_value_t = 3.0)]
     pub probe_tip_diameter: f64,
@@ -64,6 +70,13 @@ pub struct CalibrateArgs {
 
 /// Runs `cmm calibrate-probe`.
 pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
+    let nominal = match &args.probe {
+        Some(path) => read_probe_file(path)?,
+        None => NominalProbe {
+            tip_diameter_mm: args.probe_tip_diameter,
+            stylus_length_mm: args.stylus_length,
+        },
+    };
     let setup = SimulatedSetup {
         machine: match &args.machine {
             Some(path) => MachineModel::from_urdf_file(path)?,
@@ -73,8 +86,8 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
             Some(path) => MachineProfile::from_json_file(path)?,
             None => MachineProfile::default(),
         },
-        tip_diameter_mm: args.probe_tip_diameter,
-        stylus_length_mm: args.stylus_length,
+        tip_diameter_mm: nominal.tip_diameter_mm,
+        stylus_length_mm: nominal.stylus_length_mm,
         seed: args.seed,
         ideal: args.ideal,
         keep_geometric_errors: args.keep_geometric_errors,

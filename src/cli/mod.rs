@@ -101,6 +101,9 @@ pub enum CliError {
     /// The probe calibration failed (or its machine could not be set up).
     #[error(transparent)]
     Calibrate(#[from] crate::calibrate::simulate::SimulatedCalError),
+    /// A probe description file (`calibrate-probe --probe`) is invalid.
+    #[error(transparent)]
+    ProbeFile(#[from] crate::calibrate::probe_file::ProbeFileError),
     /// A probe calibration file is invalid.
     #[error(transparent)]
     ProbeCal(#[from] crate::calibrate::file::ProbeCalError),

@@ -1,0 +1,100 @@
+//! `cmm calibrate-probe --probe FILE`: the nominal probe from a file.
+use std::process::{Command, Output};
+
+fn cmm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A 4 mm ball on a 40 mm stylus given by a probe block: the calibration
+/// finds the ball 40 mm below the mount and a 2 mm radius (simulated probe
+/// errors are micrometres), and a whole part program's block works too.
+#[test]
+fn probe_file_sets_the_nominal_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let block = dir.path().join("probe.json");
+    std::fs::write(
+        &block,
+        r#"{"tip_diameter_mm": 4.0, "stylus_length_mm": 40}"#,
+    )
+    .unwrap();
+    let program = dir.path().join("program.json");
+    std::fs::write(
+        &program,
+        r#"{"format": "cmm-program/1", "name": "p", "workpiece": "w.json",
+            "probe": {"tip_diameter_mm": 4.0, "stylus_length_mm": 40}, "features": []}"#,
+    )
+    .unwrap();
+    for file in [&block, &program] {
+        let out = dir.path().join("cal.json");
+        let run = cmm(&[
+            "calibrate-probe",
+            "--probe",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            run.status.success(),
+            "{}",
+            String::from_utf8_lossy(&run.stderr)
+        );
+        let cal: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let pv = cal["probe_vector_mm"].as_array().unwrap();
+        let z = pv[2].as_f64().unwrap();
+        let r = cal["tip_radius_mm"].as_f64().unwrap();
+        assert!((z + 40.0).abs() < 0.05, "probe vector z {z}");
+        assert!((r - 2.0).abs() < 0.01, "tip radius {r}");
+        let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
+        assert!((r - truth).abs() < 0.2e-3, "{r} vs truth {truth}");
+    }
+}
+
+#[test]
+fn bad_probe_files_exit_2_naming_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let cases = [
+        (
+            r#"{"tip_diameter_mm": -3, "stylus_length_mm": 50}"#,
+            "$.tip_diameter_mm",
+        ),
+        (r#"{"tip_diameter_mm": 3, "stylus": 50}"#, "stylus"),
+        (
+            r#"{"probe": {"tip_diameter_mm": 3, "stylus_length_mm": 0}}"#,
+            "$.probe.stylus_length_mm",
+        ),
+        (r#"{"tip_diameter_mm": 3,"#, "probe.json"),
+    ];
+    for (text, expected) in cases {
+        let file = dir.path().join("probe.json");
+        std::fs::write(&file, text).unwrap();
+        let out = dir.path().join("cal.json");
+        let run = cmm(&[
+            "calibrate-probe",
+            "--probe",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{text}: {err}");
+        assert!(
+            err.contains(expected) && err.contains("probe.json"),
+            "{text}: {err}"
+        );
+        assert!(!out.exists(), "nothing written for {text}");
+    }
+    let missing = cmm(&["calibrate-probe", "--probe", "/nonexistent/probe.json"]);
+    assert_eq!(missing.status.code(), Some(2));
+    let both = cmm(&[
+        "calibrate-probe",
+        "--probe",
+        "p.json",
+        "--stylus-length",
+        "40",
+    ]);
+    assert_eq!(both.status.code(), Some(2), "--probe with --stylus-length");
+}
