@@ -192,21 +192,28 @@ impl NurbsSurface {
     /// `S` and its partial derivatives up to total order `nd` (at most 3).
     /// Parameters outside the domain are clamped.
     pub fn derivs(&self, u: f64, v: f64, nd: usize) -> SurfaceDerivs {
+        let mut out = SurfaceDerivs {
+            d: [[Vec3::zeros(); 4]; 4],
+        };
+        self.derivs_into(u, v, nd, &mut out);
+        out
+    }
+
+    /// [`Self::derivs`] into a table the caller owns (entries beyond order
+    /// `nd` are left as they are).
+    #[inline]
+    pub fn derivs_into(&self, u: f64, v: f64, nd: usize, out: &mut SurfaceDerivs) {
         let nd = nd.min(3);
         if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
             let uv = self.clamp(Vec2::new(u, v));
-            let mut out = SurfaceDerivs {
-                d: [[Vec3::zeros(); 4]; 4],
-            };
             if fast.derivs_polynomial(uv.x, uv.y, nd, &mut out.d) {
-                return out;
+                return;
             }
             let aw = fast.derivs(uv.x, uv.y, nd);
-            return SurfaceDerivs {
-                d: self.rational_derivs(&aw, nd),
-            };
+            out.d = self.rational_derivs(&aw, nd);
+            return;
         }
-        self.derivs_de_boor(u, v, nd)
+        *out = self.derivs_de_boor(u, v, nd);
     }
 
     /// The point with its derivatives to second order (the table Newton

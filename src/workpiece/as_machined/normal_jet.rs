@@ -15,7 +15,10 @@ pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     uv: Vec2,
     nd: usize,
 ) -> Jet2 {
-    let s = surface.derivs(uv.x, uv.y, if nd == 0 { 1 } else { 3 });
+    let mut s = SurfaceDerivs {
+        d: [[Vec3::zeros(); 4]; 4],
+    };
+    surface.derivs_into(uv.x, uv.y, if nd == 0 { 1 } else { 3 }, &mut s);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
     let jet = sum_jets(terms.clone(), s.point());
     let Some(n) = normal_jet(&s, sign) else {
