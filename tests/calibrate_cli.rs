@@ -1,4 +1,5 @@
 //! `cmm calibrate-probe --probe FILE`: the nominal probe from a file.
+use std::path::Path;
 use std::process::{Command, Output};
 
 fn cmm(args: &[&str]) -> Output {
@@ -6,6 +7,17 @@ fn cmm(args: &[&str]) -> Output {
         .args(args)
         .output()
         .unwrap()
+}
+
+/// `cmm calibrate-probe --probe PROBE --out OUT`.
+fn calibrate(probe: &Path, out: &Path) -> Output {
+    cmm(&[
+        "calibrate-probe",
+        "--probe",
+        probe.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ])
 }
 
 /// A 4 mm ball on a 40 mm stylus given by a probe block: the calibration
@@ -72,13 +84,7 @@ fn bad_probe_files_exit_2_naming_the_place() {
         let file = dir.path().join("probe.json");
         std::fs::write(&file, text).unwrap();
         let out = dir.path().join("cal.json");
-        let run = cmm(&[
-            "calibrate-probe",
-            "--probe",
-            file.to_str().unwrap(),
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let run = calibrate(&file, &out);
         let err = String::from_utf8_lossy(&run.stderr);
         assert_eq!(run.status.code(), Some(2), "{text}: {err}");
         assert!(
