@@ -161,6 +161,7 @@ impl WarmStart {
     }
 
     /// Runs `minimise` from this start and keeps the new foot's table.
+    #[inline(always)]
     pub(crate) fn run<F: Fn(Vec2) -> Jet2>(
         &mut self,
         eval: F,

@@ -96,7 +96,7 @@ pub(crate) fn minimise_with<F: Fn(Vec2) -> Jet2>(
 /// earlier foot at `start` (exact or Taylor-moved): the first Newton step is
 /// taken from it without evaluating the surface. If that step does not
 /// lower the distance, Newton restarts from an evaluation at `start`.
-#[inline]
+#[inline(always)]
 pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
     eval: F,
     p: Point3,
@@ -119,7 +119,7 @@ pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
 
 /// The Newton iteration from an evaluated foot; `full_step` is the length
 /// of the full Newton step (no line-search halving) that led to it, if any.
-#[inline]
+#[inline(always)]
 fn newton_from<F: Fn(Vec2) -> Jet2>(
     eval: &F,
     p: Point3,
