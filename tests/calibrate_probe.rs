@@ -62,3 +62,41 @@ fn iso_pattern_has_25_points_on_the_upper_hemisphere() {
         .all(|d| (d.norm() - 1.0).abs() < 1e-12 && d.z > -1e-12));
     assert_eq!(dirs.iter().filter(|d| d.z.abs() < 1e-12).count(), 8);
 }
+
+/// The tracker's shortcut for an uncalibrated probe gives bit-for-bit the
+/// measurement of the general path with the identity correction, and a
+/// calibrated correction does change it (so the comparison can fail).
+#[test]
+fn uncorrected_locate_matches_the_identity_correction() {
+    use cmm::host::modes::HostProbe;
+    use cmm::host::probe_correction::DeflectionCorrection;
+    use cmm::math::{Point3, Vec3};
+    use rand::rngs::ChaCha8Rng;
+    use rand::{RngExt, SeedableRng};
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let probe = HostProbe::nominal(Vec3::new(0.0, 0.0, -50.0), 1.5);
+    let mut tilted = DeflectionCorrection::identity();
+    tilted.gain[0] = cmm::math::Mat3::identity() * 0.01;
+    for axis in tilted.tilt.iter_mut() {
+        for dir in axis.iter_mut() {
+            dir[0] = 0.01;
+        }
+    }
+    let calibrated = HostProbe {
+        correction: tilted,
+        ..probe
+    };
+    let mut v = || Vec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - Vec3::repeat(1.0);
+    let mut differs = 0;
+    for _ in 0..2000 {
+        let scales = Point3::from(v() * 300.0);
+        let (reading, motion) = (v() * 0.5, v() * 80.0);
+        let fast = probe.locate_uncorrected(scales, reading, motion);
+        assert_eq!(fast, probe.locate(scales, reading, motion));
+        differs += usize::from(fast != calibrated.locate(scales, reading, motion));
+    }
+    assert!(
+        differs > 1990,
+        "a gain and tilt correction changed only {differs} points"
+    );
+}

@@ -84,6 +84,9 @@ pub enum KnotError {
 pub struct KnotVector {
     knots: Vec<f64>,
     degree: usize,
+    /// `(knots[p], knots[len - p - 1])`, kept because every projection
+    /// step asks for it.
+    domain: (f64, f64),
 }
 
 impl KnotVector {
@@ -100,8 +103,12 @@ impl KnotVector {
             });
         }
         check_multiplicities(&knots, degree)?;
-        let kv = KnotVector { knots, degree };
-        let (lo, hi) = kv.domain();
+        let (lo, hi) = (knots[degree], knots[knots.len() - degree - 1]);
+        let kv = KnotVector {
+            knots,
+            degree,
+            domain: (lo, hi),
+        };
         if lo >= hi {
             return Err(KnotError::EmptyDomain { lo, hi });
         }
@@ -125,8 +132,7 @@ impl KnotVector {
 
     /// Parameter domain `(start, end)`.
     pub fn domain(&self) -> (f64, f64) {
-        let p = self.degree;
-        (self.knots[p], self.knots[self.knots.len() - p - 1])
+        self.domain
     }
 
     /// Distinct knot values inside the domain, including both ends.

@@ -62,15 +62,40 @@ impl HostProbe {
     pub fn locate(&self, scales: Point3, reading: Vec3, motion: Vec3) -> Option<Measured> {
         let d = self.correction.deflection(reading);
         let normal = self.correction.normal(d, reading, motion)?;
+        Some(self.measured(scales, reading, motion, d, normal))
+    }
+
+    /// [`Self::locate`] for a probe whose correction is the identity (not
+    /// calibrated): the same result without evaluating the correction
+    /// (whose terms are all zero, so the deflection is the reading and the
+    /// normal its direction).
+    pub fn locate_uncorrected(
+        &self,
+        scales: Point3,
+        reading: Vec3,
+        motion: Vec3,
+    ) -> Option<Measured> {
+        let normal = reading.try_normalize(1e-12)?;
+        Some(self.measured(scales, reading, motion, reading, normal))
+    }
+
+    fn measured(
+        &self,
+        scales: Point3,
+        reading: Vec3,
+        motion: Vec3,
+        d: Vec3,
+        normal: Vec3,
+    ) -> Measured {
         let ball = scales + self.probe_vector + d;
-        Some(Measured {
+        Measured {
             point: ball - normal * self.tip_radius_mm,
             normal,
             ball,
             scales,
             reading,
             motion,
-        })
+        }
     }
 }
 

@@ -8,13 +8,14 @@
 //! approach speed, so the approach follows without a stop.
 use super::{HostProbe, Measured, ModeOptions, Outcome};
 use crate::host::machine::{Cmm, MachineStatus, Phase, Readings};
+use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
 /// points taken at a pitch.
 pub struct Tracker {
-    /// What the host knows about the probe.
-    pub probe: HostProbe,
+    /// What the host knows about the probe (fixed for the tracker's life).
+    probe: HostProbe,
     /// Latest readings.
     pub now: Readings,
     /// Machine time at the start, s.
@@ -24,6 +25,8 @@ pub struct Tracker {
     /// Ball-centre velocity commanded in the last cycle, mm/s.
     pub command: Vec3,
     last_point: Option<Point3>,
+    /// Whether the probe's deflection correction is not the identity.
+    corrected: bool,
 }
 
 impl Tracker {
@@ -37,6 +40,7 @@ impl Tracker {
             points: Vec::new(),
             command: Vec3::zeros(),
             last_point: None,
+            corrected: probe.correction != DeflectionCorrection::identity(),
         }
     }
 
@@ -53,8 +57,12 @@ impl Tracker {
     /// The measured point now, if the stylus is deflected.
     /// Ball and normal use the probe's deflection correction.
     pub fn measured(&self) -> Option<Measured> {
-        self.probe
-            .locate(self.now.scales, self.now.deflection, self.command)
+        let (scales, reading, motion) = (self.now.scales, self.now.deflection, self.command);
+        if self.corrected {
+            self.probe.locate(scales, reading, motion)
+        } else {
+            self.probe.locate_uncorrected(scales, reading, motion)
+        }
     }
 
     /// Steps the machine and returns an outcome if it halted.

@@ -6,7 +6,7 @@
 use super::touch::finish;
 use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::machine::{Cmm, Phase};
-use crate::host::path::{BallPath, SpeedPlan};
+use crate::host::path::{BallPath, PathLocation, SpeedPlan};
 use crate::math::{Point3, Vec3};
 
 /// Passive or active design-value scanning.
@@ -172,7 +172,7 @@ fn active(
     for _ in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
-            .closest(&a0, Some(&here))
+            .closest(&a0, Some(&ahead(path, &here, speed * dt)))
             .map_err(|_| Outcome::Aborted)?;
         progress += wrapped_step(path, progress, here.s);
         let remaining = length - progress;
@@ -203,6 +203,20 @@ fn active(
         tr.sample(t.pitch_mm);
     }
     Err(Outcome::Aborted)
+}
+
+/// The closest-point search's start for this cycle: the last location
+/// moved `ds` mm along its segment (chord-length parameters, so about `ds`
+/// in `u`), where the probe should be now; the search walks on from there.
+fn ahead(path: &BallPath, here: &PathLocation, ds: f64) -> PathLocation {
+    let end = path
+        .segments()
+        .get(here.segment)
+        .map_or(0.0, |g| g.param_len());
+    PathLocation {
+        u: (here.u + ds).min(end),
+        ..*here
+    }
 }
 
 /// `V = Gf Vf + Ge Ve + Gc Vc2` with `q = normalize(n x Vf)`, `Vc2 = (Vc1 . q) q`.

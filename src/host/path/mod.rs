@@ -43,7 +43,7 @@ mod spline;
 
 pub use ball_path::{BallPath, PathLocation, PathSample};
 pub use options::{ClosestOptions, EndCondition, PathOptions};
-pub use pcc::CubicSegment;
+pub use pcc::{CubicSegment, MAX_QUAD_PANELS};
 pub use profile::{MotionProfile, MotionSample};
 pub use radius::chord_angle_radius;
 pub use speed::{SegmentSpeed, SpeedError, SpeedOptions, SpeedPlan};

@@ -28,7 +28,12 @@ pub struct CubicSegment {
     param_len: f64,
     arc_len: f64,
     quad_panels: usize,
+    /// Arc length from the start to the start of each quadrature panel.
+    panel_arcs: [f64; MAX_QUAD_PANELS],
 }
+
+/// Most Gauss-Legendre panels per segment (more are clamped to this).
+pub const MAX_QUAD_PANELS: usize = 8;
 
 impl CubicSegment {
     /// Segment from its start point, unit chord direction `d`, chord length
@@ -47,8 +52,14 @@ impl CubicSegment {
             coeffs: [p0.coords, c1, m0 * 0.5, c3],
             param_len: h,
             arc_len: 0.0,
-            quad_panels: quad_panels.max(1),
+            quad_panels: quad_panels.clamp(1, MAX_QUAD_PANELS),
+            panel_arcs: [0.0; MAX_QUAD_PANELS],
         };
+        let w = seg.panel_width();
+        for k in 1..seg.quad_panels {
+            let before = seg.panel_arcs[k - 1];
+            seg.panel_arcs[k] = before + seg.panel_len(w * (k - 1) as f64, w);
+        }
         seg.arc_len = seg.arc_len_to(h);
         seg
     }
@@ -97,11 +108,21 @@ impl CubicSegment {
     }
 
     /// Arc length from `u = 0` to `u`, mm (composite Gauss-Legendre).
+    ///
+    /// The segment's parameter range is split into equal panels whose
+    /// starts' arc lengths are kept, so a query integrates only the part of
+    /// one panel up to `u` (one 5-node rule).
     pub fn arc_len_to(&self, u: f64) -> f64 {
-        let width = u / self.quad_panels as f64;
-        (0..self.quad_panels)
-            .map(|k| self.panel_len(width * k as f64, width))
-            .sum()
+        let w = self.panel_width();
+        // `as usize` saturates: negative and NaN give panel 0.
+        let k = ((u / w) as usize).min(self.quad_panels - 1);
+        let u0 = w * k as f64;
+        self.panel_arcs.get(k).copied().unwrap_or(0.0) + self.panel_len(u0, u - u0)
+    }
+
+    /// Parameter width of one quadrature panel.
+    fn panel_width(&self) -> f64 {
+        self.param_len / self.quad_panels as f64
     }
 
     /// Arc length over `[u0, u0 + width]` by one 5-node Gauss-Legendre rule.

@@ -177,6 +177,9 @@ impl AsMachined {
         } else {
             normal_jet::displaced(&f.surface, self.face_terms(face), uv, 2)
         };
+        if self.linear == Mat3::identity() && self.offset == Vec3::zeros() {
+            return g;
+        }
         g.mapped(&self.linear, self.offset)
     }
 

@@ -90,14 +90,27 @@ impl AxisDynamics {
         }
     }
 
-    /// One cycle of length `dt` (s): new (position, velocity).
-    fn advance(&self, position: f64, velocity: f64, command: f64, dt: f64) -> (f64, f64) {
-        let target = command.clamp(-self.max_velocity, self.max_velocity);
-        let decay = if self.lag_s > 0.0 {
+    /// The lag's velocity decay over one cycle of `dt` s, `exp(-dt / lag)`
+    /// (0 without lag).
+    fn decay(&self, dt: f64) -> f64 {
+        if self.lag_s > 0.0 {
             (-dt / self.lag_s).exp()
         } else {
             0.0
-        };
+        }
+    }
+
+    /// One cycle of length `dt` (s) whose lag decay is `decay`
+    /// ([`Self::decay`]): new (position, velocity).
+    fn advance(
+        &self,
+        position: f64,
+        velocity: f64,
+        command: f64,
+        dt: f64,
+        decay: f64,
+    ) -> (f64, f64) {
+        let target = command.clamp(-self.max_velocity, self.max_velocity);
         // The lag's acceleration is largest at the start of the cycle,
         // |target - v| / lag. Within the limit the exact exponential is
         // integrated; beyond it the axis ramps at the limit (trapezoid), so
@@ -180,6 +193,8 @@ pub enum ServoError {
 #[derive(Debug, Clone)]
 pub struct Servo {
     axes: Vec<AxisDynamics>,
+    /// Each axis's lag decay over one cycle (computed once).
+    decays: Vec<f64>,
     position: Vec<f64>,
     velocity: Vec<f64>,
     cycle_s: f64,
@@ -199,7 +214,12 @@ impl Servo {
             .map(|a| AxisDynamics::for_axis(a, profile))
             .collect();
         check_count(axes.len(), start.len())?;
+        let decays = axes
+            .iter()
+            .map(|a| a.decay(profile.control_cycle_s))
+            .collect();
         let servo = Self {
+            decays,
             velocity: vec![0.0; axes.len()],
             position: start.to_vec(),
             axes,
@@ -244,8 +264,9 @@ impl Servo {
         check_count(self.axes.len(), commanded_velocity.len())?;
         check_finite(commanded_velocity)?;
         let states = self.position.iter_mut().zip(self.velocity.iter_mut());
-        for ((axis, (p, v)), c) in self.axes.iter().zip(states).zip(commanded_velocity) {
-            (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s);
+        let axes = self.axes.iter().zip(&self.decays);
+        for (((axis, decay), (p, v)), c) in axes.zip(states).zip(commanded_velocity) {
+            (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s, *decay);
         }
         self.time_s += self.cycle_s;
         match self.first_outside() {
