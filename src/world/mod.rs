@@ -8,7 +8,8 @@
 //! a real machine could be plugged into later.
 //!
 //! Every random draw in the world goes through a caller-provided
-//! `&mut impl rand::Rng` (one seeded stream, e.g. `rand::rngs::ChaCha8Rng`), so
+//! `&mut impl rand::Rng` (one seeded stream: the simulated machine uses
+//! `rand::rngs::Xoshiro256PlusPlus`), so
 //! the same inputs and seed give identical results.
 
 pub mod cmm;

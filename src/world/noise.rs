@@ -47,21 +47,37 @@ fn unit(bits: u64) -> f64 {
 
 /// A standard normal draw (mean 0, standard deviation 1) by the ziggurat
 /// method (Marsaglia and Tsang 2000): one 64-bit draw in about 99% of
-/// cases (layer from the low 8 bits, position from the top 53).
+/// cases (layer from the low 8 bits, position from the top 53). That
+/// common case is inlined; the rest is out of line.
+#[inline]
 pub fn standard_normal(rng: &mut impl Rng) -> f64 {
     let t = tables();
+    let bits = rng.next_u64();
+    let i = (bits & 0xff) as usize;
+    let x = (2.0 * unit(bits) - 1.0) * t.x[i];
+    if x.abs() < t.x[i + 1] {
+        return x;
+    }
+    rejected(rng, t, i, x)
+}
+
+/// The ziggurat beyond its fast case: layer `i` gave `x` outside the
+/// layer's inner rectangle.
+#[cold]
+#[inline(never)]
+fn rejected(rng: &mut impl Rng, t: &Tables, mut i: usize, mut x: f64) -> f64 {
     loop {
-        let bits = rng.next_u64();
-        let i = (bits & 0xff) as usize;
-        let x = (2.0 * unit(bits) - 1.0) * t.x[i];
-        if x.abs() < t.x[i + 1] {
-            return x;
-        }
         if i == 0 {
             return tail(rng, x < 0.0);
         }
         let y = t.f[i + 1] + (t.f[i] - t.f[i + 1]) * rng.random::<f64>();
         if y < density(x) {
+            return x;
+        }
+        let bits = rng.next_u64();
+        i = (bits & 0xff) as usize;
+        x = (2.0 * unit(bits) - 1.0) * t.x[i];
+        if x.abs() < t.x[i + 1] {
             return x;
         }
     }
@@ -83,6 +99,7 @@ fn tail(rng: &mut impl Rng, negative: bool) -> f64 {
 /// A zero-mean Gaussian draw with standard deviation `sigma` (same unit as
 /// `sigma`). Draws nothing and returns exactly 0 when `sigma` is 0, so an
 /// ideal sensor leaves the random stream untouched.
+#[inline]
 pub fn gaussian(rng: &mut impl Rng, sigma: f64) -> f64 {
     if sigma == 0.0 {
         0.0

@@ -169,6 +169,10 @@ fn active(
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
     let mut here = path.location(0.0);
+    let searching = ModeOptions {
+        lost_contact_cycles: opts.active_lost_contact_cycles,
+        ..*opts
+    };
     for _ in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
@@ -195,10 +199,6 @@ fn active(
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
-        let searching = ModeOptions {
-            lost_contact_cycles: opts.active_lost_contact_cycles,
-            ..*opts
-        };
         contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
         tr.sample(t.pitch_mm);
     }

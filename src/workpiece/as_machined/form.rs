@@ -49,19 +49,31 @@ impl Jet {
             hess: Mat3::zeros(),
         }
     }
-    fn add(self, o: Jet) -> Jet {
-        Jet {
-            h: self.h + o.h,
-            grad: self.grad + o.grad,
-            hess: self.hess + o.hess,
-        }
-    }
 }
 
 impl Form {
     /// The term's value at `p`.
     pub fn value(&self, p: Point3) -> f64 {
         self.jet(p).h
+    }
+
+    /// Adds the term's value, gradient and Hessian at `p` to `acc` (the
+    /// same numbers as [`Self::jet`], without a temporary jet).
+    pub fn add_to(&self, p: Point3, acc: &mut Jet) {
+        match *self {
+            Form::Offset(h) => acc.h += h,
+            Form::Bump {
+                center,
+                radius,
+                height,
+            } => add_bump(p - center, radius, height, acc),
+            Form::Waviness { .. } => {
+                let j = self.jet(p);
+                acc.h += j.h;
+                acc.grad += j.grad;
+                acc.hess += j.hess;
+            }
+        }
     }
 
     /// Value, gradient and Hessian at `p`.
@@ -119,20 +131,36 @@ impl Form {
 const BUMP_CUTOFF: f64 = 50.0;
 
 fn bump_jet(r: Vec3, rho: f64, height: f64) -> Jet {
+    let mut jet = Jet::zero();
+    add_bump(r, rho, height, &mut jet);
+    jet
+}
+
+/// Adds the bump's jet at `r = p - c` to `acc`: `h = height exp(-|r|^2 /
+/// rho^2)`, gradient `-2 h r / rho^2`, Hessian `h (4 r r^T / rho^4 - 2 I /
+/// rho^2)`.
+fn add_bump(r: Vec3, rho: f64, height: f64, acc: &mut Jet) {
     let rho2 = rho * rho;
     let q = r.norm_squared() / rho2;
     if q > BUMP_CUTOFF {
-        return Jet::zero();
+        return;
     }
     let h = height * (-q).exp();
-    Jet {
-        h,
-        grad: r * (-2.0 * h / rho2),
-        hess: (r * r.transpose() * (4.0 / (rho2 * rho2)) - Mat3::identity() * (2.0 / rho2)) * h,
+    acc.h += h;
+    acc.grad += r * (-2.0 * h / rho2);
+    acc.hess.ger(4.0 * h / (rho2 * rho2), &r, &r, 1.0);
+    let diagonal = 2.0 * h / rho2;
+    for k in 0..3 {
+        acc.hess[(k, k)] -= diagonal;
     }
 }
 
-/// Sum of the jets of several terms.
+/// Sum of the jets of several terms (each added in place, without
+/// building its own jet).
 pub fn sum_jets<'a>(terms: impl Iterator<Item = &'a Form>, p: Point3) -> Jet {
-    terms.fold(Jet::zero(), |acc, t| acc.add(t.jet(p)))
+    let mut acc = Jet::zero();
+    for t in terms {
+        t.add_to(p, &mut acc);
+    }
+    acc
 }

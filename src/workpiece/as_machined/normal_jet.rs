@@ -21,9 +21,10 @@ pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface.derivs_into(uv.x, uv.y, if nd == 0 { 1 } else { 3 }, &mut s);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
     let jet = sum_jets(terms.clone(), s.point());
-    let Some(n) = normal_jet(&s, sign) else {
+    let mut n = [Vec3::zeros(); 6];
+    if !normal_jet(&s, sign, &mut n) {
         return displaced_degenerate(surface, terms, uv, nd);
-    };
+    }
     let mut g = Jet2::from(&s);
     g.d[0] += n[0] * jet.h;
     if nd > 0 {
@@ -48,7 +49,8 @@ fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
     let inner = surface.derivs(nudged.x, nudged.y, 3);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
     let mut g = Jet2::from(&inner);
-    if let Some(nj) = normal_jet(&inner, sign).filter(|_| nd > 0) {
+    let mut nj = [Vec3::zeros(); 6];
+    if normal_jet(&inner, sign, &mut nj) && nd > 0 {
         second_order(&mut g, &inner, &nj, &sum_jets(terms.clone(), inner.point()));
     }
     g.d[0] = s0.d[0][0] + n * sum_jets(terms, s0.point()).h;
@@ -70,15 +72,15 @@ fn second_order(g: &mut Jet2, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
     g.d[5] = s.svv() + n[0] * hvv + n[2] * (2.0 * hv) + n[5] * h;
 }
 
-/// Unit normal `sign * N / |N|`, `N = Su x Sv`, and its derivatives, or
-/// `None` where `N` vanishes.
-fn normal_jet(s: &SurfaceDerivs, sign: f64) -> Option<NormalJet> {
+/// Writes the unit normal `sign * N / |N|`, `N = Su x Sv`, and its
+/// derivatives into `out`; false (and `out` untouched) where `N` vanishes.
+fn normal_jet(s: &SurfaceDerivs, sign: f64, out: &mut NormalJet) -> bool {
     let d = &s.d;
     let (su, sv) = (d[1][0], d[0][1]);
     let big_n = su.cross(&sv);
     let m = big_n.norm();
     if m <= 1e-14 * (su.norm_squared() + sv.norm_squared()) || m == 0.0 {
-        return None;
+        return false;
     }
     let nu = d[2][0].cross(&sv) + su.cross(&d[1][1]);
     let nv = d[1][1].cross(&sv) + su.cross(&d[0][2]);
@@ -96,5 +98,8 @@ fn normal_jet(s: &SurfaceDerivs, sign: f64) -> Option<NormalJet> {
     let n_uu = second(nuu, n_u, nu, n_u, ma, ma);
     let n_uv = second(nuv, n_v, nu, n_u, ma, mb);
     let n_vv = second(nvv, n_v, nv, n_v, mb, mb);
-    Some([n, n_u, n_v, n_uu, n_uv, n_vv].map(|v| v * sign))
+    for (slot, v) in out.iter_mut().zip([n, n_u, n_v, n_uu, n_uv, n_vv]) {
+        *slot = v * sign;
+    }
+    true
 }
