@@ -76,18 +76,28 @@ impl Jet2 {
     /// derivatives unchanged).
     #[inline]
     pub fn taylor(&self, delta: Vec2) -> Jet2 {
+        let mut out = *self;
+        out.advance(delta);
+        out
+    }
+
+    /// The point of [`Self::taylor`] alone.
+    #[inline]
+    pub fn taylor_point(&self, delta: Vec2) -> Point3 {
         let (du, dv) = (delta.x, delta.y);
         let [p, su, sv, suu, suv, svv] = self.d;
         let quad = (suu * (du * du) + suv * (2.0 * du * dv) + svv * (dv * dv)) * 0.5;
-        Jet2 {
-            d: [
-                p + su * du + sv * dv + quad,
-                su + suu * du + suv * dv,
-                sv + suv * du + svv * dv,
-                suu,
-                suv,
-                svv,
-            ],
-        }
+        Point3::from(p + su * du + sv * dv + quad)
+    }
+
+    /// [`Self::taylor`] in place.
+    #[inline]
+    pub fn advance(&mut self, delta: Vec2) {
+        let (du, dv) = (delta.x, delta.y);
+        let point = self.taylor_point(delta);
+        let [_, su, sv, suu, suv, svv] = self.d;
+        self.d[0] = point.coords;
+        self.d[1] = su + suu * du + suv * dv;
+        self.d[2] = sv + suv * du + svv * dv;
     }
 }

@@ -221,16 +221,23 @@ impl NurbsSurface {
     /// non-rational surfaces.
     #[inline]
     pub fn jet2(&self, u: f64, v: f64) -> Jet2 {
+        let mut out = Jet2 {
+            d: [Vec3::zeros(); 6],
+        };
+        self.jet2_into(u, v, &mut out);
+        out
+    }
+
+    /// [`Self::jet2`] written into `out` (no table copied on return).
+    #[inline]
+    pub fn jet2_into(&self, u: f64, v: f64, out: &mut Jet2) {
         if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
             let uv = self.clamp(Vec2::new(u, v));
-            let mut out = Jet2 {
-                d: [Vec3::zeros(); 6],
-            };
-            if fast.jet2_polynomial(uv.x, uv.y, &mut out) {
-                return out;
+            if fast.jet2_polynomial(uv.x, uv.y, out) {
+                return;
             }
         }
-        Jet2::from(&self.derivs(u, v, 2))
+        *out = Jet2::from(&self.derivs(u, v, 2));
     }
 
     /// [`Self::derivs`] by the B-spline basis recursion (any degree); the

@@ -143,41 +143,59 @@ pub fn project_from(
 /// Newton step of the next query needs no evaluation of the surface. This
 /// is how a query along a path (one per control cycle) costs about one
 /// evaluation.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, Copy)]
 pub struct WarmStart {
-    uv: Vec2,
-    table: Option<Jet2>,
+    /// The last foot (its table valid when `has_table`), updated in place.
+    foot: Foot,
+    has_table: bool,
+}
+
+impl PartialEq for WarmStart {
+    fn eq(&self, other: &Self) -> bool {
+        self.foot.uv == other.foot.uv
+            && self.has_table == other.has_table
+            && (!self.has_table || self.foot.d == other.foot.d)
+    }
 }
 
 impl WarmStart {
     /// A start at parameters `uv` with no derivative table yet.
     pub fn new(uv: Vec2) -> WarmStart {
-        WarmStart { uv, table: None }
+        WarmStart {
+            foot: Foot {
+                uv,
+                d: Jet2 {
+                    d: [Vec3::zeros(); 6],
+                },
+                dist2: f64::INFINITY,
+                iterations: 0,
+            },
+            has_table: false,
+        }
     }
 
     /// Parameters of the last foot (or of the start).
     pub fn uv(&self) -> Vec2 {
-        self.uv
+        self.foot.uv
     }
 
-    /// Runs `minimise` from this start and keeps the new foot's table.
+    /// Runs the Newton iteration from this start and keeps the new foot
+    /// (returned by reference: the per-cycle path copies no tables).
     #[inline(always)]
-    pub(crate) fn run<F: Fn(Vec2) -> Jet2>(
+    pub(crate) fn run<F: Fn(Vec2, &mut Jet2)>(
         &mut self,
         eval: F,
         p: Point3,
         bounds: &Bounds,
         opts: &ProjectionOptions,
-    ) -> Result<Foot, ProjectionError> {
-        let foot = match &self.table {
-            Some(t) => minimise_cached(eval, p, self.uv, t, bounds, opts)?,
-            None => minimise_with(eval, p, self.uv, bounds, opts)?,
-        };
-        *self = WarmStart {
-            uv: foot.uv,
-            table: Some(foot.d),
-        };
-        Ok(foot)
+    ) -> Result<&Foot, ProjectionError> {
+        if self.has_table {
+            minimise_cached(eval, p, &mut self.foot, bounds, opts)?;
+        } else {
+            self.foot = minimise_with(eval, p, self.foot.uv, bounds, opts)?;
+            self.has_table = true;
+        }
+        Ok(&self.foot)
     }
 }
 
@@ -206,7 +224,8 @@ pub fn project_warm(
 ) -> Result<Projection, ProjectionError> {
     check_finite(p)?;
     let bounds = domain_bounds(surface);
-    let foot = warm.run(|x| surface.jet2(x.x, x.y), p, &bounds, opts)?;
+    let eval = |x: Vec2, out: &mut Jet2| surface.jet2_into(x.x, x.y, out);
+    let foot = warm.run(eval, p, &bounds, opts)?;
     Ok(foot.into_projection(surface, p))
 }
 

@@ -3,7 +3,7 @@
 //! backtracking line search.
 use super::{Projection, ProjectionError, ProjectionOptions};
 use crate::geometry::{Jet2, NurbsSurface};
-use crate::math::{Mat2, Point3, Vec2};
+use crate::math::{Mat2, Point3, Vec2, Vec3};
 
 /// A parameter box (crate-internal).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -37,18 +37,8 @@ pub struct Foot {
 }
 
 impl Foot {
-    #[inline(always)]
-    fn new(uv: Vec2, d: Jet2, p: Point3, iterations: usize) -> Foot {
-        Foot {
-            uv,
-            d,
-            dist2: (d.point() - p).norm_squared(),
-            iterations,
-        }
-    }
-
     /// Finishes the foot into a projection with the outward normal.
-    pub fn into_projection(self, surface: &NurbsSurface, p: Point3) -> Projection {
+    pub fn into_projection(&self, surface: &NurbsSurface, p: Point3) -> Projection {
         let normal = surface.normal_from_jet(&self.d, self.uv);
         let point = self.d.point();
         let distance = self.dist2.sqrt();
@@ -76,84 +66,105 @@ pub(crate) fn minimise(
     bounds: &Bounds,
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
-    minimise_with(|x| surface.jet2(x.x, x.y), p, start, bounds, opts)
+    minimise_with(
+        |x, out: &mut Jet2| surface.jet2_into(x.x, x.y, out),
+        p,
+        start,
+        bounds,
+        opts,
+    )
 }
 
 /// [`minimise`] for any parametric surface given by its second-order
 /// derivative table at a parameter.
-pub(crate) fn minimise_with<F: Fn(Vec2) -> Jet2>(
+pub(crate) fn minimise_with<F: Fn(Vec2, &mut Jet2)>(
     eval: F,
     p: Point3,
     start: Vec2,
     bounds: &Bounds,
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
-    let x0 = bounds.clamp(start);
-    newton_from(&eval, p, Foot::new(x0, eval(x0), p, 0), None, bounds, opts)
+    let mut foot = Foot {
+        uv: start,
+        d: Jet2 {
+            d: [Vec3::zeros(); 6],
+        },
+        dist2: f64::INFINITY,
+        iterations: 0,
+    };
+    evaluate_at(&eval, p, &mut foot, bounds.clamp(start), 0);
+    newton_from(&eval, p, &mut foot, None, bounds, opts)?;
+    Ok(foot)
 }
 
-/// [`minimise_with`] starting from the derivative table `cached` of an
-/// earlier foot at `start` (exact or Taylor-moved): the first Newton step is
-/// taken from it without evaluating the surface. If that step does not
-/// lower the distance, Newton restarts from an evaluation at `start`.
+/// Like [`minimise_with`], in place: `foot` holds the derivative table of
+/// an earlier foot at `foot.uv` (exact or Taylor-moved), and the first
+/// Newton step is taken from it without evaluating the surface. If that
+/// step does not lower the distance, Newton restarts from an evaluation at
+/// the start. On return `foot` is the new foot (moved and updated in place,
+/// so the per-cycle query copies no derivative tables).
 #[inline(always)]
-pub(crate) fn minimise_cached<F: Fn(Vec2) -> Jet2>(
+pub(crate) fn minimise_cached<F: Fn(Vec2, &mut Jet2)>(
     eval: F,
     p: Point3,
-    start: Vec2,
-    cached: &Jet2,
+    foot: &mut Foot,
     bounds: &Bounds,
     opts: &ProjectionOptions,
-) -> Result<Foot, ProjectionError> {
-    let x0 = bounds.clamp(start);
-    let prev_dist2 = (cached.point() - p).norm_squared();
-    let delta = bounds.clamp(x0 + newton_step(cached, p, x0, bounds)) - x0;
-    let step = (cached.su() * delta.x + cached.sv() * delta.y).norm();
-    let first = Foot::new(x0 + delta, eval(x0 + delta), p, 1);
-    if first.dist2 <= prev_dist2 * (1.0 + 1e-12) + 1e-24 {
-        newton_from(&eval, p, first, Some(step), bounds, opts)
+) -> Result<(), ProjectionError> {
+    let x0 = bounds.clamp(foot.uv);
+    let prev_dist2 = (foot.d.point() - p).norm_squared();
+    let delta = bounds.clamp(x0 + newton_step(&foot.d, p, x0, bounds)) - x0;
+    let step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
+    evaluate_at(&eval, p, foot, x0 + delta, 1);
+    if foot.dist2 <= prev_dist2 * (1.0 + 1e-12) + 1e-24 {
+        newton_from(&eval, p, foot, Some(step), bounds, opts)
     } else {
-        minimise_with(eval, p, start, bounds, opts)
+        evaluate_at(&eval, p, foot, x0, 0);
+        newton_from(&eval, p, foot, None, bounds, opts)
     }
 }
 
-/// The Newton iteration from an evaluated foot; `full_step` is the length
-/// of the full Newton step (no line-search halving) that led to it, if any.
+/// Replaces `foot` by the evaluation at `x`.
 #[inline(always)]
-fn newton_from<F: Fn(Vec2) -> Jet2>(
+fn evaluate_at<F: Fn(Vec2, &mut Jet2)>(eval: &F, p: Point3, foot: &mut Foot, x: Vec2, it: usize) {
+    foot.uv = x;
+    eval(x, &mut foot.d);
+    foot.dist2 = (foot.d.point() - p).norm_squared();
+    foot.iterations = it;
+}
+
+/// The Newton iteration from an evaluated foot, in place; `full_step` is
+/// the length of the full Newton step (no line-search halving) that led to
+/// it, if any.
+#[inline(always)]
+fn newton_from<F: Fn(Vec2, &mut Jet2)>(
     eval: &F,
     p: Point3,
-    mut foot: Foot,
+    foot: &mut Foot,
     mut full_step: Option<f64>,
     bounds: &Bounds,
     opts: &ProjectionOptions,
-) -> Result<Foot, ProjectionError> {
+) -> Result<(), ProjectionError> {
     let mut last_step = f64::INFINITY;
     for it in foot.iterations + 1..=opts.max_iterations {
         let delta = bounds.clamp(foot.uv + newton_step(&foot.d, p, foot.uv, bounds)) - foot.uv;
         last_step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
         if last_step <= opts.step_tol_mm {
-            return Ok(Foot {
-                iterations: it,
-                ..foot
-            });
+            foot.iterations = it;
+            return Ok(());
         }
         if is_final(last_step, full_step, opts) {
-            return Ok(final_step(p, foot, delta, it));
+            final_step(p, foot, delta, it);
+            return Ok(());
         }
-        match line_search(eval, p, &foot, delta, opts) {
-            Some((next, full)) => {
+        match line_search(eval, p, foot, delta, opts) {
+            Some(full) => {
                 full_step = full.then_some(last_step);
-                foot = Foot {
-                    iterations: it,
-                    ..next
-                }
+                foot.iterations = it;
             }
             None => {
-                return Ok(Foot {
-                    iterations: it,
-                    ..foot
-                })
+                foot.iterations = it;
+                return Ok(());
             }
         }
     }
@@ -188,37 +199,39 @@ fn is_final(step: f64, previous: Option<f64>, opts: &ProjectionOptions) -> bool 
 /// Newton error left anyway). It is kept unless it makes the distance
 /// visibly worse.
 #[inline(always)]
-fn final_step(p: Point3, foot: Foot, delta: Vec2, it: usize) -> Foot {
-    let cand = Foot::new(foot.uv + delta, foot.d.taylor(delta), p, it);
+fn final_step(p: Point3, foot: &mut Foot, delta: Vec2, it: usize) {
+    foot.iterations = it;
+    let dist2 = (foot.d.taylor_point(delta) - p).norm_squared();
     let slack = 1e-12 * foot.dist2 + 1e-24;
-    if cand.dist2 <= foot.dist2 + slack {
-        cand
-    } else {
-        Foot {
-            iterations: it,
-            ..foot
-        }
+    if dist2 <= foot.dist2 + slack {
+        foot.uv += delta;
+        foot.d.advance(delta);
+        foot.dist2 = dist2;
     }
 }
 
-/// Backtracking: the first of `delta, delta/2, ...` that lowers the
-/// distance, and whether it was the full step.
-fn line_search<F: Fn(Vec2) -> Jet2>(
+/// Backtracking: moves `foot` to the first of `delta, delta/2, ...` that
+/// lowers the distance and tells whether it was the full step; `None`
+/// (with `foot` as it was) when none does.
+fn line_search<F: Fn(Vec2, &mut Jet2)>(
     eval: &F,
     p: Point3,
-    foot: &Foot,
+    foot: &mut Foot,
     delta: Vec2,
     opts: &ProjectionOptions,
-) -> Option<(Foot, bool)> {
+) -> Option<bool> {
+    let (x0, dist0, it) = (foot.uv, foot.dist2, foot.iterations);
     let mut t = 1.0;
     for _ in 0..=opts.max_halvings {
-        let x = foot.uv + delta * t;
-        let cand = Foot::new(x, eval(x), p, foot.iterations);
-        if cand.dist2 < foot.dist2 {
-            return Some((cand, t == 1.0));
+        evaluate_at(eval, p, foot, x0 + delta * t, it);
+        if foot.dist2 < dist0 {
+            return Some(t == 1.0);
         }
         t *= 0.5;
     }
+    // Rare: no step helped. The evaluation is pure, so this restores the
+    // foot exactly.
+    evaluate_at(eval, p, foot, x0, it);
     None
 }
 

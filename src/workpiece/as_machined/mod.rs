@@ -165,22 +165,20 @@ impl AsMachined {
     }
 
     /// `q(u, v)` with its derivatives to second order on `face` (the
-    /// Newton iterations' evaluation).
-    fn jet(&self, wp: &Workpiece, face: usize, uv: Vec2) -> Jet2 {
+    /// Newton iterations' evaluation), written into `out`.
+    fn jet_into(&self, wp: &Workpiece, face: usize, uv: Vec2, out: &mut Jet2) {
         let Some(f) = wp.faces.get(face) else {
-            return Jet2 {
-                d: [Vec3::zeros(); 6],
-            };
+            out.d = [Vec3::zeros(); 6];
+            return;
         };
-        let g = if self.face_terms(face).next().is_none() {
-            f.surface.jet2(uv.x, uv.y)
+        if self.face_terms(face).next().is_none() {
+            f.surface.jet2_into(uv.x, uv.y, out);
         } else {
-            normal_jet::displaced(&f.surface, self.face_terms(face), uv, 2)
-        };
-        if self.linear == Mat3::identity() && self.offset == Vec3::zeros() {
-            return g;
+            normal_jet::displaced_into(&f.surface, self.face_terms(face), uv, 2, out);
         }
-        g.mapped(&self.linear, self.offset)
+        if self.linear != Mat3::identity() || self.offset != Vec3::zeros() {
+            *out = out.mapped(&self.linear, self.offset);
+        }
     }
 
     fn apply_linear(&self, mut g: SurfaceDerivs) -> SurfaceDerivs {
@@ -221,7 +219,7 @@ impl AsMachined {
         let bounds = face_bounds(wp, face, x)?;
         let foot = warm
             .start
-            .run(|p| self.jet(wp, face, p), x, &bounds, opts)?;
+            .run(|p, out: &mut Jet2| self.jet_into(wp, face, p, out), x, &bounds, opts)?;
         if on_boundary(wp, face, foot.uv) {
             let tp = self.closest_point(wp, x)?;
             *warm = TrueWarm::new(tp.face, tp.uv);
@@ -243,7 +241,7 @@ impl AsMachined {
         for (face, uv) in seeds {
             let foot = self.newton(wp, x, face, uv)?;
             if best.is_none_or(|b| foot.dist2.sqrt() < b.distance) {
-                best = Some(self.finish(wp, x, face, foot));
+                best = Some(self.finish(wp, x, face, &foot));
             }
         }
         best.ok_or(ProjectionError::NotFinite {
@@ -287,10 +285,16 @@ impl AsMachined {
         uv: Vec2,
     ) -> Result<Foot, ProjectionError> {
         let bounds = face_bounds(wp, face, x)?;
-        minimise_with(|p| self.jet(wp, face, p), x, uv, &bounds, &wp.options)
+        minimise_with(
+            |p, out: &mut Jet2| self.jet_into(wp, face, p, out),
+            x,
+            uv,
+            &bounds,
+            &wp.options,
+        )
     }
 
-    fn finish(&self, wp: &Workpiece, x: Point3, face: usize, foot: Foot) -> TrueProjection {
+    fn finish(&self, wp: &Workpiece, x: Point3, face: usize, foot: &Foot) -> TrueProjection {
         let sign = wp
             .faces
             .get(face)

@@ -15,6 +15,21 @@ pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     uv: Vec2,
     nd: usize,
 ) -> Jet2 {
+    let mut g = Jet2 {
+        d: [Vec3::zeros(); 6],
+    };
+    displaced_into(surface, terms, uv, nd, &mut g);
+    g
+}
+
+/// [`displaced`] written into `g` (the per-cycle path copies no tables).
+pub(super) fn displaced_into<'a, I: Iterator<Item = &'a Form> + Clone>(
+    surface: &NurbsSurface,
+    terms: I,
+    uv: Vec2,
+    nd: usize,
+    g: &mut Jet2,
+) {
     let mut s = SurfaceDerivs {
         d: [[Vec3::zeros(); 4]; 4],
     };
@@ -23,14 +38,15 @@ pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     let jet = sum_jets(terms.clone(), s.point());
     let mut n = [Vec3::zeros(); 6];
     if !normal_jet(&s, sign, &mut n) {
-        return displaced_degenerate(surface, terms, uv, nd);
+        *g = displaced_degenerate(surface, terms, uv, nd);
+        return;
     }
-    let mut g = Jet2::from(&s);
+    let t = &s.d;
+    g.d = [t[0][0], t[1][0], t[0][1], t[2][0], t[1][1], t[0][2]];
     g.d[0] += n[0] * jet.h;
     if nd > 0 {
-        second_order(&mut g, &s, &n, &jet);
+        second_order(g, &s, &n, &jet);
     }
-    g
 }
 
 /// At a degenerate normal (pole) the displacement uses the limit normal and
