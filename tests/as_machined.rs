@@ -222,3 +222,49 @@ fn invalid_specs_name_the_place() {
         serde_json::from_str::<AsMachinedSpec>(r#"{"form":[{"kind":"dent","mm":1}]}"#).is_err()
     );
 }
+
+/// An oracle independent of the Newton evaluation: points set off the
+/// as-machined surface along its exact normal (from the exact derivative
+/// table, `Qu x Qv`) project back to where they were set off from, at that
+/// distance, with the per-cycle contact search and with the cold search.
+/// Large bump, waviness and a transform, so the normal's curvature terms
+/// that the Newton evaluation leaves out are large.
+#[test]
+fn points_off_the_true_normal_project_back_to_their_foot() {
+    let wp = example("blade");
+    let json = r#"{"form":[{"kind":"bump","center_mm":[30,8,50],"radius_mm":10,"height_mm":1.5},
+        {"kind":"waviness","amplitude_mm":0.08,"wavelength_mm":6,"direction":[1,0.2,0.1],"phase_deg":30}],
+        "transform":{"rotate_deg":[0,1,2],"scale":1.01}}"#;
+    let am = AsMachined::from_spec(&spec(json), &wp).unwrap();
+    let opts = contact_options(&wp.options);
+    let mut r = rng(17);
+    for face in 0..2 {
+        let sign = if wp.faces[face].surface.is_reversed() {
+            -1.0
+        } else {
+            1.0
+        };
+        for _ in 0..200 {
+            let uv = Vec2::new(uniform(&mut r, 0.2, 0.8), uniform(&mut r, 0.1, 0.9));
+            let q = am.derivs(&wp, face, uv, 1);
+            let n = q.su().cross(&q.sv()).normalize() * sign;
+            let d = uniform(&mut r, -0.3, 1.5);
+            let x = q.point() + n * d;
+            let cold = am.closest_point(&wp, x).unwrap();
+            let start = uv + Vec2::new(uniform(&mut r, -0.01, 0.01), uniform(&mut r, -0.01, 0.01));
+            let mut warm = TrueWarm::new(face, start);
+            let along = am.closest_point_along(&wp, x, &mut warm, &opts).unwrap();
+            for (what, tp) in [("cold", cold), ("contact", along)] {
+                assert!(
+                    (tp.signed_distance - d).abs() < 1e-9,
+                    "{what} face {face} at {uv:?}: {} vs {d}",
+                    tp.signed_distance
+                );
+                assert!(
+                    (tp.point - q.point()).norm() < 1e-6,
+                    "{what} foot at {uv:?}"
+                );
+            }
+        }
+    }
+}

@@ -14,6 +14,7 @@ use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
 use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
 use form::Form;
+use normal_jet::Second;
 pub use spec::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
 
 /// Why an `as_machined` block is invalid; `json_path` is relative to it.
@@ -165,7 +166,10 @@ impl AsMachined {
     }
 
     /// `q(u, v)` with its derivatives to second order on `face` (the
-    /// Newton iterations' evaluation), written into `out`.
+    /// Newton iterations' evaluation), written into `out`. Point and first
+    /// derivatives are exact; the second derivatives keep only the normal
+    /// part of the normal's curvature terms ([`Second::NormalPart`]): the
+    /// Newton gradient, and so the foot, stays exact.
     fn jet_into(&self, wp: &Workpiece, face: usize, uv: Vec2, out: &mut Jet2) {
         let Some(f) = wp.faces.get(face) else {
             out.d = [Vec3::zeros(); 6];
@@ -174,7 +178,8 @@ impl AsMachined {
         if self.face_terms(face).next().is_none() {
             f.surface.jet2_into(uv.x, uv.y, out);
         } else {
-            normal_jet::displaced_into(&f.surface, self.face_terms(face), uv, 2, out);
+            let terms = self.face_terms(face);
+            normal_jet::displaced_into(&f.surface, terms, uv, 2, Second::NormalPart, out);
         }
         if self.linear != Mat3::identity() || self.offset != Vec3::zeros() {
             *out = out.mapped(&self.linear, self.offset);
@@ -217,9 +222,12 @@ impl AsMachined {
     ) -> Result<TrueProjection, ProjectionError> {
         let face = warm.face;
         let bounds = face_bounds(wp, face, x)?;
-        let foot = warm
-            .start
-            .run(|p, out: &mut Jet2| self.jet_into(wp, face, p, out), x, &bounds, opts)?;
+        let foot = warm.start.run(
+            |p, out: &mut Jet2| self.jet_into(wp, face, p, out),
+            x,
+            &bounds,
+            opts,
+        )?;
         if on_boundary(wp, face, foot.uv) {
             let tp = self.closest_point(wp, x)?;
             *warm = TrueWarm::new(tp.face, tp.uv);

@@ -18,26 +18,33 @@ pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     let mut g = Jet2 {
         d: [Vec3::zeros(); 6],
     };
-    displaced_into(surface, terms, uv, nd, &mut g);
+    displaced_into(surface, terms, uv, nd, Second::Exact, &mut g);
     g
 }
 
-/// [`displaced`] written into `g` (the per-cycle path copies no tables).
+/// [`displaced`] written into `g` (the per-cycle path copies no tables),
+/// with the normal's second derivatives as `second` says.
 pub(super) fn displaced_into<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface: &NurbsSurface,
     terms: I,
     uv: Vec2,
     nd: usize,
+    second: Second,
     g: &mut Jet2,
 ) {
     let mut s = SurfaceDerivs {
         d: [[Vec3::zeros(); 4]; 4],
     };
-    surface.derivs_into(uv.x, uv.y, if nd == 0 { 1 } else { 3 }, &mut s);
+    let order = match (nd, second) {
+        (0, _) => 1,
+        (_, Second::Exact) => 3,
+        (_, Second::NormalPart) => 2,
+    };
+    surface.derivs_into(uv.x, uv.y, order, &mut s);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
     let jet = sum_jets(terms.clone(), s.point());
     let mut n = [Vec3::zeros(); 6];
-    if !normal_jet(&s, sign, &mut n) {
+    if !normal_jet(&s, sign, second, &mut n) {
         *g = displaced_degenerate(surface, terms, uv, nd);
         return;
     }
@@ -66,7 +73,7 @@ fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
     let mut g = Jet2::from(&inner);
     let mut nj = [Vec3::zeros(); 6];
-    if normal_jet(&inner, sign, &mut nj) && nd > 0 {
+    if normal_jet(&inner, sign, Second::Exact, &mut nj) && nd > 0 {
         second_order(&mut g, &inner, &nj, &sum_jets(terms.clone(), inner.point()));
     }
     g.d[0] = s0.d[0][0] + n * sum_jets(terms, s0.point()).h;
@@ -88,9 +95,23 @@ fn second_order(g: &mut Jet2, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
     g.d[5] = s.svv() + n[0] * hvv + n[2] * (2.0 * hv) + n[5] * h;
 }
 
+/// How the normal's second derivatives `n_uu, n_uv, n_vv` are computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Second {
+    /// Exactly (needs the surface's third derivatives).
+    Exact,
+    /// Only their component along `n` (`n . n_ab = -n_a . n_b`), from the
+    /// surface's second derivatives. The tangential part dropped enters
+    /// the distance Hessian only through the tangential part of the
+    /// residual `q - x` times the height `h`, which is small at a foot, so
+    /// Newton on the as-machined surface converges to the same exact foot
+    /// (the gradient is exact) as fast in practice.
+    NormalPart,
+}
+
 /// Writes the unit normal `sign * N / |N|`, `N = Su x Sv`, and its
 /// derivatives into `out`; false (and `out` untouched) where `N` vanishes.
-fn normal_jet(s: &SurfaceDerivs, sign: f64, out: &mut NormalJet) -> bool {
+fn normal_jet(s: &SurfaceDerivs, sign: f64, second: Second, out: &mut NormalJet) -> bool {
     let d = &s.d;
     let (su, sv) = (d[1][0], d[0][1]);
     let big_n = su.cross(&sv);
@@ -100,20 +121,30 @@ fn normal_jet(s: &SurfaceDerivs, sign: f64, out: &mut NormalJet) -> bool {
     }
     let nu = d[2][0].cross(&sv) + su.cross(&d[1][1]);
     let nv = d[1][1].cross(&sv) + su.cross(&d[0][2]);
-    let nuu = d[3][0].cross(&sv) + d[2][0].cross(&d[1][1]) * 2.0 + su.cross(&d[2][1]);
-    let nuv = d[2][1].cross(&sv) + d[2][0].cross(&d[0][2]) + su.cross(&d[1][2]);
-    let nvv = d[1][2].cross(&sv) + d[1][1].cross(&d[0][2]) * 2.0 + su.cross(&d[0][3]);
     let n = big_n / m;
     let (ma, mb) = (n.dot(&nu), n.dot(&nv));
     let n_u = (nu - n * ma) / m;
     let n_v = (nv - n * mb) / m;
-    let second = |nab: Vec3, n_b: Vec3, na: Vec3, n_a: Vec3, m_a: f64, m_b: f64| {
+    if second == Second::NormalPart {
+        // n . n_ab = -n_a . n_b for a unit normal: the part of the second
+        // derivatives along n, from first derivatives only.
+        let normal_part = [-n_u.norm_squared(), -n_u.dot(&n_v), -n_v.norm_squared()];
+        let [n_uu, n_uv, n_vv] = normal_part.map(|k| n * k);
+        for (slot, v) in out.iter_mut().zip([n, n_u, n_v, n_uu, n_uv, n_vv]) {
+            *slot = v * sign;
+        }
+        return true;
+    }
+    let nuu = d[3][0].cross(&sv) + d[2][0].cross(&d[1][1]) * 2.0 + su.cross(&d[2][1]);
+    let nuv = d[2][1].cross(&sv) + d[2][0].cross(&d[0][2]) + su.cross(&d[1][2]);
+    let nvv = d[1][2].cross(&sv) + d[1][1].cross(&d[0][2]) * 2.0 + su.cross(&d[0][3]);
+    let second_of = |nab: Vec3, n_b: Vec3, na: Vec3, n_a: Vec3, m_a: f64, m_b: f64| {
         let m_ab = n_b.dot(&na) + n.dot(&nab);
         (nab - n_b * m_a - n * m_ab) / m - n_a * (m_b / m)
     };
-    let n_uu = second(nuu, n_u, nu, n_u, ma, ma);
-    let n_uv = second(nuv, n_v, nu, n_u, ma, mb);
-    let n_vv = second(nvv, n_v, nv, n_v, mb, mb);
+    let n_uu = second_of(nuu, n_u, nu, n_u, ma, ma);
+    let n_uv = second_of(nuv, n_v, nu, n_u, ma, mb);
+    let n_vv = second_of(nvv, n_v, nv, n_v, mb, mb);
     for (slot, v) in out.iter_mut().zip([n, n_u, n_v, n_uu, n_uv, n_vv]) {
         *slot = v * sign;
     }
