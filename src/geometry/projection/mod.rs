@@ -226,7 +226,7 @@ pub fn project_warm(
     let bounds = domain_bounds(surface);
     let eval = |x: Vec2, out: &mut Jet2| surface.jet2_into(x.x, x.y, out);
     let foot = warm.run(eval, p, &bounds, opts)?;
-    Ok(foot.to_projection(surface, p))
+    Ok(foot.projection(surface, p))
 }
 
 fn domain_bounds(surface: &NurbsSurface) -> Bounds {

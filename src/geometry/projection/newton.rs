@@ -39,11 +39,11 @@ pub struct Foot {
 impl Foot {
     /// Finishes the foot into a projection with the outward normal.
     pub fn into_projection(self, surface: &NurbsSurface, p: Point3) -> Projection {
-        self.to_projection(surface, p)
+        self.projection(surface, p)
     }
 
     /// [`Self::into_projection`] from a borrowed foot (no table copied).
-    pub fn to_projection(&self, surface: &NurbsSurface, p: Point3) -> Projection {
+    pub fn projection(&self, surface: &NurbsSurface, p: Point3) -> Projection {
         let normal = surface.normal_from_jet(&self.d, self.uv);
         let point = self.d.point();
         let distance = self.dist2.sqrt();
