@@ -164,7 +164,12 @@ impl BallPath {
     pub fn wrap(&self, s: f64) -> f64 {
         let len = self.length();
         if self.closed {
-            s.rem_euclid(len)
+            // `rem_euclid` (an fmod) returns `s` itself inside [0, len).
+            if (0.0..len).contains(&s) {
+                s
+            } else {
+                s.rem_euclid(len)
+            }
         } else {
             s.clamp(0.0, len)
         }
