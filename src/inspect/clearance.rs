@@ -50,15 +50,16 @@ pub struct PartClearance<'w> {
 
 impl PartClearance<'_> {
     /// A lower bound of the distance from the ball centre at `p` (machine)
-    /// to the part, exact once a bounding box comes closer than `need`;
-    /// projection failures count as touching (0).
+    /// to the part: the distance to the nearest leaf box of the faces'
+    /// search trees, exact (a projection) once that comes closer than
+    /// `need`; projection failures count as touching (0).
     fn distance_bound(&self, p: Point3, need: f64) -> f64 {
         let q = self.pose.to_part(p);
         let bound = self
             .workpiece
             .faces
             .iter()
-            .map(|f| f.index.lower_bound(q))
+            .map(|f| f.index.box_distance(q))
             .fold(f64::INFINITY, f64::min);
         if bound >= need {
             return bound;

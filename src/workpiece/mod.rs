@@ -9,10 +9,11 @@ mod validate;
 
 use std::path::{Path, PathBuf};
 
+use crate::geometry::projection::Foot;
 use crate::geometry::{
     NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions, Trim,
 };
-use crate::math::Point3;
+use crate::math::{Point3, Vec2};
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
 
 /// Why a workpiece could not be loaded.
@@ -133,33 +134,95 @@ impl Workpiece {
         p: Point3,
         faces: impl IntoIterator<Item = usize>,
     ) -> Result<FaceProjection, ProjectionError> {
+        self.closest_point_within(p, faces, f64::INFINITY, None)?
+            .map(|(found, _)| found)
+            .ok_or(ProjectionError::NotFinite {
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
+    }
+
+    /// [`Self::closest_point_among`] for a query near an earlier one: the
+    /// leaf of the earlier foot (`hint`) is searched first, so that the
+    /// search starts with a tight bound and leaves out almost everything
+    /// else. The answer is the global closest point all the same (up to
+    /// exact ties). Also returns the hint for the next query.
+    pub fn closest_point_near(
+        &self,
+        p: Point3,
+        faces: &[usize],
+        hint: Option<FootHint>,
+    ) -> Result<(FaceProjection, Option<FootHint>), ProjectionError> {
+        self.closest_point_within(p, faces.iter().copied(), f64::INFINITY, hint)?
+            .ok_or(ProjectionError::NotFinite {
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
+    }
+
+    /// The closest point over `faces` among the points closer than
+    /// `sqrt(bound2)` (`None` when there is none), searching the leaf of
+    /// `hint` first, with the hint of its foot.
+    fn closest_point_within(
+        &self,
+        p: Point3,
+        faces: impl IntoIterator<Item = usize>,
+        bound2: f64,
+        hint: Option<FootHint>,
+    ) -> Result<Option<(FaceProjection, Option<FootHint>)>, ProjectionError> {
         let mut order: Vec<(f64, usize)> = faces
             .into_iter()
             .filter_map(|i| self.faces.get(i).map(|f| (f.index.lower_bound(p), i)))
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut best: Option<(usize, crate::geometry::projection::Foot)> = None;
-        let mut best_d2 = f64::INFINITY;
+        let hint = hint.filter(|h| order.iter().any(|o| o.1 == h.face));
+        let mut best: Option<(usize, Option<usize>, Foot)> = None;
+        let mut best_d2 = bound2;
+        if let Some(h) = hint {
+            if let Some(foot) = self.faces[h.face].search_leaf(p, h.leaf, best_d2)? {
+                best_d2 = foot.dist2;
+                best = Some((h.face, Some(h.leaf), foot));
+            }
+        }
         for (lb, i) in order {
             if lb * lb > best_d2 {
                 break;
             }
-            let face = &self.faces[i];
-            if let Some(foot) = face.project_within(p, best_d2)? {
+            let skip = hint.filter(|h| h.face == i).map(|h| h.leaf);
+            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip)? {
                 best_d2 = foot.dist2;
-                best = Some((i, foot));
+                best = Some((i, leaf, foot));
             }
         }
-        let (face, foot) = best.ok_or(ProjectionError::NotFinite {
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        })?;
-        Ok(FaceProjection {
-            face,
-            projection: foot.into_projection(&self.faces[face].surface, p),
-        })
+        Ok(best.map(|(face, leaf, foot)| {
+            let projection = foot.into_projection(&self.faces[face].surface, p);
+            let next = leaf.map(|leaf| FootHint { face, leaf });
+            (FaceProjection { face, projection }, next)
+        }))
     }
+}
+
+/// A nominal foot already found: the global closest point over all faces
+/// of `query`, with the hint to start nearby queries from.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KnownFoot {
+    /// The query point.
+    pub query: Point3,
+    /// Its closest point over all faces.
+    pub foot: FaceProjection,
+    /// Where that lies in the search trees.
+    pub hint: Option<FootHint>,
+}
+
+/// Where the foot of a closest-point query lies (face and leaf of its
+/// search tree), to start a query near it from
+/// ([`Workpiece::closest_point_near`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct FootHint {
+    face: usize,
+    leaf: usize,
 }
 
 /// True when `path` has a STEP or IGES extension (any case).
@@ -189,7 +252,7 @@ impl Face {
     }
 
     /// Whether `uv` lies on the face (inside its trim, if any).
-    pub fn contains(&self, uv: crate::math::Vec2) -> bool {
+    pub fn contains(&self, uv: Vec2) -> bool {
         self.trim.as_ref().is_none_or(|t| t.contains(uv))
     }
 
@@ -199,8 +262,32 @@ impl Face {
         &self,
         p: Point3,
         best_dist2: f64,
-    ) -> Result<Option<crate::geometry::projection::Foot>, ProjectionError> {
+    ) -> Result<Option<Foot>, ProjectionError> {
         self.index
             .project_within(&self.surface, self.trim.as_ref(), p, best_dist2)
+    }
+
+    /// [`Self::project_within`] leaving out leaf `skip`, with the leaf of
+    /// the foot (`None` on the trim boundary).
+    fn search(
+        &self,
+        p: Point3,
+        best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        self.index
+            .search(&self.surface, self.trim.as_ref(), p, best_dist2, skip)
+    }
+
+    /// The closest point of one leaf of the search tree closer than
+    /// `sqrt(best_dist2)`, as [`Self::search`] finds it.
+    fn search_leaf(
+        &self,
+        p: Point3,
+        leaf: usize,
+        best_dist2: f64,
+    ) -> Result<Option<Foot>, ProjectionError> {
+        self.index
+            .search_leaf(&self.surface, self.trim.as_ref(), leaf, p, best_dist2)
     }
 }

@@ -76,6 +76,50 @@ impl ProjectionIndex {
             .map_or(f64::INFINITY, |n| n.aabb.dist2(p).sqrt())
     }
 
+    /// Lower bound of the distance from `p` to the surface from the leaves'
+    /// boxes, mm: the smallest distance from `p` to a leaf's boxes (each
+    /// leaf lies inside its axis-aligned and its oriented box, both spanned
+    /// by its control points). Far tighter than [`Self::lower_bound`] and
+    /// found without any Newton iteration, by a depth-first search over the
+    /// tree. A trimmed face lies on its surface, so it bounds the face too.
+    pub fn box_distance(&self, p: Point3) -> f64 {
+        let Some(root) = self.nodes.len().checked_sub(1) else {
+            return f64::INFINITY;
+        };
+        // Depth-first, nearer child first, pruning boxes no nearer than the
+        // nearest leaf so far (a median-split tree is shallow).
+        let mut best = f64::INFINITY;
+        let mut stack = Vec::with_capacity(64);
+        stack.push((self.nodes[root].aabb.dist2(p), root));
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best) else {
+                continue;
+            };
+            match node.kind {
+                Ok(leaf) => {
+                    let obb = self.leaves.get(leaf).map_or(0.0, |l| l.obb.dist2(p));
+                    best = best.min(obb.max(d2));
+                }
+                Err((a, b)) => {
+                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
+                    let (near, far) = if da <= db {
+                        ((da, a), (db, b))
+                    } else {
+                        ((db, b), (da, a))
+                    };
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best));
+                }
+            }
+        }
+        best.sqrt()
+    }
+
+    /// Squared distance from `p` to node `i`'s box (infinite for a missing
+    /// node).
+    fn child_dist2(&self, i: usize, p: Point3) -> f64 {
+        self.nodes.get(i).map_or(f64::INFINITY, |n| n.aabb.dist2(p))
+    }
+
     /// Global closest point of `surface` (the one this index was built for).
     pub fn project(
         &self,
@@ -99,10 +143,27 @@ impl ProjectionIndex {
         surface: &NurbsSurface,
         trim: Option<&Trim>,
         p: Point3,
-        mut best_dist2: f64,
+        best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
+        Ok(self
+            .search(surface, trim, p, best_dist2, None)?
+            .map(|(_, foot)| foot))
+    }
+
+    /// [`Self::project_within`] that leaves out leaf `skip` (which the
+    /// caller has searched already, see [`Self::search_leaf`]) and also
+    /// returns the leaf of the foot (`None` for a foot on the trim
+    /// boundary).
+    pub(crate) fn search(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        mut best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         check_finite(p)?;
-        let mut best: Option<Foot> = None;
+        let mut best: Option<(Option<usize>, Foot)> = None;
         let mut heap = BinaryHeap::new();
         let Some(root) = self.nodes.len().checked_sub(1) else {
             return Ok(None);
@@ -127,23 +188,27 @@ impl ProjectionIndex {
                         }
                     }
                 }
+                Ok(leaf) if skip == Some(leaf) => {}
                 Ok(leaf) => {
                     if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
                         best_dist2 = foot.dist2;
-                        best = Some(foot);
+                        best = Some((Some(leaf), foot));
                     }
                 }
             }
         }
         if let Some(t) = trim {
             if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
-                best = Some(foot);
+                best = Some((None, foot));
             }
         }
         Ok(best)
     }
 
-    fn search_leaf(
+    /// The closest point of leaf `leaf` (on the face, with a trim) closer
+    /// than `sqrt(best_dist2)`, exactly as the search finds it there; `None`
+    /// also for a leaf that does not exist.
+    pub(crate) fn search_leaf(
         &self,
         surface: &NurbsSurface,
         trim: Option<&Trim>,
@@ -151,7 +216,9 @@ impl ProjectionIndex {
         p: Point3,
         best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
-        let leaf = &self.leaves[leaf];
+        let Some(leaf) = self.leaves.get(leaf) else {
+            return Ok(None);
+        };
         if leaf.obb.dist2(p) >= best_dist2 {
             return Ok(None);
         }

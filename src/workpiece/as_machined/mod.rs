@@ -234,8 +234,26 @@ impl AsMachined {
         wp: &Workpiece,
         x: Point3,
     ) -> Result<TrueProjection, ProjectionError> {
+        self.closest_point_near(wp, x, None).map(|(tp, _)| tp)
+    }
+
+    /// [`Self::closest_point`] near an earlier query: `near` is a nominal
+    /// foot found nearby, where the nominal searches start (taken as it is
+    /// when its query is `T^-1(x)` itself). The answer is the same. Also
+    /// returns where the nominal foot of `T^-1(x)` lies, for nearby queries.
+    pub fn closest_point_near(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        near: Option<&crate::workpiece::KnownFoot>,
+    ) -> Result<(TrueProjection, Option<crate::workpiece::FootHint>), ProjectionError> {
         let y = self.inverse_point(x);
-        let seeds = self.seeds(wp, y)?;
+        let all: Vec<usize> = (0..wp.faces.len()).collect();
+        let (nearest, hint) = match near {
+            Some(k) if k.query == y => (k.foot, k.hint),
+            _ => wp.closest_point_near(y, &all, near.and_then(|k| k.hint))?,
+        };
+        let seeds = self.seeds(wp, y, &nearest)?;
         let mut best: Option<TrueProjection> = None;
         for (face, uv) in seeds {
             let foot = self.newton(wp, x, face, uv)?;
@@ -243,27 +261,44 @@ impl AsMachined {
                 best = Some(self.finish(wp, x, face, foot));
             }
         }
-        best.ok_or(ProjectionError::NotFinite {
+        best.map(|b| (b, hint)).ok_or(ProjectionError::NotFinite {
             x: x.x,
             y: x.y,
             z: x.z,
         })
     }
 
-    fn seeds(&self, wp: &Workpiece, y: Point3) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
+    /// The faces whose nominal distance from `y` is within the form's reach
+    /// of the smallest one (`2 max|h|` stretched by `T`), each with its
+    /// nominal foot parameters, in face order. The global nominal foot
+    /// `nearest` is known; the other faces are searched only within the
+    /// reach.
+    fn seeds(
+        &self,
+        wp: &Workpiece,
+        y: Point3,
+        nearest: &crate::workpiece::FaceProjection,
+    ) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
+        /// Relative slack on the squared search radius on the other faces,
+        /// so that rounding cannot drop a face right at the reach (the
+        /// exact reach test follows).
+        const SEED_BOUND_SLACK: f64 = 1e-9;
+        let best = nearest.projection.distance;
+        let stretch = self.stretch();
+        let slack = |i: usize| 2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best);
         let mut found = Vec::new();
         for (i, f) in wp.faces.iter().enumerate() {
-            if let Some(foot) = f.project_within(y, f64::INFINITY)? {
-                found.push((foot.dist2.sqrt(), i, foot.uv));
-            }
+            let reach = best + slack(i);
+            let foot = if i == nearest.face {
+                Some((best, nearest.projection.uv))
+            } else {
+                let bound2 = reach * reach * (1.0 + SEED_BOUND_SLACK);
+                f.project_within(y, bound2)?
+                    .map(|ft| (ft.dist2.sqrt(), ft.uv))
+            };
+            found.extend(foot.filter(|s| s.0 <= reach).map(|s| (i, s.1)));
         }
-        let best = found.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
-        let slack = |i: usize| 2.0 * self.max_height(i) * self.stretch() + 1e-6 * (1.0 + best);
-        Ok(found
-            .into_iter()
-            .filter(|s| s.0 <= best + slack(s.1))
-            .map(|s| (s.1, s.2))
-            .collect())
+        Ok(found)
     }
 
     /// Largest factor by which `T` stretches lengths.
@@ -329,8 +364,25 @@ impl AsMachined {
     /// The true deviation belonging to a measured point `m`: the signed
     /// nominal deviation of the true surface point nearest to `m`.
     pub fn true_deviation(&self, wp: &Workpiece, m: Point3) -> Result<f64, ProjectionError> {
-        let q = self.closest_point(wp, m)?.point;
-        Ok(wp.closest_point(q)?.projection.signed_distance)
+        self.true_deviation_near(wp, m, None)
+    }
+
+    /// [`Self::true_deviation`] with its nominal searches started from
+    /// `near`, a nominal foot found near `m` (such as that of `m` itself);
+    /// the answer is the same.
+    pub fn true_deviation_near(
+        &self,
+        wp: &Workpiece,
+        m: Point3,
+        near: Option<&crate::workpiece::KnownFoot>,
+    ) -> Result<f64, ProjectionError> {
+        let (tp, hint) = self.closest_point_near(wp, m, near)?;
+        let all: Vec<usize> = (0..wp.faces.len()).collect();
+        Ok(wp
+            .closest_point_near(tp.point, &all, hint)?
+            .0
+            .projection
+            .signed_distance)
     }
 }
 
