@@ -191,7 +191,7 @@ impl Workpiece {
                 break;
             }
             let skip = hint.filter(|h| h.face == i).map(|h| h.leaf);
-            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip)? {
+            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip, best.is_some())? {
                 best_d2 = foot.dist2;
                 best = Some((i, leaf, foot));
             }
@@ -268,15 +268,22 @@ impl Face {
     }
 
     /// [`Self::project_within`] leaving out leaf `skip`, with the leaf of
-    /// the foot (`None` on the trim boundary).
+    /// the foot (`None` on the trim boundary); depth first when `tight`
+    /// (`best_dist2` comes from a point found nearby), else best first.
     fn search(
         &self,
         p: Point3,
         best_dist2: f64,
         skip: Option<usize>,
+        tight: bool,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
-        self.index
-            .search(&self.surface, self.trim.as_ref(), p, best_dist2, skip)
+        let (surface, trim) = (&self.surface, self.trim.as_ref());
+        if tight {
+            self.index
+                .search_depth_first(surface, trim, p, best_dist2, skip)
+        } else {
+            self.index.search(surface, trim, p, best_dist2, skip)
+        }
     }
 
     /// The closest point of one leaf of the search tree closer than

@@ -205,6 +205,55 @@ impl ProjectionIndex {
         Ok(best)
     }
 
+    /// [`Self::search`] depth first (nearer child first) instead of best
+    /// first: no heap, and as good when `best_dist2` is already tight (a
+    /// bound from a nearby foot). The same answer up to exact ties.
+    pub(crate) fn search_depth_first(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        mut best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        check_finite(p)?;
+        let mut best: Option<(Option<usize>, Foot)> = None;
+        let Some(root) = self.nodes.len().checked_sub(1) else {
+            return Ok(None);
+        };
+        let mut stack = Vec::with_capacity(64);
+        stack.push((self.child_dist2(root, p), root));
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best_dist2) else {
+                continue;
+            };
+            match node.kind {
+                Ok(leaf) if skip == Some(leaf) => {}
+                Ok(leaf) => {
+                    if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
+                        best_dist2 = foot.dist2;
+                        best = Some((Some(leaf), foot));
+                    }
+                }
+                Err((a, b)) => {
+                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
+                    let (near, far) = if da <= db {
+                        ((da, a), (db, b))
+                    } else {
+                        ((db, b), (da, a))
+                    };
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best_dist2));
+                }
+            }
+        }
+        if let Some(t) = trim {
+            if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
+                best = Some((None, foot));
+            }
+        }
+        Ok(best)
+    }
+
     /// The closest point of leaf `leaf` (on the face, with a trim) closer
     /// than `sqrt(best_dist2)`, exactly as the search finds it there; `None`
     /// also for a leaf that does not exist.
