@@ -1,7 +1,8 @@
 //! The cold-search hierarchy: near-flat Bezier leaves with oriented boxes
 //! under an axis-aligned bounding-box tree, searched best-first.
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use super::newton::{self, Bounds, Foot};
 use super::{check_finite, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
@@ -52,8 +53,18 @@ impl ProjectionIndex {
         for patch in decompose(surface) {
             split_until_flat(patch, 0, opts, &mut leaf_patches);
         }
-        let leaves: Vec<Leaf> = leaf_patches.iter().map(|p| make_leaf(surface, p)).collect();
-        let boxes: Vec<Aabb> = leaf_patches.iter().map(|p| aabb_of(p.points())).collect();
+        // Neighbouring leaves share sample parameters (bitwise, mostly):
+        // each distinct one is evaluated once.
+        let mut points =
+            PointCache::with_capacity_and_hasher(9 * leaf_patches.len(), Default::default());
+        let leaves: Vec<Leaf> = leaf_patches
+            .iter()
+            .map(|(p, obb)| make_leaf(surface, p, *obb, &mut points))
+            .collect();
+        let boxes: Vec<Aabb> = leaf_patches
+            .iter()
+            .map(|(p, _)| aabb_of(p.points()))
+            .collect();
         let mut nodes = Vec::with_capacity(2 * leaves.len());
         let mut ids: Vec<usize> = (0..leaves.len()).collect();
         build_tree(&boxes, &mut ids, &mut nodes);
@@ -311,14 +322,17 @@ impl Ord for Entry {
     }
 }
 
+/// Splits `patch` in halves until each piece is flat, collecting the
+/// pieces with their oriented boxes.
 fn split_until_flat(
     patch: BezierPatch,
     depth: usize,
     opts: &ProjectionOptions,
-    out: &mut Vec<BezierPatch>,
+    out: &mut Vec<(BezierPatch, Obb)>,
 ) {
-    if depth >= opts.max_leaf_depth || is_flat(&patch, opts.leaf_flatness) {
-        out.push(patch);
+    let obb = obb_of(&patch);
+    if depth >= opts.max_leaf_depth || is_flat(&obb, opts.leaf_flatness) {
+        out.push((patch, obb));
         return;
     }
     let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
@@ -363,8 +377,7 @@ fn v_extent(patch: &BezierPatch) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn is_flat(patch: &BezierPatch, flatness: f64) -> bool {
-    let obb = obb_of(patch);
+fn is_flat(obb: &Obb, flatness: f64) -> bool {
     let size = obb.half[0].max(obb.half[1]);
     obb.half[2] <= flatness * size
 }
@@ -374,10 +387,9 @@ fn obb_of(patch: &BezierPatch) -> Obb {
     let du = (c10 - c00) + (c11 - c01);
     let dv = (c01 - c00) + (c11 - c10);
     let axes = frame(du, dv);
-    let pts: Vec<Point3> = patch.points().collect();
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
-    for pt in &pts {
+    for pt in patch.points() {
         for k in 0..3 {
             let s = pt.coords.dot(&axes[k]);
             lo[k] = lo[k].min(s);
@@ -443,7 +455,37 @@ fn aabb_of(points: impl Iterator<Item = Point3>) -> Aabb {
     })
 }
 
-fn make_leaf(surface: &NurbsSurface, patch: &BezierPatch) -> Leaf {
+/// Surface points by the bits of their parameters.
+type PointCache = HashMap<(u64, u64), Point3, BuildHasherDefault<BitsHasher>>;
+
+/// A multiplicative hash of a few words (the keys are parameter bits, not
+/// input an adversary chooses).
+#[derive(Default)]
+struct BitsHasher(u64);
+
+impl Hasher for BitsHasher {
+    fn finish(&self) -> u64 {
+        self.0
+    }
+    fn write(&mut self, bytes: &[u8]) {
+        for b in bytes {
+            self.write_u64(u64::from(*b));
+        }
+    }
+    fn write_u64(&mut self, x: u64) {
+        self.0 = (self.0.rotate_left(5) ^ x).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+/// A leaf for `patch` with its oriented box; its sample points come from
+/// `points` when their parameters were evaluated already (keyed by the
+/// parameters' bits, so a hit gives the very same point).
+fn make_leaf(
+    surface: &NurbsSurface,
+    patch: &BezierPatch,
+    obb: Obb,
+    points: &mut PointCache,
+) -> Leaf {
     let bounds = Bounds {
         lo: Vec2::new(patch.u.0, patch.v.0),
         hi: Vec2::new(patch.u.1, patch.v.1),
@@ -451,38 +493,53 @@ fn make_leaf(surface: &NurbsSurface, patch: &BezierPatch) -> Leaf {
     let samples = std::array::from_fn(|k| {
         let (a, b) = ((k % 3) as f64 * 0.5, (k / 3) as f64 * 0.5);
         let uv = bounds.lo + (bounds.hi - bounds.lo).component_mul(&Vec2::new(a, b));
-        (uv, surface.point(uv.x, uv.y))
+        let point = *points
+            .entry((uv.x.to_bits(), uv.y.to_bits()))
+            .or_insert_with(|| surface.point(uv.x, uv.y));
+        (uv, point)
     });
     Leaf {
         bounds,
-        obb: obb_of(patch),
+        obb,
         samples,
     }
 }
 
 /// Builds the tree bottom-up by median splits; the root is the last node.
+/// A node's box is the union of its children's (the same as the union of
+/// its leaves' boxes: min and max are exact).
 fn build_tree(boxes: &[Aabb], ids: &mut [usize], nodes: &mut Vec<Node>) -> usize {
-    let aabb = ids.iter().map(|&i| boxes[i]).reduce(|a, b| a.union(&b));
-    let Some(aabb) = aabb else {
-        return usize::MAX;
-    };
-    if let [only] = ids {
-        nodes.push(Node {
-            aabb,
-            kind: Ok(*only),
-        });
-        return nodes.len() - 1;
+    match ids {
+        [] => return usize::MAX,
+        [only] => {
+            let Some(aabb) = boxes.get(*only).copied() else {
+                return usize::MAX;
+            };
+            nodes.push(Node {
+                aabb,
+                kind: Ok(*only),
+            });
+            return nodes.len() - 1;
+        }
+        _ => {}
     }
     let centre = |i: usize| (boxes[i].min.coords + boxes[i].max.coords) * 0.5;
-    let extent = aabb.max - aabb.min;
+    let extent = ids
+        .iter()
+        .map(|&i| boxes[i])
+        .reduce(|a, b| a.union(&b))
+        .map_or(Vec3::zeros(), |b| b.max - b.min);
     let axis = extent.iamax();
     let mid = ids.len() / 2;
     ids.select_nth_unstable_by(mid, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
     let (left_ids, right_ids) = ids.split_at_mut(mid);
     let left = build_tree(boxes, left_ids, nodes);
     let right = build_tree(boxes, right_ids, nodes);
+    let (Some(l), Some(r)) = (nodes.get(left), nodes.get(right)) else {
+        return usize::MAX;
+    };
     nodes.push(Node {
-        aabb,
+        aabb: l.aabb.union(&r.aabb),
         kind: Err((left, right)),
     });
     nodes.len() - 1
