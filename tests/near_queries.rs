@@ -88,6 +88,33 @@ fn box_distance_never_exceeds_the_exact_distance() {
     }
 }
 
+/// Along a line of samples (as the clearance check marches), and with
+/// hints that are stale or no leaf at all, the hinted box bound is the
+/// same number as the cold one.
+#[test]
+fn box_distance_from_a_hint_is_the_same_bound() {
+    for (stem, seed) in [("sphere", 11), ("panel", 12), ("blade", 13)] {
+        let wp = example(stem);
+        let mut r = rng(seed);
+        for face in &wp.faces {
+            let mut hint = None;
+            let (a, b) = (point_near(&wp, &mut r, 40.0), point_near(&wp, &mut r, 40.0));
+            for k in 0..=200 {
+                let p = a + (b - a) * (k as f64 / 200.0);
+                let (near, next) = face.index.box_distance_near(p, hint);
+                assert_eq!(near, face.index.box_distance(p), "{stem} sample {k}");
+                hint = next;
+                let junk = Some(uniform(&mut r, 0.0, 1e4) as usize);
+                assert_eq!(
+                    face.index.box_distance_near(p, junk).0,
+                    near,
+                    "{stem} junk hint"
+                );
+            }
+        }
+    }
+}
+
 /// Points along a wavy line over each face, as measured points come:
 /// every search started from the previous foot equals the cold search.
 #[test]

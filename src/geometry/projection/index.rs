@@ -94,22 +94,35 @@ impl ProjectionIndex {
     /// found without any Newton iteration, by a depth-first search over the
     /// tree. A trimmed face lies on its surface, so it bounds the face too.
     pub fn box_distance(&self, p: Point3) -> f64 {
+        self.box_distance_near(p, None).0
+    }
+
+    /// [`Self::box_distance`] for a point near an earlier query: the leaf
+    /// nearest to that one (`hint`, as that query returned it) bounds the
+    /// search from the start. The same value for any hint (one that is no
+    /// leaf is ignored); also returns the nearest leaf, for the next query.
+    pub fn box_distance_near(&self, p: Point3, hint: Option<usize>) -> (f64, Option<usize>) {
         let Some(root) = self.nodes.len().checked_sub(1) else {
-            return f64::INFINITY;
+            return (f64::INFINITY, None);
         };
+        let mut best = (f64::INFINITY, None);
+        if let Some(d2) = hint.and_then(|h| self.leaf_box_dist2(h, p)) {
+            best = (d2, hint);
+        }
         // Depth-first, nearer child first, pruning boxes no nearer than the
         // nearest leaf so far (a median-split tree is shallow).
-        let mut best = f64::INFINITY;
         let mut stack = Vec::with_capacity(64);
-        stack.push((self.nodes[root].aabb.dist2(p), root));
+        stack.push((self.child_dist2(root, p), root));
         while let Some((d2, i)) = stack.pop() {
-            let Some(node) = self.nodes.get(i).filter(|_| d2 < best) else {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best.0) else {
                 continue;
             };
             match node.kind {
                 Ok(leaf) => {
                     let obb = self.leaves.get(leaf).map_or(0.0, |l| l.obb.dist2(p));
-                    best = best.min(obb.max(d2));
+                    if obb.max(d2) < best.0 {
+                        best = (obb.max(d2), Some(i));
+                    }
                 }
                 Err((a, b)) => {
                     let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
@@ -118,11 +131,19 @@ impl ProjectionIndex {
                     } else {
                         ((db, b), (da, a))
                     };
-                    stack.extend([far, near].into_iter().filter(|c| c.0 < best));
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best.0));
                 }
             }
         }
-        best.sqrt()
+        (best.0.sqrt(), best.1)
+    }
+
+    /// Squared distance from `p` to the boxes of the leaf at node `i`
+    /// (`None` when that is not a leaf).
+    fn leaf_box_dist2(&self, i: usize, p: Point3) -> Option<f64> {
+        let node = self.nodes.get(i)?;
+        let leaf = self.leaves.get(node.kind.ok()?)?;
+        Some(leaf.obb.dist2(p).max(node.aabb.dist2(p)))
     }
 
     /// Squared distance from `p` to node `i`'s box (infinite for a missing

@@ -49,6 +49,10 @@ pub(crate) struct Limits {
     dt: f64,
     /// Slack on the speed limits, mm/s.
     tol: f64,
+    /// Path length (the last joint), mm.
+    length: f64,
+    /// Speed lost in one cycle of full braking, `a_tan dt`, mm/s.
+    brake_step: f64,
 }
 
 impl Limits {
@@ -59,21 +63,23 @@ impl Limits {
         joints_v: Vec<f64>,
         opts: &SpeedOptions,
     ) -> Self {
-        let joints_s = (0..=v_max.len())
+        let joints_s: Vec<f64> = (0..=v_max.len())
             .filter_map(|i| path.segment_start(i))
             .collect();
         Limits {
+            length: joints_s.last().copied().unwrap_or(0.0),
             joints_s,
             joints_v,
             v_max,
             a_tan: opts.a_tan_mm_s2,
             dt: opts.cycle_s,
             tol: opts.speed_tol_mm_s,
+            brake_step: opts.a_tan_mm_s2 * opts.cycle_s,
         }
     }
 
     fn length(&self) -> f64 {
-        self.joints_s.last().copied().unwrap_or(0.0)
+        self.length
     }
 
     /// State after one cycle at acceleration `acc` from `(s, v)`.
@@ -119,8 +125,8 @@ impl Limits {
     /// Shortest distance to rest on whole cycles of braking at most
     /// `a_tan`: full cycles at `-a_tan`, then one weaker cycle, mm.
     fn stop_distance(&self, v: f64) -> f64 {
-        let q = self.a_tan * self.dt;
-        let full = (v / q).floor();
+        let q = self.brake_step;
+        let full = floor_non_negative(v / q);
         let rest = v - full * q;
         self.dt * (full * v - 0.5 * q * full * full + 0.5 * rest)
     }
@@ -191,6 +197,19 @@ impl Limits {
             }
         }
         lo
+    }
+}
+
+/// `x.floor()`, by an integer conversion where that is exact (`0 < x <
+/// 2^52`): the same value without a call to the software `floor` of
+/// targets without a rounding instruction.
+fn floor_non_negative(x: f64) -> f64 {
+    /// Below this every `f64` converts to `u64` and back exactly.
+    const EXACT: f64 = 4_503_599_627_370_496.0;
+    if x > 0.0 && x < EXACT {
+        x as u64 as f64
+    } else {
+        x.floor()
     }
 }
 
@@ -273,5 +292,34 @@ impl MotionProfile {
             v: base.v + base.a * tau,
             a: base.a,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::floor_non_negative;
+
+    #[test]
+    fn floor_by_conversion_is_floor() {
+        let cases = [
+            0.0,
+            -0.0,
+            0.5,
+            1.0 - f64::EPSILON / 2.0,
+            1.0,
+            79.999_999_999,
+            123_456.75,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            1e300,
+            -0.5,
+            -3.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for x in cases {
+            assert_eq!(floor_non_negative(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(floor_non_negative(f64::NAN).is_nan());
     }
 }
