@@ -186,12 +186,15 @@ impl Workpiece {
                 best = Some((h.face, Some(h.leaf), foot));
             }
         }
+        // A foot from the hint's leaf is (nearly always) the answer: the
+        // rest only has to confirm it, depth first. Else best first.
+        let tight = best.is_some();
         for (lb, i) in order {
             if lb * lb > best_d2 {
                 break;
             }
             let skip = hint.filter(|h| h.face == i).map(|h| h.leaf);
-            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip, best.is_some())? {
+            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip, tight)? {
                 best_d2 = foot.dist2;
                 best = Some((i, leaf, foot));
             }
