@@ -61,7 +61,9 @@ fn point_report(
         foot,
         hint,
     };
-    let nominal = if hints.faces_are_all {
+    // The closest point over all faces is the closest over the feature's
+    // faces too when it lies on one of them.
+    let nominal = if hints.faces_are_all || faces.contains(&foot.face) {
         foot
     } else {
         let (found, hint) = wp.closest_point_near(p, faces, hints.faces).ok()?;

@@ -1,4 +1,5 @@
 //! Running a whole program on the simulated CMM.
+use std::borrow::Cow;
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
@@ -157,7 +158,7 @@ pub fn run_program_traced(
     let mut traced = TracingCmm::new(&mut sim, trace);
     let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
         Ok(a) => a,
-        Err(outcome) => (program.clone(), Some(failed_alignment(outcome))),
+        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
     let program = &aligned;
     let free = PartClearance {
@@ -248,15 +249,15 @@ fn start_position(program: &Program) -> (Point3, f64) {
 }
 
 /// The program with its placement replaced by the best-fit alignment (when
-/// it has alignment points).
-fn aligned_program(
-    program: &Program,
+/// it has alignment points; else the program itself, not a copy).
+fn aligned_program<'p>(
+    program: &'p Program,
     cmm: &mut dyn Cmm,
     probe: HostProbe,
     modes: &ModeOptions,
-) -> Result<(Program, Option<AlignmentReport>), Outcome> {
+) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), Outcome> {
     let Some(points) = &program.alignment else {
-        return Ok((program.clone(), None));
+        return Ok((Cow::Borrowed(program), None));
     };
     let (pose, report) = align(
         cmm,
@@ -268,10 +269,10 @@ fn aligned_program(
         &AlignOptions::default(),
     )?;
     Ok((
-        Program {
+        Cow::Owned(Program {
             placement: pose,
             ..program.clone()
-        },
+        }),
         Some(report),
     ))
 }
