@@ -1,5 +1,6 @@
 //! Running a whole program on the simulated CMM.
 use std::borrow::Cow;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
@@ -129,7 +130,7 @@ pub fn run_program_traced(
     let (start, top) = start_position(program);
     let mut sim = SimulatedCmm::new(
         part,
-        MachineModel::default_bridge(),
+        default_machine(),
         profile,
         true_probe,
         opts.seed,
@@ -204,6 +205,13 @@ pub fn run_program_traced(
         features,
     };
     Ok((report, learned_out, rows))
+}
+
+/// The embedded default bridge CMM, parsed once per process (a batch
+/// runs many parts on it).
+fn default_machine() -> MachineModel {
+    static MODEL: OnceLock<MachineModel> = OnceLock::new();
+    MODEL.get_or_init(MachineModel::default_bridge).clone()
 }
 
 /// The calibration of `--probe-cal`, else the program's, else none.
