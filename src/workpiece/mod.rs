@@ -5,6 +5,7 @@
 pub mod as_machined;
 pub mod examples;
 pub mod format;
+mod near;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -15,6 +16,7 @@ use crate::geometry::{
 };
 use crate::math::{Point3, Vec2};
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
+pub use near::{FeetWithinReach, FootHint, KnownFoot};
 
 /// Why a workpiece could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -142,90 +144,6 @@ impl Workpiece {
                 z: p.z,
             })
     }
-
-    /// [`Self::closest_point_among`] for a query near an earlier one: the
-    /// leaf of the earlier foot (`hint`) is searched first, so that the
-    /// search starts with a tight bound and leaves out almost everything
-    /// else. The answer is the global closest point all the same (up to
-    /// exact ties). Also returns the hint for the next query.
-    pub fn closest_point_near(
-        &self,
-        p: Point3,
-        faces: &[usize],
-        hint: Option<FootHint>,
-    ) -> Result<(FaceProjection, Option<FootHint>), ProjectionError> {
-        self.closest_point_within(p, faces.iter().copied(), f64::INFINITY, hint)?
-            .ok_or(ProjectionError::NotFinite {
-                x: p.x,
-                y: p.y,
-                z: p.z,
-            })
-    }
-
-    /// The closest point over `faces` among the points closer than
-    /// `sqrt(bound2)` (`None` when there is none), searching the leaf of
-    /// `hint` first, with the hint of its foot.
-    fn closest_point_within(
-        &self,
-        p: Point3,
-        faces: impl IntoIterator<Item = usize>,
-        bound2: f64,
-        hint: Option<FootHint>,
-    ) -> Result<Option<(FaceProjection, Option<FootHint>)>, ProjectionError> {
-        let mut order: Vec<(f64, usize)> = faces
-            .into_iter()
-            .filter_map(|i| self.faces.get(i).map(|f| (f.index.lower_bound(p), i)))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let hint = hint.filter(|h| order.iter().any(|o| o.1 == h.face));
-        let mut best: Option<(usize, Option<usize>, Foot)> = None;
-        let mut best_d2 = bound2;
-        if let Some(h) = hint {
-            if let Some(foot) = self.faces[h.face].search_leaf(p, h.leaf, best_d2)? {
-                best_d2 = foot.dist2;
-                best = Some((h.face, Some(h.leaf), foot));
-            }
-        }
-        // A foot from the hint's leaf is (nearly always) the answer: the
-        // rest only has to confirm it, depth first. Else best first.
-        let tight = best.is_some();
-        for (lb, i) in order {
-            if lb * lb > best_d2 {
-                break;
-            }
-            let skip = hint.filter(|h| h.face == i).map(|h| h.leaf);
-            if let Some((leaf, foot)) = self.faces[i].search(p, best_d2, skip, tight)? {
-                best_d2 = foot.dist2;
-                best = Some((i, leaf, foot));
-            }
-        }
-        Ok(best.map(|(face, leaf, foot)| {
-            let projection = foot.into_projection(&self.faces[face].surface, p);
-            let next = leaf.map(|leaf| FootHint { face, leaf });
-            (FaceProjection { face, projection }, next)
-        }))
-    }
-}
-
-/// A nominal foot already found: the global closest point over all faces
-/// of `query`, with the hint to start nearby queries from.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct KnownFoot {
-    /// The query point.
-    pub query: Point3,
-    /// Its closest point over all faces.
-    pub foot: FaceProjection,
-    /// Where that lies in the search trees.
-    pub hint: Option<FootHint>,
-}
-
-/// Where the foot of a closest-point query lies (face and leaf of its
-/// search tree), to start a query near it from
-/// ([`Workpiece::closest_point_near`]).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub struct FootHint {
-    face: usize,
-    leaf: usize,
 }
 
 /// True when `path` has a STEP or IGES extension (any case).

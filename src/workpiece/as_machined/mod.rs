@@ -248,16 +248,13 @@ impl AsMachined {
         near: Option<&crate::workpiece::KnownFoot>,
     ) -> Result<(TrueProjection, Option<crate::workpiece::FootHint>), ProjectionError> {
         let y = self.inverse_point(x);
-        let all: Vec<usize> = (0..wp.faces.len()).collect();
-        let (nearest, hint) = match near {
-            None => (None, None),
-            Some(k) if k.query == y => (Some(k.foot), k.hint),
-            Some(k) => {
-                let (foot, hint) = wp.closest_point_near(y, &all, k.hint)?;
-                (Some(foot), hint)
-            }
-        };
-        let seeds = self.seeds(wp, y, nearest.as_ref())?;
+        // Seeds: the nominal feet of `y` on every face that could hold the
+        // answer (the form moves a face by at most max|h|, stretched by T).
+        let stretch = self.stretch();
+        let reach =
+            |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best));
+        let found = wp.feet_within_reach(y, near, reach)?;
+        let (seeds, hint) = (found.feet, found.hint);
         let mut best: Option<TrueProjection> = None;
         for (face, uv) in seeds {
             let foot = self.newton(wp, x, face, uv)?;
@@ -270,54 +267,6 @@ impl AsMachined {
             y: x.y,
             z: x.z,
         })
-    }
-
-    /// The faces whose nominal distance from `y` is within the form's reach
-    /// of the smallest one (`2 max|h|` stretched by `T`), each with its
-    /// nominal foot parameters, in face order. The faces are searched
-    /// nearest first (by their trees' root boxes), the global nominal foot
-    /// `nearest` (when known) first of all, and each only within the reach
-    /// of the smallest distance so far.
-    fn seeds(
-        &self,
-        wp: &Workpiece,
-        y: Point3,
-        nearest: Option<&crate::workpiece::FaceProjection>,
-    ) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
-        /// Relative slack on the squared search radius, so that rounding
-        /// cannot drop a face right at the reach (the exact reach test
-        /// follows).
-        const SEED_BOUND_SLACK: f64 = 1e-9;
-        let stretch = self.stretch();
-        let slack = |i: usize, best: f64| 2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best);
-        let mut order: Vec<(f64, usize)> = (wp.faces.iter().enumerate())
-            .filter(|(i, _)| nearest.is_none_or(|n| n.face != *i))
-            .map(|(i, f)| (f.index.lower_bound(y), i))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut found: Vec<(usize, f64, Vec2)> = nearest
-            .map(|n| (n.face, n.projection.distance, n.projection.uv))
-            .into_iter()
-            .collect();
-        let mut best = found.first().map_or(f64::INFINITY, |s| s.1);
-        for (lb, i) in order {
-            let reach = best + slack(i, best);
-            let (Some(f), false) = (wp.faces.get(i), lb > reach) else {
-                continue;
-            };
-            let bound2 = reach * reach * (1.0 + SEED_BOUND_SLACK);
-            if let Some(foot) = f.project_within(y, bound2)? {
-                let d = foot.dist2.sqrt();
-                best = best.min(d);
-                found.push((i, d, foot.uv));
-            }
-        }
-        found.sort_by_key(|s| s.0);
-        Ok(found
-            .into_iter()
-            .filter(|s| s.1 <= best + slack(s.0, best))
-            .map(|s| (s.0, s.2))
-            .collect())
     }
 
     /// Largest factor by which `T` stretches lengths.
