@@ -103,3 +103,45 @@ fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, iters: usize) ->
     }
     best
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Point3;
+    use rand::{RngExt, SeedableRng};
+
+    /// Random short cubics like the path's (chord ~0.5 mm, radii from
+    /// ~0.5 mm up): the bound is above the refined largest curvature, and
+    /// whenever the refinement is skipped the refined value would have
+    /// stayed below `enough` too, so the speed limit cannot change.
+    #[test]
+    fn skipped_refinement_could_not_have_limited_the_speed() {
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(7);
+        let mut v = |s: f64| {
+            Vec3::new(rng.random(), rng.random(), rng.random()) * s - Vec3::repeat(s / 2.0)
+        };
+        let enough = 1000.0 / (80.0 * 80.0);
+        let mut skipped = 0;
+        for k in 0..2000 {
+            let scale = [0.02, 0.2, 2.0][k % 3];
+            let seg = CubicSegment::from_moments(
+                Point3::origin(),
+                Vec3::new(1.0, 0.0, 0.0),
+                0.5,
+                v(scale),
+                v(scale),
+                4,
+            );
+            let refined = max_curvature(&seg, 8, 40, 0.0);
+            assert!(curvature_bound(&seg, 8) >= refined, "case {k}");
+            let got = max_curvature(&seg, 8, 40, enough);
+            if curvature_bound(&seg, 8) <= enough * (1.0 - SKIP_MARGIN) {
+                skipped += 1;
+                assert!(got <= refined && refined < enough, "case {k}: {refined}");
+            } else {
+                assert_eq!(got, refined, "case {k}");
+            }
+        }
+        assert!(skipped > 100, "{skipped} skipped");
+    }
+}
