@@ -132,6 +132,28 @@ fn bench(c: &mut Criterion) {
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(10).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(3));
-    targets = bench
+    targets = bench, overhead
 }
 criterion_main!(benches);
+
+/// What a run of blade-z60 spends besides the per-cycle loop: re-planning
+/// the z60 section's speeds, and the whole run (issue 3's ratio is its
+/// machine time over this wall time).
+fn overhead(c: &mut Criterion) {
+    let p = program("blade-z60.json");
+    let (path, plan) = path_and_plan(&p);
+    let Some(Feature::Section { settings, .. }) = p.features.first() else {
+        panic!("no section")
+    };
+    let opts = SpeedOptions {
+        speed_mm_s: settings.speed_mm_s,
+        ..SpeedOptions::default()
+    };
+    println!("z60 speed plan: {} cycles", plan.profile().cycles());
+    c.bench_function("speed_plan_blade_z60", |b| {
+        b.iter(|| black_box(SpeedPlan::new(&path, &opts).ok()))
+    });
+    c.bench_function("part_blade_z60", |b| {
+        b.iter(|| black_box(run_program(&p, &RunOptions::default()).ok()))
+    });
+}

@@ -50,15 +50,22 @@ pub struct PartClearance<'w> {
 
 impl PartClearance<'_> {
     /// A lower bound of the distance from the ball centre at `p` (machine)
-    /// to the part, exact once a bounding box comes closer than `need`;
-    /// projection failures count as touching (0).
-    fn distance_bound(&self, p: Point3, need: f64) -> f64 {
+    /// to the part: the distance to the nearest leaf box of the faces'
+    /// search trees (each face's search starts from its nearest leaf of
+    /// the previous sample, `hints`), exact (a projection) once that comes
+    /// closer than `need`; projection failures count as touching (0).
+    fn distance_bound(&self, p: Point3, need: f64, hints: &mut [Option<usize>]) -> f64 {
         let q = self.pose.to_part(p);
         let bound = self
             .workpiece
             .faces
             .iter()
-            .map(|f| f.index.lower_bound(q))
+            .zip(hints.iter_mut())
+            .map(|(f, hint)| {
+                let (d, nearest) = f.index.box_distance_near(q, *hint);
+                *hint = nearest;
+                d
+            })
             .fold(f64::INFINITY, f64::min);
         if bound >= need {
             return bound;
@@ -73,12 +80,18 @@ impl PartClearance<'_> {
     /// the next `d - need` of the line outright; shorter skips fall back to
     /// `step`, below `need`, so a surface crossing between two samples
     /// would come closer than `need` to one of them.
-    fn line_clear(&self, a: Point3, b: Point3, need: f64, step: f64) -> bool {
+    fn line_clear(
+        &self,
+        (a, b): (Point3, Point3),
+        need: f64,
+        step: f64,
+        hints: &mut [Option<usize>],
+    ) -> bool {
         let len = (b - a).norm();
         let dir = (b - a).try_normalize(0.0).unwrap_or_else(Vec3::zeros);
         let mut t: f64 = 0.0;
         loop {
-            let d = self.distance_bound(a + dir * t, need);
+            let d = self.distance_bound(a + dir * t, need, hints);
             if d < need {
                 return false;
             }
@@ -95,10 +108,11 @@ impl FreeSpace for PartClearance<'_> {
         let step = self.opts.step_mm.max(1e-3);
         let need = self.tip_radius_mm + self.opts.margin_mm;
         let up = (self.stylus.norm() / step).ceil() as usize;
+        let mut hints = vec![None; self.workpiece.faces.len()];
         (0..=up).all(|j| {
             let shaft = if up == 0 { 0.0 } else { j as f64 / up as f64 };
             let lift = self.stylus * shaft;
-            self.line_clear(from + lift, to + lift, need, step)
+            self.line_clear((from + lift, to + lift), need, step, &mut hints)
         })
     }
 }

@@ -1,8 +1,14 @@
 //! Measured points to reported deviations (nominal and true).
+//!
+//! Consecutive measured points lie close together, so each point's
+//! closest-point searches start where the previous point's foot lies
+//! ([`crate::workpiece::Workpiece::closest_point_near`]); the answers are
+//! the global closest points all the same.
 use crate::host::modes::Measured;
 use crate::program::Program;
 use crate::report::PointReport;
 use crate::workpiece::as_machined::AsMachined;
+use crate::workpiece::{FootHint, KnownFoot};
 
 /// Deviation of every measured point (machine frame) from the nominal
 /// surfaces `faces`, with the true deviation from the simulated part.
@@ -12,26 +18,61 @@ pub fn point_reports(
     faces: &[usize],
     points: &[Measured],
 ) -> Vec<PointReport> {
+    let count = program.workpiece.faces.len();
+    let all: Vec<usize> = (0..count).collect();
+    let mut listed = faces.to_vec();
+    listed.sort_unstable();
+    listed.dedup();
+    let mut hints = Hints {
+        all: None,
+        faces: None,
+        faces_are_all: listed == all,
+    };
     points
         .iter()
-        .filter_map(|m| point_report(program, truth, faces, m))
+        .filter_map(|m| point_report(program, truth, faces, &all, m, &mut hints))
         .collect()
+}
+
+/// Where the previous point's nominal feet lie.
+struct Hints {
+    /// Foot over all faces.
+    all: Option<FootHint>,
+    /// Foot over the feature's faces.
+    faces: Option<FootHint>,
+    /// Whether the feature's faces are all faces.
+    faces_are_all: bool,
 }
 
 fn point_report(
     program: &Program,
     truth: &AsMachined,
     faces: &[usize],
+    all: &[usize],
     m: &Measured,
+    hints: &mut Hints,
 ) -> Option<PointReport> {
+    let wp = &program.workpiece;
     let p = program.placement.to_part(m.point);
-    let nominal = program
-        .workpiece
-        .closest_point_among(p, faces.iter().copied())
-        .ok()?
-        .projection;
+    let (foot, hint) = wp.closest_point_near(p, all, hints.all).ok()?;
+    hints.all = hint;
+    let known = KnownFoot {
+        query: p,
+        foot,
+        hint,
+    };
+    // The closest point over all faces is the closest over the feature's
+    // faces too when it lies on one of them.
+    let nominal = if hints.faces_are_all || faces.contains(&foot.face) {
+        foot
+    } else {
+        let (found, hint) = wp.closest_point_near(p, faces, hints.faces).ok()?;
+        hints.faces = hint;
+        found
+    }
+    .projection;
     // The truth is read here only, for the report's true_deviation_mm.
-    let true_dev = truth.true_deviation(&program.workpiece, p).ok()?;
+    let true_dev = truth.true_deviation_near(wp, p, Some(&known)).ok()?;
     Some(PointReport {
         measured: p.into(),
         nominal: nominal.point.into(),

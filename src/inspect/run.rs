@@ -1,4 +1,6 @@
 //! Running a whole program on the simulated CMM.
+use std::borrow::Cow;
+use std::sync::OnceLock;
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
@@ -128,7 +130,7 @@ pub fn run_program_traced(
     let (start, top) = start_position(program);
     let mut sim = SimulatedCmm::new(
         part,
-        MachineModel::default_bridge(),
+        default_machine(),
         profile,
         true_probe,
         opts.seed,
@@ -157,7 +159,7 @@ pub fn run_program_traced(
     let mut traced = TracingCmm::new(&mut sim, trace);
     let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
         Ok(a) => a,
-        Err(outcome) => (program.clone(), Some(failed_alignment(outcome))),
+        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
     let program = &aligned;
     let free = PartClearance {
@@ -205,6 +207,13 @@ pub fn run_program_traced(
     Ok((report, learned_out, rows))
 }
 
+/// The embedded default bridge CMM, parsed once per process (a batch
+/// runs many parts on it).
+fn default_machine() -> MachineModel {
+    static MODEL: OnceLock<MachineModel> = OnceLock::new();
+    MODEL.get_or_init(MachineModel::default_bridge).clone()
+}
+
 /// The calibration of `--probe-cal`, else the program's, else none.
 pub fn probe_calibration(
     program: &Program,
@@ -248,15 +257,15 @@ fn start_position(program: &Program) -> (Point3, f64) {
 }
 
 /// The program with its placement replaced by the best-fit alignment (when
-/// it has alignment points).
-fn aligned_program(
-    program: &Program,
+/// it has alignment points; else the program itself, not a copy).
+fn aligned_program<'p>(
+    program: &'p Program,
     cmm: &mut dyn Cmm,
     probe: HostProbe,
     modes: &ModeOptions,
-) -> Result<(Program, Option<AlignmentReport>), Outcome> {
+) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), Outcome> {
     let Some(points) = &program.alignment else {
-        return Ok((program.clone(), None));
+        return Ok((Cow::Borrowed(program), None));
     };
     let (pose, report) = align(
         cmm,
@@ -268,10 +277,10 @@ fn aligned_program(
         &AlignOptions::default(),
     )?;
     Ok((
-        Program {
+        Cow::Owned(Program {
             placement: pose,
             ..program.clone()
-        },
+        }),
         Some(report),
     ))
 }

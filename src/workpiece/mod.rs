@@ -5,15 +5,18 @@
 pub mod as_machined;
 pub mod examples;
 pub mod format;
+mod near;
 mod validate;
 
 use std::path::{Path, PathBuf};
 
+use crate::geometry::projection::Foot;
 use crate::geometry::{
     NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions, Trim,
 };
-use crate::math::Point3;
+use crate::math::{Point3, Vec2};
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
+pub use near::{FeetWithinReach, FootHint, KnownFoot};
 
 /// Why a workpiece could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -133,32 +136,13 @@ impl Workpiece {
         p: Point3,
         faces: impl IntoIterator<Item = usize>,
     ) -> Result<FaceProjection, ProjectionError> {
-        let mut order: Vec<(f64, usize)> = faces
-            .into_iter()
-            .filter_map(|i| self.faces.get(i).map(|f| (f.index.lower_bound(p), i)))
-            .collect();
-        order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let mut best: Option<(usize, crate::geometry::projection::Foot)> = None;
-        let mut best_d2 = f64::INFINITY;
-        for (lb, i) in order {
-            if lb * lb > best_d2 {
-                break;
-            }
-            let face = &self.faces[i];
-            if let Some(foot) = face.project_within(p, best_d2)? {
-                best_d2 = foot.dist2;
-                best = Some((i, foot));
-            }
-        }
-        let (face, foot) = best.ok_or(ProjectionError::NotFinite {
-            x: p.x,
-            y: p.y,
-            z: p.z,
-        })?;
-        Ok(FaceProjection {
-            face,
-            projection: foot.into_projection(&self.faces[face].surface, p),
-        })
+        self.closest_point_within(p, faces, f64::INFINITY, None)?
+            .map(|(found, _)| found)
+            .ok_or(ProjectionError::NotFinite {
+                x: p.x,
+                y: p.y,
+                z: p.z,
+            })
     }
 }
 
@@ -189,7 +173,7 @@ impl Face {
     }
 
     /// Whether `uv` lies on the face (inside its trim, if any).
-    pub fn contains(&self, uv: crate::math::Vec2) -> bool {
+    pub fn contains(&self, uv: Vec2) -> bool {
         self.trim.as_ref().is_none_or(|t| t.contains(uv))
     }
 
@@ -199,8 +183,39 @@ impl Face {
         &self,
         p: Point3,
         best_dist2: f64,
-    ) -> Result<Option<crate::geometry::projection::Foot>, ProjectionError> {
+    ) -> Result<Option<Foot>, ProjectionError> {
         self.index
             .project_within(&self.surface, self.trim.as_ref(), p, best_dist2)
+    }
+
+    /// [`Self::project_within`] leaving out leaf `skip`, with the leaf of
+    /// the foot (`None` on the trim boundary); depth first when `tight`
+    /// (`best_dist2` comes from a point found nearby), else best first.
+    fn search(
+        &self,
+        p: Point3,
+        best_dist2: f64,
+        skip: Option<usize>,
+        tight: bool,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        let (surface, trim) = (&self.surface, self.trim.as_ref());
+        if tight {
+            self.index
+                .search_depth_first(surface, trim, p, best_dist2, skip)
+        } else {
+            self.index.search(surface, trim, p, best_dist2, skip)
+        }
+    }
+
+    /// The closest point of one leaf of the search tree closer than
+    /// `sqrt(best_dist2)`, as [`Self::search`] finds it.
+    fn search_leaf(
+        &self,
+        p: Point3,
+        leaf: usize,
+        best_dist2: f64,
+    ) -> Result<Option<Foot>, ProjectionError> {
+        self.index
+            .search_leaf(&self.surface, self.trim.as_ref(), leaf, p, best_dist2)
     }
 }

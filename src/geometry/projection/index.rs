@@ -5,9 +5,10 @@ use std::collections::BinaryHeap;
 
 use super::newton::{self, Bounds, Foot};
 use super::{check_finite, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
-use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
 use crate::geometry::{NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
+
+mod build;
 
 /// Search structure for global closest-point queries on one surface.
 #[derive(Debug, Clone)]
@@ -48,20 +49,7 @@ struct Node {
 impl ProjectionIndex {
     /// Builds the hierarchy for `surface`.
     pub fn new(surface: &NurbsSurface, opts: &ProjectionOptions) -> ProjectionIndex {
-        let mut leaf_patches = Vec::new();
-        for patch in decompose(surface) {
-            split_until_flat(patch, 0, opts, &mut leaf_patches);
-        }
-        let leaves: Vec<Leaf> = leaf_patches.iter().map(|p| make_leaf(surface, p)).collect();
-        let boxes: Vec<Aabb> = leaf_patches.iter().map(|p| aabb_of(p.points())).collect();
-        let mut nodes = Vec::with_capacity(2 * leaves.len());
-        let mut ids: Vec<usize> = (0..leaves.len()).collect();
-        build_tree(&boxes, &mut ids, &mut nodes);
-        ProjectionIndex {
-            leaves,
-            nodes,
-            opts: *opts,
-        }
+        build::index(surface, opts)
     }
 
     /// Number of leaves (near-flat pieces) in the hierarchy.
@@ -74,6 +62,71 @@ impl ProjectionIndex {
         self.nodes
             .last()
             .map_or(f64::INFINITY, |n| n.aabb.dist2(p).sqrt())
+    }
+
+    /// Lower bound of the distance from `p` to the surface from the leaves'
+    /// boxes, mm: the smallest distance from `p` to a leaf's boxes (each
+    /// leaf lies inside its axis-aligned and its oriented box, both spanned
+    /// by its control points). Far tighter than [`Self::lower_bound`] and
+    /// found without any Newton iteration, by a depth-first search over the
+    /// tree. A trimmed face lies on its surface, so it bounds the face too.
+    pub fn box_distance(&self, p: Point3) -> f64 {
+        self.box_distance_near(p, None).0
+    }
+
+    /// [`Self::box_distance`] for a point near an earlier query: the leaf
+    /// nearest to that one (`hint`, as that query returned it) bounds the
+    /// search from the start. The same value for any hint (one that is no
+    /// leaf is ignored); also returns the nearest leaf, for the next query.
+    pub fn box_distance_near(&self, p: Point3, hint: Option<usize>) -> (f64, Option<usize>) {
+        let Some(root) = self.nodes.len().checked_sub(1) else {
+            return (f64::INFINITY, None);
+        };
+        let mut best = (f64::INFINITY, None);
+        if let Some(d2) = hint.and_then(|h| self.leaf_box_dist2(h, p)) {
+            best = (d2, hint);
+        }
+        // Depth-first, nearer child first, pruning boxes no nearer than the
+        // nearest leaf so far (a median-split tree is shallow).
+        let mut stack = Vec::with_capacity(64);
+        stack.push((self.child_dist2(root, p), root));
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best.0) else {
+                continue;
+            };
+            match node.kind {
+                Ok(leaf) => {
+                    let obb = self.leaves.get(leaf).map_or(0.0, |l| l.obb.dist2(p));
+                    if obb.max(d2) < best.0 {
+                        best = (obb.max(d2), Some(i));
+                    }
+                }
+                Err((a, b)) => {
+                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
+                    let (near, far) = if da <= db {
+                        ((da, a), (db, b))
+                    } else {
+                        ((db, b), (da, a))
+                    };
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best.0));
+                }
+            }
+        }
+        (best.0.sqrt(), best.1)
+    }
+
+    /// Squared distance from `p` to the boxes of the leaf at node `i`
+    /// (`None` when that is not a leaf).
+    fn leaf_box_dist2(&self, i: usize, p: Point3) -> Option<f64> {
+        let node = self.nodes.get(i)?;
+        let leaf = self.leaves.get(node.kind.ok()?)?;
+        Some(leaf.obb.dist2(p).max(node.aabb.dist2(p)))
+    }
+
+    /// Squared distance from `p` to node `i`'s box (infinite for a missing
+    /// node).
+    fn child_dist2(&self, i: usize, p: Point3) -> f64 {
+        self.nodes.get(i).map_or(f64::INFINITY, |n| n.aabb.dist2(p))
     }
 
     /// Global closest point of `surface` (the one this index was built for).
@@ -99,10 +152,27 @@ impl ProjectionIndex {
         surface: &NurbsSurface,
         trim: Option<&Trim>,
         p: Point3,
-        mut best_dist2: f64,
+        best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
+        Ok(self
+            .search(surface, trim, p, best_dist2, None)?
+            .map(|(_, foot)| foot))
+    }
+
+    /// [`Self::project_within`] that leaves out leaf `skip` (which the
+    /// caller has searched already, see [`Self::search_leaf`]) and also
+    /// returns the leaf of the foot (`None` for a foot on the trim
+    /// boundary).
+    pub(crate) fn search(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        mut best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         check_finite(p)?;
-        let mut best: Option<Foot> = None;
+        let mut best: Option<(Option<usize>, Foot)> = None;
         let mut heap = BinaryHeap::new();
         let Some(root) = self.nodes.len().checked_sub(1) else {
             return Ok(None);
@@ -127,23 +197,76 @@ impl ProjectionIndex {
                         }
                     }
                 }
+                Ok(leaf) if skip == Some(leaf) => {}
                 Ok(leaf) => {
                     if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
                         best_dist2 = foot.dist2;
-                        best = Some(foot);
+                        best = Some((Some(leaf), foot));
                     }
                 }
             }
         }
         if let Some(t) = trim {
             if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
-                best = Some(foot);
+                best = Some((None, foot));
             }
         }
         Ok(best)
     }
 
-    fn search_leaf(
+    /// [`Self::search`] depth first (nearer child first) instead of best
+    /// first: no heap, and as good when `best_dist2` is already tight (a
+    /// bound from a nearby foot). The same answer up to exact ties.
+    pub(crate) fn search_depth_first(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        mut best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        check_finite(p)?;
+        let mut best: Option<(Option<usize>, Foot)> = None;
+        let Some(root) = self.nodes.len().checked_sub(1) else {
+            return Ok(None);
+        };
+        let mut stack = Vec::with_capacity(64);
+        stack.push((self.child_dist2(root, p), root));
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best_dist2) else {
+                continue;
+            };
+            match node.kind {
+                Ok(leaf) if skip == Some(leaf) => {}
+                Ok(leaf) => {
+                    if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
+                        best_dist2 = foot.dist2;
+                        best = Some((Some(leaf), foot));
+                    }
+                }
+                Err((a, b)) => {
+                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
+                    let (near, far) = if da <= db {
+                        ((da, a), (db, b))
+                    } else {
+                        ((db, b), (da, a))
+                    };
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best_dist2));
+                }
+            }
+        }
+        if let Some(t) = trim {
+            if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
+                best = Some((None, foot));
+            }
+        }
+        Ok(best)
+    }
+
+    /// The closest point of leaf `leaf` (on the face, with a trim) closer
+    /// than `sqrt(best_dist2)`, exactly as the search finds it there; `None`
+    /// also for a leaf that does not exist.
+    pub(crate) fn search_leaf(
         &self,
         surface: &NurbsSurface,
         trim: Option<&Trim>,
@@ -151,7 +274,9 @@ impl ProjectionIndex {
         p: Point3,
         best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
-        let leaf = &self.leaves[leaf];
+        let Some(leaf) = self.leaves.get(leaf) else {
+            return Ok(None);
+        };
         if leaf.obb.dist2(p) >= best_dist2 {
             return Ok(None);
         }
@@ -195,99 +320,6 @@ impl Ord for Entry {
     }
 }
 
-fn split_until_flat(
-    patch: BezierPatch,
-    depth: usize,
-    opts: &ProjectionOptions,
-    out: &mut Vec<BezierPatch>,
-) {
-    if depth >= opts.max_leaf_depth || is_flat(&patch, opts.leaf_flatness) {
-        out.push(patch);
-        return;
-    }
-    let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
-        patch.split_u()
-    } else {
-        patch.split_v()
-    };
-    split_until_flat(a, depth + 1, opts, out);
-    split_until_flat(b, depth + 1, opts, out);
-}
-
-fn corners(patch: &BezierPatch) -> [Point3; 4] {
-    let [p, q] = patch.degree;
-    [
-        patch.point(0, 0),
-        patch.point(p, 0),
-        patch.point(0, q),
-        patch.point(p, q),
-    ]
-}
-
-/// Length of the control net along u (longest row polyline).
-fn u_extent(patch: &BezierPatch) -> f64 {
-    let [p, q] = patch.degree;
-    (0..=q)
-        .map(|j| {
-            (1..=p)
-                .map(|i| (patch.point(i, j) - patch.point(i - 1, j)).norm())
-                .sum::<f64>()
-        })
-        .fold(0.0, f64::max)
-}
-
-fn v_extent(patch: &BezierPatch) -> f64 {
-    let [p, q] = patch.degree;
-    (0..=p)
-        .map(|i| {
-            (1..=q)
-                .map(|j| (patch.point(i, j) - patch.point(i, j - 1)).norm())
-                .sum::<f64>()
-        })
-        .fold(0.0, f64::max)
-}
-
-fn is_flat(patch: &BezierPatch, flatness: f64) -> bool {
-    let obb = obb_of(patch);
-    let size = obb.half[0].max(obb.half[1]);
-    obb.half[2] <= flatness * size
-}
-
-fn obb_of(patch: &BezierPatch) -> Obb {
-    let [c00, c10, c01, c11] = corners(patch);
-    let du = (c10 - c00) + (c11 - c01);
-    let dv = (c01 - c00) + (c11 - c10);
-    let axes = frame(du, dv);
-    let pts: Vec<Point3> = patch.points().collect();
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for pt in &pts {
-        for k in 0..3 {
-            let s = pt.coords.dot(&axes[k]);
-            lo[k] = lo[k].min(s);
-            hi[k] = hi[k].max(s);
-        }
-    }
-    let mid: Vec3 = (0..3).map(|k| axes[k] * 0.5 * (lo[k] + hi[k])).sum();
-    Obb {
-        center: Point3::from(mid),
-        axes,
-        half: [0, 1, 2].map(|k| 0.5 * (hi[k] - lo[k])),
-    }
-}
-
-/// Orthonormal frame with the first axis along `du` and the third along
-/// `du x dv`; falls back to the coordinate axes for degenerate nets.
-fn frame(du: Vec3, dv: Vec3) -> [Vec3; 3] {
-    let (Some(a), Some(n)) = (
-        du.try_normalize(1e-300),
-        du.cross(&dv).try_normalize(1e-300),
-    ) else {
-        return [Vec3::x(), Vec3::y(), Vec3::z()];
-    };
-    [a, n.cross(&a), n]
-}
-
 impl Obb {
     fn dist2(&self, p: Point3) -> f64 {
         let r = p - self.center;
@@ -314,60 +346,4 @@ impl Aabb {
             max: self.max.sup(&o.max),
         }
     }
-}
-
-fn aabb_of(points: impl Iterator<Item = Point3>) -> Aabb {
-    let init = Aabb {
-        min: Point3::from([f64::INFINITY; 3]),
-        max: Point3::from([f64::NEG_INFINITY; 3]),
-    };
-    points.fold(init, |b, p| Aabb {
-        min: b.min.inf(&p),
-        max: b.max.sup(&p),
-    })
-}
-
-fn make_leaf(surface: &NurbsSurface, patch: &BezierPatch) -> Leaf {
-    let bounds = Bounds {
-        lo: Vec2::new(patch.u.0, patch.v.0),
-        hi: Vec2::new(patch.u.1, patch.v.1),
-    };
-    let samples = std::array::from_fn(|k| {
-        let (a, b) = ((k % 3) as f64 * 0.5, (k / 3) as f64 * 0.5);
-        let uv = bounds.lo + (bounds.hi - bounds.lo).component_mul(&Vec2::new(a, b));
-        (uv, surface.point(uv.x, uv.y))
-    });
-    Leaf {
-        bounds,
-        obb: obb_of(patch),
-        samples,
-    }
-}
-
-/// Builds the tree bottom-up by median splits; the root is the last node.
-fn build_tree(boxes: &[Aabb], ids: &mut [usize], nodes: &mut Vec<Node>) -> usize {
-    let aabb = ids.iter().map(|&i| boxes[i]).reduce(|a, b| a.union(&b));
-    let Some(aabb) = aabb else {
-        return usize::MAX;
-    };
-    if let [only] = ids {
-        nodes.push(Node {
-            aabb,
-            kind: Ok(*only),
-        });
-        return nodes.len() - 1;
-    }
-    let centre = |i: usize| (boxes[i].min.coords + boxes[i].max.coords) * 0.5;
-    let extent = aabb.max - aabb.min;
-    let axis = extent.iamax();
-    let mid = ids.len() / 2;
-    ids.select_nth_unstable_by(mid, |&a, &b| centre(a)[axis].total_cmp(&centre(b)[axis]));
-    let (left_ids, right_ids) = ids.split_at_mut(mid);
-    let left = build_tree(boxes, left_ids, nodes);
-    let right = build_tree(boxes, right_ids, nodes);
-    nodes.push(Node {
-        aabb,
-        kind: Err((left, right)),
-    });
-    nodes.len() - 1
 }

@@ -20,7 +20,8 @@ pub(super) fn refine_branch(
     for k in 0..pairs {
         let (a, b) = (uvs[k], uvs[(k + 1) % uvs.len()]);
         out.push(a);
-        subdivide(surface, plane, a, b, opts, opts.max_refine_depth, &mut out);
+        let ends = ((a, surface.point(a.x, a.y)), (b, surface.point(b.x, b.y)));
+        subdivide(surface, plane, ends, opts, opts.max_refine_depth, &mut out);
     }
     if !closed {
         out.extend(uvs.last().copied());
@@ -53,13 +54,13 @@ fn section_point(surface: &NurbsSurface, face: usize, uv: Vec2) -> SectionPoint 
     }
 }
 
-/// Inserts points strictly between `a` and `b` until every chord is within
-/// the chord tolerance of the curve.
+/// Inserts points strictly between `a` and `b` (parameters with their
+/// surface points) until every chord is within the chord tolerance of the
+/// curve.
 fn subdivide(
     surface: &NurbsSurface,
     plane: &Plane,
-    a: Vec2,
-    b: Vec2,
+    ((a, pa), (b, pb)): ((Vec2, Point3), (Vec2, Point3)),
     opts: &SectionOptions,
     depth: usize,
     out: &mut Vec<Vec2>,
@@ -67,7 +68,6 @@ fn subdivide(
     if depth == 0 {
         return;
     }
-    let (pa, pb) = (surface.point(a.x, a.y), surface.point(b.x, b.y));
     let Some(m) = on_bisector(
         surface,
         plane,
@@ -82,9 +82,9 @@ fn subdivide(
     if chord_distance(pa, pb, pm) <= opts.chord_tol_mm {
         return;
     }
-    subdivide(surface, plane, a, m, opts, depth - 1, out);
+    subdivide(surface, plane, ((a, pa), (m, pm)), opts, depth - 1, out);
     out.push(m);
-    subdivide(surface, plane, m, b, opts, depth - 1, out);
+    subdivide(surface, plane, ((m, pm), (b, pb)), opts, depth - 1, out);
 }
 
 fn chord_distance(a: Point3, b: Point3, p: Point3) -> f64 {

@@ -49,6 +49,10 @@ pub(crate) struct Limits {
     dt: f64,
     /// Slack on the speed limits, mm/s.
     tol: f64,
+    /// Path length (the last joint), mm.
+    length: f64,
+    /// Speed lost in one cycle of full braking, `a_tan dt`, mm/s.
+    brake_step: f64,
 }
 
 impl Limits {
@@ -59,21 +63,23 @@ impl Limits {
         joints_v: Vec<f64>,
         opts: &SpeedOptions,
     ) -> Self {
-        let joints_s = (0..=v_max.len())
+        let joints_s: Vec<f64> = (0..=v_max.len())
             .filter_map(|i| path.segment_start(i))
             .collect();
         Limits {
+            length: joints_s.last().copied().unwrap_or(0.0),
             joints_s,
             joints_v,
             v_max,
             a_tan: opts.a_tan_mm_s2,
             dt: opts.cycle_s,
             tol: opts.speed_tol_mm_s,
+            brake_step: opts.a_tan_mm_s2 * opts.cycle_s,
         }
     }
 
     fn length(&self) -> f64 {
-        self.joints_s.last().copied().unwrap_or(0.0)
+        self.length
     }
 
     /// State after one cycle at acceleration `acc` from `(s, v)`.
@@ -84,26 +90,51 @@ impl Limits {
         (s + v * dt + 0.5 * acc * dt * dt, v1)
     }
 
-    /// Whether a cycle at `acc` from `(s, v)` respects every limit.
-    fn feasible(&self, s: f64, v: f64, acc: f64) -> bool {
-        let (s1, v1) = self.step(s, v, acc);
+    /// Whether a cycle at `acc` from `at` respects every limit.
+    fn feasible(&self, at: &CycleStart, acc: f64) -> bool {
+        let (s1, v1) = self.step(at.s, at.v, acc);
+        let above1 = self.joints_above(at, s1);
         self.length() - s1 >= self.stop_distance(v1) - self.tol * self.dt
-            && v1 <= self.speed_limit(s1) + self.tol
-            && self.joints_ok(s, v, acc, s1)
+            && v1 <= self.speed_limit(above1, s1) + self.tol
+            && self.joints_ok(at, acc, above1)
+    }
+
+    /// Where a cycle from `(s, v)` starts.
+    fn cycle_start(&self, s: f64, v: f64) -> CycleStart {
+        CycleStart {
+            s,
+            v,
+            above: self.joints_s.partition_point(|&x| x <= s),
+        }
+    }
+
+    /// Number of joints at or before `s1`, counting on from `from` (the
+    /// number at or before `at.s <= s1`): a cycle crosses at most a few
+    /// joints, and the joints are sorted (cumulative arc lengths).
+    fn joints_above(&self, at: &CycleStart, s1: f64) -> usize {
+        let from = at.above;
+        if s1 < at.s {
+            return self.joints_s.partition_point(|&x| x <= s1);
+        }
+        from + self
+            .joints_s
+            .get(from..)
+            .map_or(0, |rest| rest.iter().take_while(|&&x| x <= s1).count())
     }
 
     /// Shortest distance to rest on whole cycles of braking at most
     /// `a_tan`: full cycles at `-a_tan`, then one weaker cycle, mm.
     fn stop_distance(&self, v: f64) -> f64 {
-        let q = self.a_tan * self.dt;
-        let full = (v / q).floor();
+        let q = self.brake_step;
+        let full = floor_non_negative(v / q);
         let rest = v - full * q;
         self.dt * (full * v - 0.5 * q * full * full + 0.5 * rest)
     }
 
-    /// Speed limit at `s`: segment `v_max` and braking to the next joint.
-    fn speed_limit(&self, s: f64) -> f64 {
-        let i = self.segment_at(s);
+    /// Speed limit at `s` (with `above` joints at or before it): segment
+    /// `v_max` and braking to the next joint.
+    fn speed_limit(&self, above: usize, s: f64) -> f64 {
+        let i = self.segment_of(above);
         let (Some(&cap), Some(&s_next), Some(&v_next)) = (
             self.v_max.get(i),
             self.joints_s.get(i + 1),
@@ -115,13 +146,12 @@ impl Limits {
         cap.min(brake)
     }
 
-    /// Speed at every interior joint crossed in `(s, s1]` within its limit.
-    fn joints_ok(&self, s: f64, v: f64, acc: f64, s1: f64) -> bool {
-        let first = self.joints_s.partition_point(|&x| x <= s).max(1);
-        let last = self
-            .joints_s
-            .partition_point(|&x| x <= s1)
-            .min(self.joints_s.len() - 1);
+    /// Speed at every interior joint crossed in `(s, s1]` within its limit
+    /// (`above1` joints at or before `s1`).
+    fn joints_ok(&self, at: &CycleStart, acc: f64, above1: usize) -> bool {
+        let first = at.above.max(1);
+        let last = above1.min(self.joints_s.len().saturating_sub(1));
+        let (s, v) = (at.s, at.v);
         (first..last).all(|j| {
             let v2 = v * v + 2.0 * acc * (self.joints_s[j] - s);
             let w = self.joints_v[j] + self.tol;
@@ -129,9 +159,8 @@ impl Limits {
         })
     }
 
-    /// Segment index at arc length `s`.
-    fn segment_at(&self, s: f64) -> usize {
-        let above = self.joints_s.partition_point(|&x| x <= s);
+    /// Segment index at an arc length with `above` joints at or before it.
+    fn segment_of(&self, above: usize) -> usize {
         above
             .saturating_sub(1)
             .min(self.v_max.len().saturating_sub(1))
@@ -140,11 +169,12 @@ impl Limits {
     /// Largest feasible acceleration for the cycle from `(s, v)` (full
     /// braking, or the weaker braking that just stops, if none is).
     fn best_accel(&self, s: f64, v: f64, iters: usize, last: f64) -> f64 {
+        let at = self.cycle_start(s, v);
         let lo = (-self.a_tan).max(-v / self.dt);
-        if self.feasible(s, v, self.a_tan) {
+        if self.feasible(&at, self.a_tan) {
             return self.a_tan;
         }
-        if !self.feasible(s, v, lo) {
+        if !self.feasible(&at, lo) {
             return lo;
         }
         // Cruising repeats the last cycle's answer: keep it when it is
@@ -152,15 +182,15 @@ impl Limits {
         let resolution = (self.a_tan - lo) * 0.5f64.powi(iters.min(1000) as i32);
         if last > lo
             && last < self.a_tan
-            && self.feasible(s, v, last)
-            && !self.feasible(s, v, last + resolution)
+            && self.feasible(&at, last)
+            && !self.feasible(&at, last + resolution)
         {
             return last;
         }
         let (mut lo, mut hi) = (lo, self.a_tan);
         for _ in 0..iters {
             let mid = 0.5 * (lo + hi);
-            if self.feasible(s, v, mid) {
+            if self.feasible(&at, mid) {
                 lo = mid
             } else {
                 hi = mid
@@ -168,6 +198,29 @@ impl Limits {
         }
         lo
     }
+}
+
+/// `x.floor()`, by an integer conversion where that is exact (`0 < x <
+/// 2^52`): the same value without a call to the software `floor` of
+/// targets without a rounding instruction.
+fn floor_non_negative(x: f64) -> f64 {
+    /// Below this every `f64` converts to `u64` and back exactly.
+    const EXACT: f64 = 4_503_599_627_370_496.0;
+    if x > 0.0 && x < EXACT {
+        x as u64 as f64
+    } else {
+        x.floor()
+    }
+}
+
+/// The state a cycle starts from, with its place among the joints.
+struct CycleStart {
+    /// Arc length, mm.
+    s: f64,
+    /// Speed, mm/s.
+    v: f64,
+    /// Number of joints at or before `s`.
+    above: usize,
 }
 
 impl MotionProfile {
@@ -239,5 +292,34 @@ impl MotionProfile {
             v: base.v + base.a * tau,
             a: base.a,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::floor_non_negative;
+
+    #[test]
+    fn floor_by_conversion_is_floor() {
+        let cases = [
+            0.0,
+            -0.0,
+            0.5,
+            1.0 - f64::EPSILON / 2.0,
+            1.0,
+            79.999_999_999,
+            123_456.75,
+            4_503_599_627_370_495.5,
+            4_503_599_627_370_496.0,
+            1e300,
+            -0.5,
+            -3.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for x in cases {
+            assert_eq!(floor_non_negative(x).to_bits(), x.floor().to_bits(), "{x}");
+        }
+        assert!(floor_non_negative(f64::NAN).is_nan());
     }
 }

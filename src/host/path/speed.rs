@@ -31,7 +31,8 @@ pub struct SpeedOptions {
     pub min_chord_angle_rad: f64,
     /// Evenly spaced curvature evaluations per segment.
     pub curvature_samples: usize,
-    /// Golden-section steps refining the largest curvature of a segment.
+    /// Golden-section steps refining the largest curvature of a segment
+    /// (only where it can limit the speed, see `SegmentSpeed::r_curv_mm`).
     pub curvature_refine_iters: usize,
     /// Bisection steps choosing each cycle's acceleration (30 resolve it to
     /// `2 a_tan / 2^30`, about 2e-6 mm/s^2 at 1000 mm/s^2: a speed error
@@ -93,7 +94,10 @@ pub struct SegmentSpeed {
     pub s_start: f64,
     /// Arc length at the segment end, mm.
     pub s_end: f64,
-    /// Smallest curvature radius over the segment, mm.
+    /// Smallest curvature radius over the segment, mm: refined by
+    /// golden-section search where it can limit the speed; elsewhere (when
+    /// the whole segment provably allows the commanded speed) the smallest
+    /// of the evenly spaced samples.
     pub r_curv_mm: f64,
     /// Chord-angle radius with the next segment, mm (infinite for the last
     /// segment of an open path).
@@ -177,7 +181,12 @@ fn radii(path: &BallPath, opts: &SpeedOptions) -> Vec<(f64, f64, f64)> {
     segs.iter()
         .enumerate()
         .map(|(i, seg)| {
-            let k = max_curvature(seg, opts.curvature_samples, opts.curvature_refine_iters);
+            let k = max_curvature(
+                seg,
+                opts.curvature_samples,
+                opts.curvature_refine_iters,
+                opts.a_lat_mm_s2 / (opts.speed_mm_s * opts.speed_mm_s),
+            );
             let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
             let next = if path.is_closed() { (i + 1) % n } else { i + 1 };
             let r_angle = chords.get(next).map_or(f64::INFINITY, |c| {

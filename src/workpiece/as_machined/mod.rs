@@ -243,8 +243,27 @@ impl AsMachined {
         wp: &Workpiece,
         x: Point3,
     ) -> Result<TrueProjection, ProjectionError> {
+        self.closest_point_near(wp, x, None).map(|(tp, _)| tp)
+    }
+
+    /// [`Self::closest_point`] near an earlier query: `near` is a nominal
+    /// foot found nearby, where the nominal searches start (taken as it is
+    /// when its query is `T^-1(x)` itself). The answer is the same. Also
+    /// returns where the nominal foot of `T^-1(x)` lies, for nearby queries.
+    pub fn closest_point_near(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        near: Option<&crate::workpiece::KnownFoot>,
+    ) -> Result<(TrueProjection, Option<crate::workpiece::FootHint>), ProjectionError> {
         let y = self.inverse_point(x);
-        let seeds = self.seeds(wp, y)?;
+        // Seeds: the nominal feet of `y` on every face that could hold the
+        // answer (the form moves a face by at most max|h|, stretched by T).
+        let stretch = self.stretch();
+        let reach =
+            |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best));
+        let found = wp.feet_within_reach(y, near, reach)?;
+        let (seeds, hint) = (found.feet, found.hint);
         let mut best: Option<TrueProjection> = None;
         for (face, uv) in seeds {
             let foot = self.newton(wp, x, face, uv)?;
@@ -252,27 +271,11 @@ impl AsMachined {
                 best = Some(self.finish(wp, x, face, &foot));
             }
         }
-        best.ok_or(ProjectionError::NotFinite {
+        best.map(|b| (b, hint)).ok_or(ProjectionError::NotFinite {
             x: x.x,
             y: x.y,
             z: x.z,
         })
-    }
-
-    fn seeds(&self, wp: &Workpiece, y: Point3) -> Result<Vec<(usize, Vec2)>, ProjectionError> {
-        let mut found = Vec::new();
-        for (i, f) in wp.faces.iter().enumerate() {
-            if let Some(foot) = f.project_within(y, f64::INFINITY)? {
-                found.push((foot.dist2.sqrt(), i, foot.uv));
-            }
-        }
-        let best = found.iter().map(|s| s.0).fold(f64::INFINITY, f64::min);
-        let slack = |i: usize| 2.0 * self.max_height(i) * self.stretch() + 1e-6 * (1.0 + best);
-        Ok(found
-            .into_iter()
-            .filter(|s| s.0 <= best + slack(s.1))
-            .map(|s| (s.1, s.2))
-            .collect())
     }
 
     /// Largest factor by which `T` stretches lengths.
@@ -344,8 +347,25 @@ impl AsMachined {
     /// The true deviation belonging to a measured point `m`: the signed
     /// nominal deviation of the true surface point nearest to `m`.
     pub fn true_deviation(&self, wp: &Workpiece, m: Point3) -> Result<f64, ProjectionError> {
-        let q = self.closest_point(wp, m)?.point;
-        Ok(wp.closest_point(q)?.projection.signed_distance)
+        self.true_deviation_near(wp, m, None)
+    }
+
+    /// [`Self::true_deviation`] with its nominal searches started from
+    /// `near`, a nominal foot found near `m` (such as that of `m` itself);
+    /// the answer is the same.
+    pub fn true_deviation_near(
+        &self,
+        wp: &Workpiece,
+        m: Point3,
+        near: Option<&crate::workpiece::KnownFoot>,
+    ) -> Result<f64, ProjectionError> {
+        let (tp, hint) = self.closest_point_near(wp, m, near)?;
+        let all: Vec<usize> = (0..wp.faces.len()).collect();
+        Ok(wp
+            .closest_point_near(tp.point, &all, hint)?
+            .0
+            .projection
+            .signed_distance)
     }
 }
 

@@ -1,0 +1,267 @@
+//! The queries that start from an earlier answer or only bound the
+//! distance: the box lower bound of the search trees never exceeds the
+//! exact distance, and searches started from a nearby foot
+//! (`closest_point_near`, `true_deviation_near`) return what the cold
+//! searches return. Seeded random points around the sphere, bore, panel
+//! and blade workpieces; analytic true deviations on a displaced sphere.
+//!
+//! "The same" is bitwise, except where two leaves of a search tree tie
+//! exactly (a foot on the boundary between them): then either leaf's foot
+//! may come first, and the two differ only by rounding.
+mod common;
+
+use cmm::math::{Point3, Vec3};
+use cmm::workpiece::as_machined::{AsMachined, AsMachinedSpec};
+use cmm::workpiece::{FaceProjection, KnownFoot, Workpiece};
+use common::*;
+
+/// Largest difference allowed at an exact tie, mm (rounding only).
+const TIE_MM: f64 = 1e-12;
+
+/// Whether `a` is `b`, bitwise or up to rounding at a tie; counts the
+/// bitwise ones in `exact`.
+fn same(a: &FaceProjection, b: &FaceProjection, exact: &mut usize) -> bool {
+    if a == b {
+        *exact += 1;
+        return true;
+    }
+    let (p, q) = (&a.projection, &b.projection);
+    a.face == b.face
+        && p.distance == q.distance
+        && (p.signed_distance - q.signed_distance).abs() <= TIE_MM
+        && (p.point - q.point).norm() <= TIE_MM
+        && (p.normal - q.normal).norm() <= 1e-9
+}
+
+/// Whether `a` is `b` up to rounding at a tie, counting bitwise ones.
+fn same_value(a: f64, b: f64, exact: &mut usize) -> bool {
+    *exact += usize::from(a == b);
+    (a - b).abs() <= TIE_MM
+}
+
+fn random_unit(r: &mut TestRng) -> Vec3 {
+    loop {
+        let v = Vec3::new(
+            uniform(r, -1.0, 1.0),
+            uniform(r, -1.0, 1.0),
+            uniform(r, -1.0, 1.0),
+        );
+        if v.norm() > 0.1 && v.norm() <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
+/// A random point up to `reach` mm from a random point of a random face.
+fn point_near(wp: &Workpiece, r: &mut TestRng, reach: f64) -> Point3 {
+    let face = &wp.faces[(uniform(r, 0.0, wp.faces.len() as f64) as usize).min(wp.faces.len() - 1)];
+    let ((u0, u1), (v0, v1)) = face.surface.domain();
+    let on = face.surface.point(uniform(r, u0, u1), uniform(r, v0, v1));
+    on + random_unit(r) * uniform(r, 0.0, reach)
+}
+
+fn all_faces(wp: &Workpiece) -> Vec<usize> {
+    (0..wp.faces.len()).collect()
+}
+
+#[test]
+fn box_distance_never_exceeds_the_exact_distance() {
+    for (stem, seed) in [("sphere", 1), ("bore", 2), ("panel", 3), ("blade", 4)] {
+        let wp = example(stem);
+        let mut r = rng(seed);
+        let mut tight = 0;
+        for k in 0..600 {
+            let p = point_near(&wp, &mut r, 60.0);
+            for face in &wp.faces {
+                let exact = face.index.project(&face.surface, p).unwrap().distance;
+                let bound = face.index.box_distance(p);
+                assert!(
+                    bound <= exact * (1.0 + 1e-12) + 1e-12,
+                    "{stem} case {k}: bound {bound} > distance {exact} at {p}"
+                );
+                assert!(bound >= face.index.lower_bound(p), "{stem} case {k}");
+                tight += usize::from(bound >= 0.9 * exact);
+            }
+        }
+        // It is a useful bound too, not just a safe one.
+        assert!(tight > 300 * wp.faces.len(), "{stem}: {tight} tight bounds");
+    }
+}
+
+/// Along a line of samples (as the clearance check marches), and with
+/// hints that are stale or no leaf at all, the hinted box bound is the
+/// same number as the cold one.
+#[test]
+fn box_distance_from_a_hint_is_the_same_bound() {
+    for (stem, seed) in [("sphere", 11), ("panel", 12), ("blade", 13)] {
+        let wp = example(stem);
+        let mut r = rng(seed);
+        for face in &wp.faces {
+            let mut hint = None;
+            let (a, b) = (point_near(&wp, &mut r, 40.0), point_near(&wp, &mut r, 40.0));
+            for k in 0..=200 {
+                let p = a + (b - a) * (k as f64 / 200.0);
+                let (near, next) = face.index.box_distance_near(p, hint);
+                assert_eq!(near, face.index.box_distance(p), "{stem} sample {k}");
+                hint = next;
+                let junk = Some(uniform(&mut r, 0.0, 1e4) as usize);
+                assert_eq!(
+                    face.index.box_distance_near(p, junk).0,
+                    near,
+                    "{stem} junk hint"
+                );
+            }
+        }
+    }
+}
+
+/// Points along a wavy line over each face, as measured points come:
+/// every search started from the previous foot equals the cold search.
+#[test]
+fn searches_from_a_nearby_foot_equal_the_cold_search() {
+    for (stem, seed) in [("sphere", 5), ("bore", 6), ("panel", 7), ("blade", 8)] {
+        let wp = example(stem);
+        let mut r = rng(seed);
+        let all = all_faces(&wp);
+        let mut exact = 0;
+        for (i, face) in wp.faces.iter().enumerate() {
+            let ((u0, u1), (v0, v1)) = face.surface.domain();
+            let mut hint = None;
+            for k in 0..300 {
+                let t = k as f64 / 300.0;
+                let (u, v) = (
+                    u0 + (u1 - u0) * t,
+                    v0 + (v1 - v0) * (0.5 + 0.3 * (7.0 * t).sin()),
+                );
+                let p = face.surface.point(u, v)
+                    + face.surface.normal(u, v) * uniform(&mut r, -0.3, 0.3);
+                let cold = wp.closest_point(p).unwrap();
+                let (near, next) = wp.closest_point_near(p, &all, hint).unwrap();
+                assert!(
+                    same(&near, &cold, &mut exact),
+                    "{stem} face {i} step {k}: {near:?} vs {cold:?}"
+                );
+                let only = wp.closest_point_among(p, [i]).unwrap();
+                let near = wp.closest_point_near(p, &[i], hint).unwrap().0;
+                assert!(
+                    same(&near, &only, &mut exact),
+                    "{stem} face {i} step {k} alone"
+                );
+                hint = next;
+            }
+        }
+        let total = 600 * wp.faces.len();
+        assert!(
+            exact * 10 >= total * 9,
+            "{stem}: {exact} of {total} bitwise"
+        );
+    }
+}
+
+/// A hint from far away, or from a face outside the query, still gives
+/// the cold answer.
+#[test]
+fn stale_hints_do_not_change_the_answer() {
+    let wp = example("blade");
+    let all = all_faces(&wp);
+    let mut r = rng(9);
+    let (mut hint, mut exact) = (None, 0);
+    for k in 0..400 {
+        let p = point_near(&wp, &mut r, 20.0);
+        let cold = wp.closest_point(p).unwrap();
+        let (near, next) = wp.closest_point_near(p, &all, hint).unwrap();
+        assert!(same(&near, &cold, &mut exact), "case {k}");
+        for face in [0, 1] {
+            let want = wp.closest_point_among(p, [face]).unwrap();
+            let near = wp.closest_point_near(p, &[face], hint).unwrap().0;
+            assert!(same(&near, &want, &mut exact), "case {k} face {face}");
+        }
+        hint = next;
+    }
+    assert!(exact * 10 >= 1200 * 9, "{exact} of 1200 bitwise");
+}
+
+fn as_machined(wp: &Workpiece, json: &str) -> AsMachined {
+    let spec: AsMachinedSpec = serde_json::from_str(json).unwrap();
+    AsMachined::from_spec(&spec, wp).unwrap()
+}
+
+/// Measured points along the blade's section, each evaluated as the
+/// report does (nominal foot known, next one started from it): the true
+/// deviations equal the cold ones, with and without a transform.
+#[test]
+fn true_deviations_from_a_known_foot_equal_the_cold_ones() {
+    let wp = example("blade");
+    let all = all_faces(&wp);
+    let forms = [
+        r#"{"form":[{"kind":"offset","mm":0.02},{"kind":"bump","center_mm":[30,12,60],"radius_mm":8,"height_mm":0.05}]}"#,
+        r#"{"form":[{"kind":"offset","mm":2.5}]}"#,
+        r#"{"transform":{"translate_mm":[0.02,-0.01,0.03],"rotate_deg":[0.01,0,0.02]},
+            "form":[{"kind":"waviness","amplitude_mm":0.01,"wavelength_mm":9,"direction":[1,0,0]}]}"#,
+    ];
+    let (mut r, mut exact) = (rng(10), 0);
+    for (j, json) in forms.iter().enumerate() {
+        let am = as_machined(&wp, json);
+        for (i, face) in wp.faces.iter().enumerate() {
+            let ((u0, u1), (v0, v1)) = face.surface.domain();
+            let mut hint = None;
+            for k in 0..150 {
+                let u = u0 + (u1 - u0) * k as f64 / 150.0;
+                let v = 0.5 * (v0 + v1);
+                let m = face.surface.point(u, v)
+                    + face.surface.normal(u, v) * uniform(&mut r, -0.05, 0.05);
+                let (foot, next) = wp.closest_point_near(m, &all, hint).unwrap();
+                let known = KnownFoot {
+                    query: m,
+                    foot,
+                    hint: next,
+                };
+                let near = am.true_deviation_near(&wp, m, Some(&known)).unwrap();
+                let cold = am.true_deviation(&wp, m).unwrap();
+                assert!(
+                    same_value(near, cold, &mut exact),
+                    "form {j} face {i} step {k}: {near} vs {cold}"
+                );
+                hint = next;
+            }
+        }
+    }
+    assert!(exact * 10 >= 900 * 9, "{exact} of 900 bitwise");
+}
+
+/// The sphere of radius 12.5 moved by `t` and grown by 0.3 mm: the true
+/// point nearest to `m` is `t + 12.8 (m - t)/|m - t|`, whose nominal
+/// deviation is its distance from the origin minus 12.5.
+#[test]
+fn true_deviations_on_a_displaced_sphere_are_analytic() {
+    let wp = example("sphere");
+    let all = all_faces(&wp);
+    let am = as_machined(
+        &wp,
+        r#"{"transform":{"translate_mm":[0.2,-0.1,0.15]},"form":[{"kind":"offset","mm":0.3}]}"#,
+    );
+    let t = Vec3::new(0.2, -0.1, 0.15);
+    let (mut hint, mut exact) = (None, 0);
+    for k in 0..400 {
+        let a = std::f64::consts::TAU * k as f64 / 400.0;
+        let dir = Vec3::new(a.cos(), a.sin(), 0.3 * (3.0 * a).sin()).normalize();
+        let m = Point3::from(t + dir * (12.8 + 0.01 * (5.0 * a).cos()));
+        let (foot, next) = wp.closest_point_near(m, &all, hint).unwrap();
+        let known = KnownFoot {
+            query: m,
+            foot,
+            hint: next,
+        };
+        let got = am.true_deviation_near(&wp, m, Some(&known)).unwrap();
+        let q = t + dir * 12.8;
+        let want = q.norm() - 12.5;
+        assert!((got - want).abs() < 1e-9, "step {k}: {got} vs {want}");
+        let cold = am.true_deviation(&wp, m).unwrap();
+        assert!(
+            same_value(got, cold, &mut exact),
+            "step {k}: {got} vs {cold}"
+        );
+        hint = next;
+    }
+    assert!(exact * 10 >= 400 * 9, "{exact} of 400 bitwise");
+}
