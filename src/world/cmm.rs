@@ -15,6 +15,7 @@ use super::probe::TrueProbe;
 use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::host::machine::{Cmm, HeadCommandError, MachineStatus, Readings};
 use crate::math::{Iso3, Point3, Vec2, Vec3};
+use nalgebra::UnitQuaternion;
 use crate::program::Pose;
 use crate::workpiece::as_machined::{AsMachined, TrueProjection, TrueWarm};
 use crate::workpiece::Workpiece;
@@ -94,6 +95,11 @@ pub struct SimulatedCmm<'a> {
     geometric: bool,
     /// Probe mount relative to the linear axes (the locked head's turn).
     mount: Iso3,
+    /// The true probe vector carried by `mount` (fixed while the head is
+    /// locked), mm.
+    mounted_probe: Vec3,
+    /// Whether `mount` turns anything (a head indexed away from zero).
+    turned: bool,
     /// Reused per-cycle buffers (axis commands, scale readings).
     command: Vec<f64>,
     scales: Vec<f64>,
@@ -136,6 +142,8 @@ impl<'a> SimulatedCmm<'a> {
             contact: contact_options(&part.workpiece.options),
             geometric,
             mount: Iso3::identity(),
+            mounted_probe: Vec3::zeros(),
+            turned: false,
             command: Vec::new(),
             scales: Vec::new(),
         };
@@ -151,7 +159,7 @@ impl<'a> SimulatedCmm<'a> {
     /// (spindle reference point `B` to the ball, seed 003).
     fn ball_centre(&self, q: &[f64]) -> Point3 {
         let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
-        let ball = Point3::from(xyz) + (self.mount * Point3::from(self.probe.probe_vector)).coords;
+        let ball = Point3::from(xyz) + self.mounted_probe;
         if !self.geometric {
             return ball;
         }
@@ -176,6 +184,8 @@ impl<'a> SimulatedCmm<'a> {
         let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
         let linear = Iso3::translation(xyz[0], xyz[1], xyz[2]);
         self.mount = linear.inverse() * self.tip_pose(q);
+        self.mounted_probe = (self.mount * Point3::from(self.probe.probe_vector)).coords;
+        self.turned = self.mount.rotation != UnitQuaternion::identity();
     }
 
     /// True deflection for the current state (zero when not touching).
@@ -245,8 +255,12 @@ impl<'a> SimulatedCmm<'a> {
         };
         self.servo.read_scales_into(&mut self.rng, &mut self.scales);
         // The sensor turns with the head: its gain acts in the probe's frame.
-        let turn = self.mount.rotation;
-        let deflection = turn * self.probe.sense(turn.inverse() * d, &mut self.rng);
+        let deflection = if self.turned {
+            let turn = self.mount.rotation;
+            turn * self.probe.sense(turn.inverse() * d, &mut self.rng)
+        } else {
+            self.probe.sense(d, &mut self.rng)
+        };
         let time_s = self.servo.time_s();
         let xyz = Point3::from(self.model.linear_xyz(&self.scales).unwrap_or([0.0; 3]));
         Readings {
