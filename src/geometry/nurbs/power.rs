@@ -19,6 +19,9 @@ const CAP: usize = FAST_MAX_DEGREE + 1;
 pub(crate) struct PowerPatches {
     breaks_u: Vec<f64>,
     breaks_v: Vec<f64>,
+    /// `1 / (breaks[i + 1] - breaks[i])` per span, u and v (kept: every
+    /// evaluation maps its parameter into its span).
+    inv_width: [Vec<f64>; 2],
     degree: [usize; 2],
     /// Patch `(a, b)` starts at `(a * nb + b) * stride`; entry `i * (q + 1) + j`
     /// multiplies `s^i t^j`.
@@ -45,9 +48,12 @@ impl PowerPatches {
         } else {
             coef.iter().map(|c| c.xyz()).collect()
         };
+        let (breaks_u, breaks_v) = (surface.knots_u().breakpoints(), surface.knots_v().breakpoints());
+        let inv = |b: &[f64]| b.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect();
         Some(PowerPatches {
-            breaks_u: surface.knots_u().breakpoints(),
-            breaks_v: surface.knots_v().breakpoints(),
+            inv_width: [inv(&breaks_u), inv(&breaks_v)],
+            breaks_u,
+            breaks_v,
             degree,
             coef,
             coef3,
@@ -74,8 +80,8 @@ impl PowerPatches {
             return false;
         }
         let [p, q] = self.degree;
-        let (a, s, hu) = span_of(&self.breaks_u, u);
-        let (b, t, hv) = span_of(&self.breaks_v, v);
+        let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
+        let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
         let stride = (p + 1) * (q + 1);
         let start = (a * (self.breaks_v.len() - 1) + b) * stride;
         let Some(patch) = self.coef3.get(start..start + stride) else {
@@ -220,14 +226,13 @@ const FALLING: [[f64; CAP]; 4] = {
 
 /// Span index, local parameter in [0, 1] and `1 / span length`.
 #[inline(always)]
-fn span_of(breaks: &[f64], x: f64) -> (usize, f64, f64) {
+fn span_of(breaks: &[f64], inv_width: &[f64], x: f64) -> (usize, f64, f64) {
     let last = breaks.len().saturating_sub(2);
     let span = breaks
         .partition_point(|&b| b <= x)
         .saturating_sub(1)
         .min(last);
-    let (x0, x1) = (breaks[span], breaks[span + 1]);
-    let h = 1.0 / (x1 - x0);
+    let (x0, h) = (breaks[span], inv_width[span]);
     (span, (x - x0) * h, h)
 }
 
