@@ -15,10 +15,10 @@ use super::probe::TrueProbe;
 use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::host::machine::{Cmm, HeadCommandError, MachineStatus, Readings};
 use crate::math::{Iso3, Point3, Vec2, Vec3};
-use nalgebra::UnitQuaternion;
 use crate::program::Pose;
 use crate::workpiece::as_machined::{AsMachined, TrueProjection, TrueWarm};
 use crate::workpiece::Workpiece;
+use nalgebra::UnitQuaternion;
 
 /// Contact is evaluated only when the ball may be this close to the part
 /// (beyond its radius), mm; further away the last distance bounds it.

@@ -48,7 +48,10 @@ impl PowerPatches {
         } else {
             coef.iter().map(|c| c.xyz()).collect()
         };
-        let (breaks_u, breaks_v) = (surface.knots_u().breakpoints(), surface.knots_v().breakpoints());
+        let (breaks_u, breaks_v) = (
+            surface.knots_u().breakpoints(),
+            surface.knots_v().breakpoints(),
+        );
         let inv = |b: &[f64]| b.windows(2).map(|w| 1.0 / (w[1] - w[0])).collect();
         Some(PowerPatches {
             inv_width: [inv(&breaks_u), inv(&breaks_v)],

@@ -168,11 +168,14 @@ impl ProjectionIndex {
         surface: &NurbsSurface,
         trim: Option<&Trim>,
         p: Point3,
-        mut best_dist2: f64,
+        best_dist2: f64,
         skip: Option<usize>,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         check_finite(p)?;
-        let mut best: Option<(Option<usize>, Foot)> = None;
+        let mut best = Best {
+            dist2: best_dist2,
+            found: None,
+        };
         let mut heap = BinaryHeap::new();
         let Some(root) = self.nodes.len().checked_sub(1) else {
             return Ok(None);
@@ -182,14 +185,14 @@ impl ProjectionIndex {
             node: root,
         });
         while let Some(Entry { dist2, node }) = heap.pop() {
-            if dist2 >= best_dist2 {
+            if dist2 >= best.dist2 {
                 break;
             }
             match self.nodes[node].kind {
                 Err((a, b)) => {
                     for child in [a, b] {
                         let d2 = self.nodes[child].aabb.dist2(p);
-                        if d2 < best_dist2 {
+                        if d2 < best.dist2 {
                             heap.push(Entry {
                                 dist2: d2,
                                 node: child,
@@ -197,21 +200,10 @@ impl ProjectionIndex {
                         }
                     }
                 }
-                Ok(leaf) if skip == Some(leaf) => {}
-                Ok(leaf) => {
-                    if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
-                        best_dist2 = foot.dist2;
-                        best = Some((Some(leaf), foot));
-                    }
-                }
+                Ok(leaf) => self.visit_leaf(surface, trim, leaf, p, skip, &mut best)?,
             }
         }
-        if let Some(t) = trim {
-            if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
-                best = Some((None, foot));
-            }
-        }
-        Ok(best)
+        self.with_boundary(surface, trim, p, best)
     }
 
     /// [`Self::search`] depth first (nearer child first) instead of best
@@ -222,28 +214,25 @@ impl ProjectionIndex {
         surface: &NurbsSurface,
         trim: Option<&Trim>,
         p: Point3,
-        mut best_dist2: f64,
+        best_dist2: f64,
         skip: Option<usize>,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         check_finite(p)?;
-        let mut best: Option<(Option<usize>, Foot)> = None;
+        let mut best = Best {
+            dist2: best_dist2,
+            found: None,
+        };
         let Some(root) = self.nodes.len().checked_sub(1) else {
             return Ok(None);
         };
         let mut stack = Vec::with_capacity(64);
         stack.push((self.child_dist2(root, p), root));
         while let Some((d2, i)) = stack.pop() {
-            let Some(node) = self.nodes.get(i).filter(|_| d2 < best_dist2) else {
+            let Some(node) = self.nodes.get(i).filter(|_| d2 < best.dist2) else {
                 continue;
             };
             match node.kind {
-                Ok(leaf) if skip == Some(leaf) => {}
-                Ok(leaf) => {
-                    if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best_dist2)? {
-                        best_dist2 = foot.dist2;
-                        best = Some((Some(leaf), foot));
-                    }
-                }
+                Ok(leaf) => self.visit_leaf(surface, trim, leaf, p, skip, &mut best)?,
                 Err((a, b)) => {
                     let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
                     let (near, far) = if da <= db {
@@ -251,16 +240,48 @@ impl ProjectionIndex {
                     } else {
                         ((db, b), (da, a))
                     };
-                    stack.extend([far, near].into_iter().filter(|c| c.0 < best_dist2));
+                    stack.extend([far, near].into_iter().filter(|c| c.0 < best.dist2));
                 }
             }
         }
+        self.with_boundary(surface, trim, p, best)
+    }
+
+    /// Searches leaf `leaf` (unless it is `skip`) and keeps its foot when
+    /// it beats `best`.
+    fn visit_leaf(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        leaf: usize,
+        p: Point3,
+        skip: Option<usize>,
+        best: &mut Best,
+    ) -> Result<(), ProjectionError> {
+        if skip == Some(leaf) {
+            return Ok(());
+        }
+        if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best.dist2)? {
+            best.dist2 = foot.dist2;
+            best.found = Some((Some(leaf), foot));
+        }
+        Ok(())
+    }
+
+    /// The end of a search: with a trim, its boundary is searched too.
+    fn with_boundary(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        mut best: Best,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         if let Some(t) = trim {
-            if let Some(foot) = closest_on_boundary(surface, t, p, best_dist2, &self.opts)? {
-                best = Some((None, foot));
+            if let Some(foot) = closest_on_boundary(surface, t, p, best.dist2, &self.opts)? {
+                best.found = Some((None, foot));
             }
         }
-        Ok(best)
+        Ok(best.found)
     }
 
     /// The closest point of leaf `leaf` (on the face, with a trim) closer
@@ -296,6 +317,13 @@ impl ProjectionIndex {
         let on_face = trim.is_none_or(|t| t.contains(foot.uv));
         Ok((on_face && foot.dist2 < best_dist2).then_some(foot))
     }
+}
+
+/// The best foot of a search so far (with the leaf it came from, `None`
+/// on the trim boundary) and the squared distance a better one must beat.
+struct Best {
+    dist2: f64,
+    found: Option<(Option<usize>, Foot)>,
 }
 
 /// Heap entry ordered by smallest distance first.
