@@ -11,16 +11,7 @@ fn spec(json: &str) -> AsMachinedSpec {
 }
 
 fn random_point_near_sphere(r: &mut TestRng, centre: Point3, radius: f64) -> Point3 {
-    let dir = loop {
-        let v = Vec3::new(
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-        );
-        if v.norm() > 0.1 && v.norm() <= 1.0 {
-            break v.normalize();
-        }
-    };
+    let dir = random_direction(r);
     centre + dir * (radius + uniform(r, -3.0, 3.0))
 }
 

@@ -39,25 +39,12 @@ fn same_value(a: f64, b: f64, exact: &mut usize) -> bool {
     (a - b).abs() <= TIE_MM
 }
 
-fn random_unit(r: &mut TestRng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-        );
-        if v.norm() > 0.1 && v.norm() <= 1.0 {
-            return v.normalize();
-        }
-    }
-}
-
 /// A random point up to `reach` mm from a random point of a random face.
 fn point_near(wp: &Workpiece, r: &mut TestRng, reach: f64) -> Point3 {
     let face = &wp.faces[(uniform(r, 0.0, wp.faces.len() as f64) as usize).min(wp.faces.len() - 1)];
     let ((u0, u1), (v0, v1)) = face.surface.domain();
     let on = face.surface.point(uniform(r, u0, u1), uniform(r, v0, v1));
-    on + random_unit(r) * uniform(r, 0.0, reach)
+    on + random_direction(r) * uniform(r, 0.0, reach)
 }
 
 fn all_faces(wp: &Workpiece) -> Vec<usize> {

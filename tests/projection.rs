@@ -7,19 +7,6 @@ use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec2, Vec3};
 use common::*;
 
-fn random_direction(r: &mut TestRng) -> Vec3 {
-    loop {
-        let v = Vec3::new(
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-            uniform(r, -1.0, 1.0),
-        );
-        if v.norm() > 0.1 && v.norm() <= 1.0 {
-            return v.normalize();
-        }
-    }
-}
-
 #[test]
 fn sphere_distances_are_exact_including_poles_and_seam() {
     let wp = example("sphere");

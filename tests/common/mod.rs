@@ -17,6 +17,20 @@ pub fn uniform(rng: &mut TestRng, lo: f64, hi: f64) -> f64 {
     lo + (hi - lo) * rng.random::<f64>()
 }
 
+/// A uniformly random unit vector (rejection from the unit ball).
+pub fn random_direction(rng: &mut TestRng) -> cmm::math::Vec3 {
+    loop {
+        let v = cmm::math::Vec3::new(
+            uniform(rng, -1.0, 1.0),
+            uniform(rng, -1.0, 1.0),
+            uniform(rng, -1.0, 1.0),
+        );
+        if v.norm() > 0.1 && v.norm() <= 1.0 {
+            return v.normalize();
+        }
+    }
+}
+
 pub fn repo(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
