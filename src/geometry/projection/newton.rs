@@ -280,19 +280,20 @@ fn solve_2x2(h: Mat2, g: Vec2, metric: f64) -> Vec2 {
     let tr = h.m11 + h.m22;
     let det = h.m11 * h.m22 - h.m12 * h.m21;
     // The smaller eigenvalue is at least det / tr when both are positive, so
-    // a clearly positive-definite Hessian needs no eigenvalue.
+    // a clearly positive-definite Hessian (smaller eigenvalue above the
+    // threshold) needs neither the eigenvalue nor a shift.
     let clearly_convex = tr > 0.0 && det > MIN_CURVATURE_RATIO * metric * tr;
-    let lambda_min = if clearly_convex {
-        det / tr
+    let hs = if clearly_convex {
+        h
     } else {
-        0.5 * tr - (0.25 * tr * tr - det).max(0.0).sqrt()
+        let lambda_min = 0.5 * tr - (0.25 * tr * tr - det).max(0.0).sqrt();
+        let shift = if lambda_min > MIN_CURVATURE_RATIO * metric {
+            0.0
+        } else {
+            -lambda_min + INDEFINITE_SHIFT_RATIO * metric + f64::MIN_POSITIVE
+        };
+        h + Mat2::identity() * shift
     };
-    let shift = if lambda_min > MIN_CURVATURE_RATIO * metric {
-        0.0
-    } else {
-        -lambda_min + INDEFINITE_SHIFT_RATIO * metric + f64::MIN_POSITIVE
-    };
-    let hs = h + Mat2::identity() * shift;
     let det_s = hs.m11 * hs.m22 - hs.m12 * hs.m21;
     if det_s <= 0.0 || !det_s.is_finite() {
         return Vec2::zeros();
