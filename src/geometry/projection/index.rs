@@ -171,15 +171,10 @@ impl ProjectionIndex {
         best_dist2: f64,
         skip: Option<usize>,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
-        check_finite(p)?;
-        let mut best = Best {
-            dist2: best_dist2,
-            found: None,
-        };
-        let mut heap = BinaryHeap::new();
-        let Some(root) = self.nodes.len().checked_sub(1) else {
+        let Some((root, mut best)) = self.start(p, best_dist2)? else {
             return Ok(None);
         };
+        let mut heap = BinaryHeap::new();
         heap.push(Entry {
             dist2: self.nodes[root].aabb.dist2(p),
             node: root,
@@ -217,12 +212,7 @@ impl ProjectionIndex {
         best_dist2: f64,
         skip: Option<usize>,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
-        check_finite(p)?;
-        let mut best = Best {
-            dist2: best_dist2,
-            found: None,
-        };
-        let Some(root) = self.nodes.len().checked_sub(1) else {
+        let Some((root, mut best)) = self.start(p, best_dist2)? else {
             return Ok(None);
         };
         let mut stack = Vec::with_capacity(64);
@@ -245,6 +235,17 @@ impl ProjectionIndex {
             }
         }
         self.with_boundary(surface, trim, p, best)
+    }
+
+    /// The root node and the empty best of a search for `p` that must beat
+    /// `best_dist2`; `None` for an empty hierarchy.
+    fn start(&self, p: Point3, best_dist2: f64) -> Result<Option<(usize, Best)>, ProjectionError> {
+        check_finite(p)?;
+        let best = Best {
+            dist2: best_dist2,
+            found: None,
+        };
+        Ok(self.nodes.len().checked_sub(1).map(|root| (root, best)))
     }
 
     /// Searches leaf `leaf` (unless it is `skip`) and keeps its foot when
