@@ -291,3 +291,32 @@ fn polynomial_fast_path_and_jet2_agree_with_the_basis_recursion() {
         }
     }
 }
+
+/// The rational second-order `jet2` (Horner's rule on the homogeneous
+/// coefficients, then the quotient rule) against the basis recursion, on
+/// random rational surfaces of degrees 1 to 4 in each direction (the
+/// patch shapes without a dedicated kernel take the general path).
+#[test]
+fn rational_jet2_agrees_with_the_basis_recursion() {
+    let mut r = rng(23);
+    for case in 0..80 {
+        let s = build(&random_surface(&mut r, "s"));
+        assert!(s.is_rational());
+        let ((u0, u1), (v0, v1)) = s.domain();
+        for _ in 0..20 {
+            let (u, v) = (uniform(&mut r, u0, u1), uniform(&mut r, v0, v1));
+            let (j, b) = (s.jet2(u, v), s.derivs_de_boor(u, v, 2));
+            let want = [
+                b.d[0][0], b.d[1][0], b.d[0][1], b.d[2][0], b.d[1][1], b.d[0][2],
+            ];
+            let scale = 1.0 + b.d[1][0].norm() + b.d[0][1].norm();
+            for (k, (got, want)) in j.d.iter().zip(want).enumerate() {
+                assert!(
+                    (got - want).norm() <= 1e-10 * scale * (1.0 + want.norm()),
+                    "case {case} degree {:?} jet2[{k}]: {got} vs {want}",
+                    (s.knots_u().degree(), s.knots_v().degree())
+                );
+            }
+        }
+    }
+}

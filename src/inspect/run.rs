@@ -104,6 +104,10 @@ pub fn run_program_traced(
     opts: &RunOptions,
     trace: bool,
 ) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
+    // Inputs are loaded before the clock starts, like the program and the
+    // workpiece: `wall_time_s` is the time the inspection itself takes.
+    let machine = default_machine();
+    let calibration = probe_calibration(program, opts)?;
     let wall = Instant::now();
     let truth = if opts.ideal {
         program.as_machined.clone().without_roughness()
@@ -130,7 +134,7 @@ pub fn run_program_traced(
     let (start, top) = start_position(program);
     let mut sim = SimulatedCmm::new(
         part,
-        default_machine(),
+        machine,
         profile,
         true_probe,
         opts.seed,
@@ -140,7 +144,6 @@ pub fn run_program_traced(
         program: program.name.clone(),
         source,
     })?;
-    let calibration = probe_calibration(program, opts)?;
     let host_probe = calibration
         .as_ref()
         .map_or(HostProbe::nominal(probe_vector, r), |c| c.probe);

@@ -77,8 +77,36 @@ impl PowerPatches {
         self.polynomial_into(u, v, 2, out)
     }
 
+    /// The second-order jet of a rational surface with bicubic or lower
+    /// patches of equal degrees, by Horner's rule on the homogeneous
+    /// coefficients and the quotient rule; `false` when it does not apply
+    /// (the general homogeneous path serves then).
+    #[inline]
+    pub fn jet2_rational(&self, u: f64, v: f64, out: &mut Jet2) -> bool {
+        let [p, q] = self.degree;
+        let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
+        let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
+        let stride = (p + 1) * (q + 1);
+        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
+        let Some(patch) = self.coef.get(start..start + stride) else {
+            return false;
+        };
+        let mut hom = HomogeneousJet2([Vec4::zeros(); 6]);
+        let (su, tv) = ((s, hu), (t, hv));
+        match (p + 1, q + 1) {
+            (4, 4) => poly_kernel::<4, 4, 2, _, _>(patch, su, tv, &mut hom),
+            (3, 3) => poly_kernel::<3, 3, 2, _, _>(patch, su, tv, &mut hom),
+            (3, 2) => poly_kernel::<3, 2, 2, _, _>(patch, su, tv, &mut hom),
+            (2, 3) => poly_kernel::<2, 3, 2, _, _>(patch, su, tv, &mut hom),
+            (2, 2) => poly_kernel::<2, 2, 2, _, _>(patch, su, tv, &mut hom),
+            _ => return false,
+        }
+        hom.project(out);
+        true
+    }
+
     #[inline(always)]
-    fn polynomial_into<S: Sink>(&self, u: f64, v: f64, nd: usize, out: &mut S) -> bool {
+    fn polynomial_into<S: Sink<Vec3>>(&self, u: f64, v: f64, nd: usize, out: &mut S) -> bool {
         if self.coef3.is_empty() {
             return false;
         }
@@ -94,8 +122,8 @@ impl PowerPatches {
         match (p + 1, q + 1, nd) {
             // Bicubic patches with the orders Newton iterations ask for get
             // fully unrolled kernels.
-            (4, 4, 2) => poly_kernel::<4, 4, 2, _>(patch, su, tv, out),
-            (4, 4, 3) => poly_kernel::<4, 4, 3, _>(patch, su, tv, out),
+            (4, 4, 2) => poly_kernel::<4, 4, 2, _, _>(patch, su, tv, out),
+            (4, 4, 3) => poly_kernel::<4, 4, 3, _, _>(patch, su, tv, out),
             (4, 4, _) => poly_kernel_nd::<4, 4, _>(patch, su, tv, nd, out),
             (3, 3, _) => poly_kernel_nd::<3, 3, _>(patch, su, tv, nd, out),
             (2, 2, _) => poly_kernel_nd::<2, 2, _>(patch, su, tv, nd, out),
@@ -261,15 +289,15 @@ fn monomials<const NP: usize>(s: f64, h: f64, nd: usize) -> [[f64; NP]; 4] {
 /// compile time, by Horner's rule with derivatives: first along `t` for
 /// every row of coefficients, then along `s` for every order in `t`.
 #[inline(always)]
-fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, S: Sink>(
-    patch: &[Vec3],
+fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, V: Coef, S: Sink<V>>(
+    patch: &[V],
     (s, hu): (f64, f64),
     (t, hv): (f64, f64),
     out: &mut S,
 ) {
-    let mut cols = [[Vec3::zeros(); NP]; 4];
+    let mut cols = [[V::zero(); NP]; 4];
     for (i, row) in patch.chunks_exact(NQ).take(NP).enumerate() {
-        let r = horner::<ND>(row, t);
+        let r = horner::<ND, V>(row, t);
         for (col, v) in cols.iter_mut().zip(r).take(ND + 1) {
             col[i] = v;
         }
@@ -278,7 +306,7 @@ fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, S: Sink>(
     for (l, col) in cols.iter().enumerate().take(ND + 1) {
         let c = horner_upto(col, s, ND - l);
         let (mut scale_k, mut fact_k) = (1.0, 1.0);
-        for (k, v) in c.iter().enumerate().take(ND - l + 1) {
+        for (k, &v) in c.iter().enumerate().take(ND - l + 1) {
             out.put(k, l, v * (scale_k * scale_l * fact_k * fact_l));
             scale_k *= hu;
             fact_k *= (k + 1) as f64;
@@ -290,8 +318,8 @@ fn poly_kernel<const NP: usize, const NQ: usize, const ND: usize, S: Sink>(
 
 /// `q[l] = P^(l)(x) / l!` for `l <= ND` of `P(x) = sum_j c[j] x^j`.
 #[inline(always)]
-fn horner<const ND: usize>(c: &[Vec3], x: f64) -> [Vec3; 4] {
-    let mut q = [Vec3::zeros(); 4];
+fn horner<const ND: usize, V: Coef>(c: &[V], x: f64) -> [V; 4] {
+    let mut q = [V::zero(); 4];
     let Some((last, rest)) = c.split_last() else {
         return q;
     };
@@ -308,18 +336,18 @@ fn horner<const ND: usize>(c: &[Vec3], x: f64) -> [Vec3; 4] {
 /// [`horner`] with the order given at run time (a constant after
 /// unrolling in the kernels).
 #[inline(always)]
-fn horner_upto(c: &[Vec3], x: f64, nd: usize) -> [Vec3; 4] {
+fn horner_upto<V: Coef>(c: &[V], x: f64, nd: usize) -> [V; 4] {
     match nd {
-        0 => horner::<0>(c, x),
-        1 => horner::<1>(c, x),
-        2 => horner::<2>(c, x),
-        _ => horner::<3>(c, x),
+        0 => horner::<0, V>(c, x),
+        1 => horner::<1, V>(c, x),
+        2 => horner::<2, V>(c, x),
+        _ => horner::<3, V>(c, x),
     }
 }
 
 /// Non-rational patch evaluation for compile-time sizes, into `out`.
 #[inline(always)]
-fn poly_kernel_nd<const NP: usize, const NQ: usize, S: Sink>(
+fn poly_kernel_nd<const NP: usize, const NQ: usize, S: Sink<Vec3>>(
     patch: &[Vec3],
     (s, hu): (f64, f64),
     (t, hv): (f64, f64),
@@ -350,11 +378,11 @@ fn poly_kernel_nd<const NP: usize, const NQ: usize, S: Sink>(
 }
 
 /// Where a kernel writes derivative `d^(k+l) S / du^k dv^l`.
-trait Sink {
-    fn put(&mut self, k: usize, l: usize, v: Vec3);
+trait Sink<V> {
+    fn put(&mut self, k: usize, l: usize, v: V);
 }
 
-impl Sink for [[Vec3; 4]; 4] {
+impl Sink<Vec3> for [[Vec3; 4]; 4] {
     #[inline(always)]
     fn put(&mut self, k: usize, l: usize, v: Vec3) {
         if let Some(slot) = self.get_mut(k).and_then(|row| row.get_mut(l)) {
@@ -363,19 +391,57 @@ impl Sink for [[Vec3; 4]; 4] {
     }
 }
 
-impl Sink for Jet2 {
+impl Sink<Vec3> for Jet2 {
     #[inline(always)]
     fn put(&mut self, k: usize, l: usize, v: Vec3) {
-        let slot = match (k, l) {
-            (0, 0) => 0,
-            (1, 0) => 1,
-            (0, 1) => 2,
-            (2, 0) => 3,
-            (1, 1) => 4,
-            (0, 2) => 5,
-            _ => return,
-        };
-        self.d[slot] = v;
+        if let Some(slot) = jet_slot(k, l).and_then(|i| self.d.get_mut(i)) {
+            *slot = v;
+        }
+    }
+}
+
+/// Homogeneous second-order jet `[A, A_u, A_v, A_uu, A_uv, A_vv]` (with
+/// the weight as fourth component), in [`Jet2`] order.
+struct HomogeneousJet2([Vec4; 6]);
+
+impl Sink<Vec4> for HomogeneousJet2 {
+    #[inline(always)]
+    fn put(&mut self, k: usize, l: usize, v: Vec4) {
+        if let Some(slot) = jet_slot(k, l).and_then(|i| self.0.get_mut(i)) {
+            *slot = v;
+        }
+    }
+}
+
+/// Where `d^(k+l) / du^k dv^l` goes in a second-order jet.
+#[inline(always)]
+fn jet_slot(k: usize, l: usize) -> Option<usize> {
+    match (k, l) {
+        (0, 0) => Some(0),
+        (1, 0) => Some(1),
+        (0, 1) => Some(2),
+        (2, 0) => Some(3),
+        (1, 1) => Some(4),
+        (0, 2) => Some(5),
+        _ => None,
+    }
+}
+
+impl HomogeneousJet2 {
+    /// The Euclidean jet by the quotient rule: with `S = A / w`,
+    /// `S_a = (A_a - w_a S) / w` and
+    /// `S_ab = (A_ab - w_a S_b - w_b S_a - w_ab S) / w`.
+    #[inline(always)]
+    fn project(&self, out: &mut Jet2) {
+        let [a, au, av, auu, auv, avv] = self.0;
+        let inv = 1.0 / a.w;
+        let s = a.xyz() * inv;
+        let su = (au.xyz() - s * au.w) * inv;
+        let sv = (av.xyz() - s * av.w) * inv;
+        let suu = (auu.xyz() - su * (2.0 * au.w) - s * auu.w) * inv;
+        let suv = (auv.xyz() - sv * au.w - su * av.w - s * auv.w) * inv;
+        let svv = (avv.xyz() - sv * (2.0 * av.w) - s * avv.w) * inv;
+        out.d = [s, su, sv, suu, suv, svv];
     }
 }
 

@@ -209,6 +209,16 @@ impl NurbsSurface {
             if fast.derivs_polynomial(uv.x, uv.y, nd, &mut out.d) {
                 return;
             }
+            let mut jet = Jet2 {
+                d: [Vec3::zeros(); 6],
+            };
+            if nd == 2 && fast.jet2_rational(uv.x, uv.y, &mut jet) {
+                let [s, su, sv, suu, suv, svv] = jet.d;
+                let d = &mut out.d;
+                (d[0][0], d[1][0], d[0][1]) = (s, su, sv);
+                (d[2][0], d[1][1], d[0][2]) = (suu, suv, svv);
+                return;
+            }
             let aw = fast.derivs(uv.x, uv.y, nd);
             out.d = self.rational_derivs(&aw, nd);
             return;
@@ -233,7 +243,7 @@ impl NurbsSurface {
     pub fn jet2_into(&self, u: f64, v: f64, out: &mut Jet2) {
         if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
             let uv = self.clamp(Vec2::new(u, v));
-            if fast.jet2_polynomial(uv.x, uv.y, out) {
+            if fast.jet2_polynomial(uv.x, uv.y, out) || fast.jet2_rational(uv.x, uv.y, out) {
                 return;
             }
         }
