@@ -181,8 +181,8 @@ impl Limits {
     }
 
     /// [`Limits::best_accel`] and how it was found: full acceleration,
-    /// the lowest, the closed-form candidate (see `candidate.rs`), the last
-    /// cycle's answer, or bisection. Every answer but the lowest is
+    /// the lowest, the last cycle's answer, the closed-form candidate (see
+    /// `candidate.rs`), or bisection. Every answer but the lowest is
     /// feasible with one resolution more infeasible (or is `a_tan`).
     fn search(&self, s: f64, v: f64, iters: usize, last: f64) -> (f64, Found) {
         let at = self.cycle_start(s, v);
@@ -194,11 +194,11 @@ impl Limits {
             return (lo, Found::Lowest);
         }
         let res = self.resolution(lo, iters);
-        if let Some(c) = self.accept(&at, self.candidate(&at, lo), lo, res) {
-            return (c, Found::Candidate);
-        }
         if self.cruise(&at, last, lo, res) {
             return (last, Found::Cruise);
+        }
+        if let Some(c) = self.accept(&at, self.candidate(&at, lo), lo, res) {
+            return (c, Found::Candidate);
         }
         (self.bisect(&at, lo, iters), Found::Bisection)
     }
@@ -254,10 +254,10 @@ enum Found {
     Full,
     /// Not even the strongest braking is feasible.
     Lowest,
-    /// The closed-form candidate passed the check.
-    Candidate,
     /// The last cycle's answer passed the check.
     Cruise,
+    /// The closed-form candidate passed the check.
+    Candidate,
     /// Neither did: full bisection.
     Bisection,
 }

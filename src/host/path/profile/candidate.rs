@@ -345,19 +345,19 @@ mod tests {
     }
 
     /// The candidate is what makes planning cheap: almost no cycle of a
-    /// real section (or of the test paths) needs the bisection.
+    /// real section (or of the test paths) needs the bisection, and the
+    /// candidate almost never misses where it is tried (after the cruise
+    /// shortcut).
     #[test]
     fn the_bisection_is_rare() {
         for (name, p, o) in cases() {
             let counts = tally(&limits(&p, &o), &o);
             let cycles: usize = counts.iter().sum();
-            let missed = counts[Found::Cruise as usize] + counts[Found::Bisection as usize];
-            println!("{name}: {cycles} cycles, [full, lowest, candidate, cruise, bisection] = {counts:?}");
-            assert!(
-                counts[Found::Bisection as usize] * 50 < cycles,
-                "{name}: {counts:?}"
-            );
-            assert!(missed * 50 < cycles, "{name}: {counts:?}");
+            let bisected = counts[Found::Bisection as usize];
+            let tried = counts[Found::Candidate as usize] + bisected;
+            println!("{name}: {cycles} cycles, [full, lowest, cruise, candidate, bisection] = {counts:?}");
+            assert!(bisected * 50 < cycles, "{name}: {counts:?}");
+            assert!(bisected * 50 <= tried, "{name}: {counts:?}");
         }
     }
 }
