@@ -4,17 +4,18 @@
 //! Every cycle has one constant acceleration, so speed changes happen on
 //! cycle boundaries only (seed 001). Each cycle takes the largest
 //! acceleration in `[-a_tan, a_tan]` (to the resolution of a bisection in
-//! `accel_search_iters` steps) that keeps the
-//! state under the speed limits: the segment's `v_max`, the joint speeds
-//! (at every joint crossed during the cycle), the braking parabola to the
-//! next joint, and the shortest stop on whole cycles before the path end.
+//! `accel_search_iters` steps) that keeps the state under the speed
+//! limits: the segment's `v_max`, the joint speeds (at every joint crossed
+//! during the cycle), the braking parabola to the next joint, and the
+//! shortest stop on whole cycles before the path end.
 //! Full braking always satisfies these, so the profile never gets stuck
 //! and ends at rest on a cycle boundary exactly at the path end.
 //!
-//! Each cycle first tries a closed-form candidate (`candidate.rs`, solved
-//! from the same limits); the feasibility predicate accepts it only when
-//! the bisection's guarantee holds (feasible, one resolution more not), so
-//! the bisection itself runs only on the rare cycles it misses.
+//! A cycle that does not repeat the last one's answer tries a closed-form
+//! candidate (`candidate.rs`, solved from the same limits); the
+//! feasibility predicate accepts it only when the bisection's guarantee
+//! holds (feasible, one resolution more not), so the bisection itself runs
+//! only on the rare cycles it misses.
 
 use super::ball_path::BallPath;
 use super::speed::{SpeedError, SpeedOptions};

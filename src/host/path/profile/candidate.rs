@@ -43,7 +43,8 @@ impl Limits {
         self.clamp(acc.min(self.crossing_bound(at, s1)), lo)
     }
 
-    /// `acc` within `[lo, a_tan]` (NaN gives `lo`), mm/s^2.
+    /// `acc` within `[lo, a_tan]` (NaN gives `a_tan`: `f64::min` takes the
+    /// number), mm/s^2.
     fn clamp(&self, acc: f64, lo: f64) -> f64 {
         acc.min(self.a_tan).max(lo)
     }
