@@ -3,15 +3,24 @@
 //!
 //! Every cycle has one constant acceleration, so speed changes happen on
 //! cycle boundaries only (seed 001). Each cycle takes the largest
-//! acceleration in `[-a_tan, a_tan]` (found by bisection) that keeps the
-//! state under the speed limits: the segment's `v_max`, the joint speeds
-//! (at every joint crossed during the cycle), the braking parabola to the
-//! next joint, and the shortest stop on whole cycles before the path end.
+//! acceleration in `[-a_tan, a_tan]` (to the resolution of a bisection in
+//! `accel_search_iters` steps) that keeps the state under the speed
+//! limits: the segment's `v_max`, the joint speeds (at every joint crossed
+//! during the cycle), the braking parabola to the next joint, and the
+//! shortest stop on whole cycles before the path end.
 //! Full braking always satisfies these, so the profile never gets stuck
 //! and ends at rest on a cycle boundary exactly at the path end.
+//!
+//! A cycle that does not repeat the last one's answer tries a closed-form
+//! candidate (`candidate.rs`, solved from the same limits); the
+//! feasibility predicate accepts it only when the bisection's guarantee
+//! holds (feasible, one resolution more not), so the bisection itself runs
+//! only on the rare cycles it misses.
 
 use super::ball_path::BallPath;
 use super::speed::{SpeedError, SpeedOptions};
+
+mod candidate;
 
 /// The state at one control cycle boundary.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -169,28 +178,67 @@ impl Limits {
     /// Largest feasible acceleration for the cycle from `(s, v)` (full
     /// braking, or the weaker braking that just stops, if none is).
     fn best_accel(&self, s: f64, v: f64, iters: usize, last: f64) -> f64 {
+        self.search(s, v, iters, last).0
+    }
+
+    /// [`Limits::best_accel`] and how it was found: full acceleration,
+    /// the lowest, the last cycle's answer, the closed-form candidate (see
+    /// `candidate.rs`), or bisection. Every answer but the lowest is
+    /// feasible with one resolution more infeasible (or is `a_tan`).
+    fn search(&self, s: f64, v: f64, iters: usize, last: f64) -> (f64, Found) {
         let at = self.cycle_start(s, v);
-        let lo = (-self.a_tan).max(-v / self.dt);
+        let lo = self.lowest(v);
         if self.feasible(&at, self.a_tan) {
-            return self.a_tan;
+            return (self.a_tan, Found::Full);
         }
         if !self.feasible(&at, lo) {
-            return lo;
+            return (lo, Found::Lowest);
         }
-        // Cruising repeats the last cycle's answer: keep it when it is
-        // still feasible and one bisection resolution more is not.
-        let resolution = (self.a_tan - lo) * 0.5f64.powi(iters.min(1000) as i32);
-        if last > lo
-            && last < self.a_tan
-            && self.feasible(&at, last)
-            && !self.feasible(&at, last + resolution)
-        {
-            return last;
+        let res = self.resolution(lo, iters);
+        if self.cruise(&at, last, lo, res) {
+            return (last, Found::Cruise);
         }
+        if let Some(c) = self.accept(&at, self.candidate(&at, lo), lo, res) {
+            return (c, Found::Candidate);
+        }
+        (self.bisect(&at, lo, iters), Found::Bisection)
+    }
+
+    /// Strongest braking from speed `v`: `a_tan`, or the weaker braking
+    /// that stops within the cycle, mm/s^2.
+    fn lowest(&self, v: f64) -> f64 {
+        (-self.a_tan).max(-v / self.dt)
+    }
+
+    /// Bisection resolution on `[lo, a_tan]` after `iters` steps, mm/s^2.
+    fn resolution(&self, lo: f64, iters: usize) -> f64 {
+        (self.a_tan - lo) * 0.5f64.powi(iters.min(1000) as i32)
+    }
+
+    /// `c` if feasible and `c + res` is not, else `c - res` (not below
+    /// `lo`) if `c` is infeasible and that is feasible: the bisection's
+    /// guarantee, checked by the same predicate; `None` otherwise.
+    fn accept(&self, at: &CycleStart, c: f64, lo: f64, res: f64) -> Option<f64> {
+        if self.feasible(at, c) {
+            return (!self.feasible(at, (c + res).min(self.a_tan))).then_some(c);
+        }
+        let below = (c - res).max(lo);
+        self.feasible(at, below).then_some(below)
+    }
+
+    /// Cruising repeats the last cycle's answer: keep it when it is still
+    /// feasible and one resolution `res` more is not.
+    fn cruise(&self, at: &CycleStart, last: f64, lo: f64, res: f64) -> bool {
+        last > lo && last < self.a_tan && self.feasible(at, last) && !self.feasible(at, last + res)
+    }
+
+    /// Bisection on `[lo, a_tan]` (`lo` feasible, `a_tan` not) in `iters`
+    /// steps: the last feasible lower end, mm/s^2.
+    fn bisect(&self, at: &CycleStart, lo: f64, iters: usize) -> f64 {
         let (mut lo, mut hi) = (lo, self.a_tan);
         for _ in 0..iters {
             let mid = 0.5 * (lo + hi);
-            if self.feasible(&at, mid) {
+            if self.feasible(at, mid) {
                 lo = mid
             } else {
                 hi = mid
@@ -200,14 +248,31 @@ impl Limits {
     }
 }
 
+/// How [`Limits::search`] found a cycle's acceleration.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Found {
+    /// `a_tan` is feasible.
+    Full,
+    /// Not even the strongest braking is feasible.
+    Lowest,
+    /// The last cycle's answer passed the check.
+    Cruise,
+    /// The closed-form candidate passed the check.
+    Candidate,
+    /// Neither did: full bisection.
+    Bisection,
+}
+
 /// `x.floor()`, by an integer conversion where that is exact (`0 < x <
 /// 2^52`): the same value without a call to the software `floor` of
-/// targets without a rounding instruction.
+/// targets without a rounding instruction. Through `i64`, not `u64`: on
+/// x86-64 that is one conversion instruction each way, where `u64` takes a
+/// multi-instruction sequence.
 fn floor_non_negative(x: f64) -> f64 {
-    /// Below this every `f64` converts to `u64` and back exactly.
+    /// Below this every `f64` converts to `i64` and back exactly.
     const EXACT: f64 = 4_503_599_627_370_496.0;
     if x > 0.0 && x < EXACT {
-        x as u64 as f64
+        x as i64 as f64
     } else {
         x.floor()
     }
@@ -226,6 +291,20 @@ struct CycleStart {
 impl MotionProfile {
     /// Plans the profile cycle by cycle from rest at `s = 0`.
     pub(crate) fn plan(limits: &Limits, opts: &SpeedOptions) -> Result<MotionProfile, SpeedError> {
+        let iters = opts.accel_search_iters;
+        Self::plan_with(limits, opts, |s, v, last| {
+            limits.best_accel(s, v, iters, last)
+        })
+    }
+
+    /// Plans the profile with `choose(s, v, last)` giving each cycle's
+    /// acceleration from arc length `s` (mm), speed `v` (mm/s) and the
+    /// last cycle's acceleration (mm/s^2, NaN at the start).
+    fn plan_with(
+        limits: &Limits,
+        opts: &SpeedOptions,
+        mut choose: impl FnMut(f64, f64, f64) -> f64,
+    ) -> Result<MotionProfile, SpeedError> {
         let length = limits.length();
         let dt = opts.cycle_s;
         let mut samples = Vec::new();
@@ -240,7 +319,7 @@ impl MotionProfile {
                     cycle_s: dt,
                 });
             }
-            let a = limits.best_accel(s, v, opts.accel_search_iters, a_last);
+            let a = choose(s, v, a_last);
             a_last = a;
             samples.push(MotionSample { t, s, v, a });
             (s, v) = limits.step(s, v, a);
