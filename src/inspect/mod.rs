@@ -6,9 +6,11 @@
 
 pub mod align;
 pub mod batch;
+mod behind;
 pub mod clearance;
 pub mod correction;
 mod evaluate;
+mod feature;
 pub mod fitted;
 pub mod learned;
 mod run;

@@ -4,21 +4,19 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
+use super::behind::measure_and_evaluate;
 use super::clearance::{ClearanceOptions, PartClearance};
-use super::correction::DesignPoint;
-use super::evaluate::point_reports;
-use super::fitted::fit_feature;
-use super::supervisor::{scan_curve, SupervisorOptions};
-use super::{Ctx, CurveResult, LearnedSet};
+use super::feature::{feature_report, measure_feature, MeasuredFeature, Run};
+use super::supervisor::SupervisorOptions;
+use super::LearnedSet;
 use crate::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::machine::Cmm;
-use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
+use crate::host::modes::{HostProbe, ModeOptions, Outcome};
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::math::{Point3, Vec3};
-use crate::program::{Feature, Program};
+use crate::program::Program;
 use crate::report::{
-    AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Stats, Tolerance, Verdict,
-    REPORT_FORMAT,
+    AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict, REPORT_FORMAT,
 };
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
 use crate::world::machine::{MachineModel, MachineProfile};
@@ -169,22 +167,27 @@ pub fn run_program_traced(
         pose: program.placement,
         ..free
     };
-    let features: Vec<FeatureReport> = program
-        .features
-        .iter()
-        .map(|f| {
-            run_feature(
-                program,
-                &truth,
-                f,
-                &mut traced,
-                host_probe,
-                &modes,
-                opts,
-                &free,
-                &mut learned_out,
-            )
-        })
+    let count = program.features.len();
+    let run = Run {
+        program,
+        probe: host_probe,
+        modes: &modes,
+        opts,
+        free: &free,
+    };
+    // Each feature's points are evaluated behind the measuring of the next.
+    let (measured, points) = measure_and_evaluate(program, &truth, count, |queue| {
+        let measured: Vec<MeasuredFeature> = (program.features.iter().enumerate())
+            .map(|(i, f)| {
+                let m = measure_feature(&run, f, &mut traced, &mut learned_out);
+                queue.submit(i, &m.faces, &m.points());
+                m
+            })
+            .collect();
+        measured
+    });
+    let features: Vec<FeatureReport> = (program.features.iter().zip(measured).zip(points))
+        .map(|((f, m), p)| feature_report(f, m, p))
         .collect();
     let machine_time_s = traced.readings().time_s;
     let rows = traced.into_rows();
@@ -308,161 +311,6 @@ fn part_to_machine(program: &Program) -> PartToMachine {
 }
 
 #[allow(clippy::too_many_arguments)]
-fn run_feature(
-    program: &Program,
-    truth: &crate::workpiece::as_machined::AsMachined,
-    feature: &Feature,
-    cmm: &mut dyn Cmm,
-    probe: HostProbe,
-    modes: &ModeOptions,
-    opts: &RunOptions,
-    free: &dyn FreeSpace,
-    learned_out: &mut LearnedSet,
-) -> FeatureReport {
-    let (results, faces, tolerance, kind) = match feature {
-        Feature::Section {
-            name,
-            plane,
-            faces,
-            curves,
-            settings,
-            tolerance,
-            ..
-        } => {
-            let results: Vec<CurveResult> = curves
-                .iter()
-                .enumerate()
-                .map(|(k, c)| {
-                    let design: Vec<DesignPoint> = c
-                        .points
-                        .iter()
-                        .map(|p| DesignPoint {
-                            point: p.point,
-                            normal: p.normal,
-                        })
-                        .collect();
-                    let key = (name.clone(), k);
-                    let learned = opts
-                        .learned
-                        .iter()
-                        .find(|(kk, _)| *kk == key)
-                        .map(|(_, l)| l.clone());
-                    let mut ctx = Ctx {
-                        cmm: &mut *cmm,
-                        probe,
-                        pose: program.placement,
-                        plane_normal: plane.normal(),
-                        settings: *settings,
-                        modes: *modes,
-                        supervisor: opts.supervisor,
-                        learned,
-                        free: opts.direct_moves.then_some(free),
-                    };
-                    let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
-                    if let Some(l) = &res.learned {
-                        learned_out.push((key, l.clone()));
-                    }
-                    res
-                })
-                .collect();
-            (results, faces.clone(), *tolerance, "section_scan")
-        }
-        Feature::Touch {
-            points, tolerance, ..
-        } => {
-            let mut res = CurveResult {
-                complete: true,
-                ..CurveResult::default()
-            };
-            for p in points {
-                let (m, n) = (
-                    program.placement.to_machine(p.point),
-                    program.placement.dir_to_machine(p.normal),
-                );
-                let a = touch_point(cmm, probe, m, n, 6.0, modes);
-                let ok = a.outcome == Outcome::Completed;
-                let pts = a.points.clone();
-                res.record("points", a);
-                res.complete &= ok;
-                res.points.extend(pts);
-            }
-            (
-                vec![res],
-                (0..program.workpiece.faces.len()).collect(),
-                *tolerance,
-                "touch_points",
-            )
-        }
-    };
-    let mut report = feature_report(
-        program,
-        truth,
-        feature.name(),
-        kind,
-        results,
-        &faces,
-        tolerance,
-    );
-    if let Some(spec) = feature.fit() {
-        report.fit = fit_feature(spec, &report.points);
-        if report.status == Verdict::Pass
-            && report
-                .fit
-                .as_ref()
-                .is_some_and(|f| f.status != Verdict::Pass)
-        {
-            report.status = Verdict::Fail;
-        }
-    }
-    report
-}
-
-fn feature_report(
-    program: &Program,
-    truth: &crate::workpiece::as_machined::AsMachined,
-    name: &str,
-    kind: &'static str,
-    results: Vec<CurveResult>,
-    faces: &[usize],
-    (lower, upper): (f64, f64),
-) -> FeatureReport {
-    let complete = results.iter().all(|r| r.complete);
-    let measured: Vec<_> = results
-        .iter()
-        .flat_map(|r| r.points.iter().copied())
-        .collect();
-    let points = point_reports(program, truth, faces, &measured);
-    let in_tol = points
-        .iter()
-        .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);
-    let status = match (complete, in_tol) {
-        (false, _) => Verdict::Incomplete,
-        (true, true) => Verdict::Pass,
-        (true, false) => Verdict::Fail,
-    };
-    FeatureReport {
-        name: name.to_string(),
-        kind,
-        status,
-        attempts: results
-            .iter()
-            .flat_map(|r| r.attempts.iter().cloned())
-            .collect(),
-        corrections: results
-            .iter()
-            .flat_map(|r| r.corrections.iter().cloned())
-            .collect(),
-        deviation_mm: Stats::of(points.iter().map(|p| p.deviation_mm)),
-        tolerance_mm: Tolerance { lower, upper },
-        notes: results
-            .iter()
-            .flat_map(|r| r.notes.iter().cloned())
-            .collect(),
-        points,
-        fit: None,
-    }
-}
-
 fn overall(features: &[FeatureReport]) -> Verdict {
     if features.iter().any(|f| f.status == Verdict::Incomplete) {
         Verdict::Incomplete
