@@ -7,8 +7,8 @@ use std::hint::black_box;
 use std::path::Path;
 
 use cmm::host::machine::Cmm;
-use cmm::host::modes::{design_value_scan, HostProbe, ModeOptions, ScanKind, ScanTargets};
-use cmm::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+use cmm::host::modes::{design_value_scan, HostProbe, ModeOptions, ScanPlan, ScanTargets};
+use cmm::host::path::{BallPath, PathOptions, SegmentSpeeds, SpeedOptions, SpeedPlan};
 use cmm::inspect::{run_program, RunOptions};
 use cmm::math::{Point3, Vec3};
 use cmm::program::{load, Feature, Program};
@@ -66,7 +66,7 @@ fn path_and_plan(p: &Program) -> (BallPath, SpeedPlan) {
 
 /// One active scan of the section from 5.3 mm off its start; returns the
 /// number of control cycles simulated (approach included).
-fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &SpeedPlan) -> u64 {
+fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &ScanPlan) -> u64 {
     let part = TruePart {
         workpiece: &p.workpiece,
         as_machined: &p.as_machined,
@@ -91,21 +91,14 @@ fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &SpeedPla
         pitch_mm: 0.5,
         trajectory_tolerance_mm: 1.5,
     };
-    design_value_scan(
-        &mut sim,
-        host,
-        path,
-        plan,
-        ScanKind::Active,
-        targets,
-        &ModeOptions::default(),
-    );
+    design_value_scan(&mut sim, host, path, plan, targets, &ModeOptions::default());
     (sim.readings().time_s / sim.cycle_s()).round() as u64
 }
 
 fn bench(c: &mut Criterion) {
     let p = program("blade-z60.json");
     let (path, plan) = path_and_plan(&p);
+    let plan = ScanPlan::Active(plan.speeds().clone());
     let model = MachineModel::default_bridge();
     let cycles = scan_once(&p, &model, &path, &plan);
     println!("active scan of blade z60: {cycles} control cycles per run");
@@ -152,6 +145,9 @@ fn overhead(c: &mut Criterion) {
     println!("z60 speed plan: {} cycles", plan.profile().cycles());
     c.bench_function("speed_plan_blade_z60", |b| {
         b.iter(|| black_box(SpeedPlan::new(&path, &opts).ok()))
+    });
+    c.bench_function("segment_speeds_blade_z60", |b| {
+        b.iter(|| black_box(SegmentSpeeds::new(&path, &opts).ok()))
     });
     c.bench_function("part_blade_z60", |b| {
         b.iter(|| black_box(run_program(&p, &RunOptions::default()).ok()))

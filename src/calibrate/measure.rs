@@ -4,10 +4,10 @@ use super::pattern::{circle_directions, iso_25_directions, ScanPlane};
 use super::{CalibrateError, CalibrationOptions};
 use crate::host::machine::Cmm;
 use crate::host::modes::{
-    design_value_scan, touch_point, HostProbe, Measured, ModeOptions, Outcome, ScanKind,
+    design_value_scan, touch_point, HostProbe, Measured, ModeOptions, Outcome, ScanKind, ScanPlan,
     ScanTargets,
 };
-use crate::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+use crate::host::path::{BallPath, PathOptions, SpeedOptions};
 use crate::math::{Point3, Vec3};
 
 /// One circle scan's readings and its conditions.
@@ -135,14 +135,15 @@ fn scan(
         cycle_s: cmm.cycle_s(),
         ..SpeedOptions::default()
     };
-    let plan = SpeedPlan::new(&path, &speed).map_err(|_| failed(Outcome::Aborted))?;
+    let plan =
+        ScanPlan::new(&path, ScanKind::Active, &speed).map_err(|_| failed(Outcome::Aborted))?;
     let targets = ScanTargets {
         deflection_mm: ep,
         pitch_mm: opts.scan_pitch_mm,
         trajectory_tolerance_mm: opts.trajectory_tolerance_mm,
     };
     let modes = modes(opts, &probe);
-    let a = design_value_scan(cmm, probe, &path, &plan, ScanKind::Active, targets, &modes);
+    let a = design_value_scan(cmm, probe, &path, &plan, targets, &modes);
     if a.outcome != Outcome::Completed {
         return Err(failed(a.outcome));
     }

@@ -7,9 +7,9 @@ use super::{Ctx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
     scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, Outcome, ScanKind,
-    ScanTargets, Tracker,
+    ScanPlan, ScanTargets, Tracker,
 };
-use crate::host::path::{BallPath, PathOptions, SpeedOptions, SpeedPlan};
+use crate::host::path::{BallPath, PathOptions, SpeedOptions};
 use crate::math::{Point3, Vec3};
 use crate::program::Mode;
 use crate::report::CorrectionReport;
@@ -146,7 +146,7 @@ fn design_attempt(
         cycle_s: ctx.cmm.cycle_s(),
         ..SpeedOptions::default()
     };
-    let Ok(plan) = SpeedPlan::new(&path, &speed) else {
+    let Ok(plan) = ScanPlan::new(&path, kind, &speed) else {
         res.notes.push("speed planning failed".into());
         return Outcome::Aborted;
     };
@@ -157,8 +157,7 @@ fn design_attempt(
     };
     let t0 = ctx.cmm.readings().time_s;
     position(ctx, scan_start(&path, targets.deflection_mm, &ctx.modes));
-    let mut attempt =
-        design_value_scan(ctx.cmm, ctx.probe, &path, &plan, kind, targets, &ctx.modes);
+    let mut attempt = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let mode = if kind == ScanKind::Active {
         "active"

@@ -11,7 +11,7 @@ mod touch;
 pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask};
 pub use direct::{direct_move, FreeSpace};
 pub use motion::{move_through, move_to, recover, reposition, Tracker};
-pub use scan::{design_value_scan, scan_start, ScanKind, ScanTargets};
+pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
 pub use touch::{touch_point, touch_start};
 
 use crate::host::probe_correction::DeflectionCorrection;

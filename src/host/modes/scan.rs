@@ -6,7 +6,9 @@
 use super::touch::finish;
 use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::machine::{Cmm, Phase};
-use crate::host::path::{BallPath, PathLocation, SpeedPlan};
+use crate::host::path::{
+    BallPath, PathLocation, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan,
+};
 use crate::math::{Point3, Vec3};
 
 /// Passive or active design-value scanning.
@@ -29,22 +31,54 @@ pub struct ScanTargets {
     pub trajectory_tolerance_mm: f64,
 }
 
-/// Scans along `path` (machine coordinates, already offset by `r - Ep`).
+/// What a design-value scan follows: passive scanning the speed profile
+/// on the control cycle; active scanning the segment speeds only (it sets
+/// its own speed every cycle from them and from where the probe is).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ScanPlan {
+    /// The whole speed plan, for passive scanning.
+    Passive(SpeedPlan),
+    /// The segment speeds, for active scanning.
+    Active(SegmentSpeeds),
+}
+
+impl ScanPlan {
+    /// Plans what a scan of `kind` along `path` needs.
+    pub fn new(path: &BallPath, kind: ScanKind, opts: &SpeedOptions) -> Result<Self, SpeedError> {
+        Ok(match kind {
+            ScanKind::Passive => ScanPlan::Passive(SpeedPlan::new(path, opts)?),
+            ScanKind::Active => ScanPlan::Active(SegmentSpeeds::new(path, opts)?),
+        })
+    }
+
+    /// The kind of scan this plan is for.
+    pub fn kind(&self) -> ScanKind {
+        match self {
+            ScanPlan::Passive(_) => ScanKind::Passive,
+            ScanPlan::Active(_) => ScanKind::Active,
+        }
+    }
+}
+
+/// Scans along `path` (machine coordinates, already offset by `r - Ep`),
+/// passive or active as planned.
 pub fn design_value_scan(
     cmm: &mut dyn Cmm,
     probe: HostProbe,
     path: &BallPath,
-    plan: &SpeedPlan,
-    kind: ScanKind,
+    plan: &ScanPlan,
     targets: ScanTargets,
     opts: &ModeOptions,
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe);
     let mut max_dl = 0.0;
+    let kind = plan.kind();
     let result =
-        approach(cmm, &mut tr, path, kind, targets.deflection_mm, opts).and_then(|_| match kind {
-            ScanKind::Passive => passive(cmm, &mut tr, path, plan, targets, opts),
-            ScanKind::Active => active(cmm, &mut tr, path, plan, targets, opts, &mut max_dl),
+        approach(cmm, &mut tr, path, kind, targets.deflection_mm, opts).and_then(|_| match plan {
+            ScanPlan::Passive(p) => passive(cmm, &mut tr, path, p, targets, opts),
+            ScanPlan::Active(s) => {
+                active(cmm, &mut tr, path, s.segments(), targets, opts, &mut max_dl)
+            }
         });
     let mut attempt = finish(tr, result);
     attempt.max_trajectory_error_mm = max_dl;
@@ -141,8 +175,7 @@ fn passive(
 }
 
 /// Planned speed at arc length `s` from the segment speeds.
-fn planned_speed(plan: &SpeedPlan, s: f64, a: f64) -> f64 {
-    let segs = plan.segments();
+fn planned_speed(segs: &[SegmentSpeed], s: f64, a: f64) -> f64 {
     let seg = segs
         .get(segs.partition_point(|g| g.s_end < s))
         .or(segs.last());
@@ -160,7 +193,7 @@ fn active(
     cmm: &mut dyn Cmm,
     tr: &mut Tracker,
     path: &BallPath,
-    plan: &SpeedPlan,
+    speeds: &[SegmentSpeed],
     t: ScanTargets,
     opts: &ModeOptions,
     max_dl: &mut f64,
@@ -191,7 +224,7 @@ fn active(
             return Err(Outcome::TrajectoryError);
         }
         let brake = (2.0 * a * remaining.max(0.0)).sqrt();
-        let want = planned_speed(plan, progress, a)
+        let want = planned_speed(speeds, progress, a)
             .max(CREEP_MM_S)
             .min(brake.max(0.5));
         speed += (want - speed).clamp(-a * dt, a * dt);

@@ -112,17 +112,17 @@ pub struct SegmentSpeed {
     pub v_end_mm_s: f64,
 }
 
-/// Speeds planned along a [`BallPath`] and the motion profile sampled on
-/// the control cycle.
+/// The planned speeds of every segment of a [`BallPath`], without the
+/// cycle-by-cycle profile: what active scanning needs, which sets its own
+/// speed every cycle from these (and is spared planning the profile).
 #[derive(Debug, Clone, PartialEq)]
-pub struct SpeedPlan {
+pub struct SegmentSpeeds {
     segments: Vec<SegmentSpeed>,
-    profile: MotionProfile,
 }
 
-impl SpeedPlan {
-    /// Plans speeds along `path`, starting and ending at rest.
-    pub fn new(path: &BallPath, opts: &SpeedOptions) -> Result<SpeedPlan, SpeedError> {
+impl SegmentSpeeds {
+    /// Plans the segment speeds along `path`, starting and ending at rest.
+    pub fn new(path: &BallPath, opts: &SpeedOptions) -> Result<SegmentSpeeds, SpeedError> {
         validate(opts)?;
         let radii = radii(path, opts);
         let v_max: Vec<f64> = radii.iter().map(|r| segment_v_max(r.2, opts)).collect();
@@ -130,14 +130,44 @@ impl SpeedPlan {
         let segments = (0..v_max.len())
             .map(|i| segment_speed(path, i, radii[i], v_max[i], &joints))
             .collect();
-        let limits = Limits::new(path, v_max, joints, opts);
-        let profile = MotionProfile::plan(&limits, opts)?;
-        Ok(SpeedPlan { segments, profile })
+        Ok(SegmentSpeeds { segments })
     }
 
     /// Planned speeds per segment, in path order.
     pub fn segments(&self) -> &[SegmentSpeed] {
         &self.segments
+    }
+}
+
+/// Speeds planned along a [`BallPath`] and the motion profile sampled on
+/// the control cycle.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SpeedPlan {
+    speeds: SegmentSpeeds,
+    profile: MotionProfile,
+}
+
+impl SpeedPlan {
+    /// Plans speeds along `path`, starting and ending at rest.
+    pub fn new(path: &BallPath, opts: &SpeedOptions) -> Result<SpeedPlan, SpeedError> {
+        let speeds = SegmentSpeeds::new(path, opts)?;
+        let v_max = speeds.segments.iter().map(|g| g.v_max_mm_s).collect();
+        let joints = (speeds.segments.iter().map(|g| g.v_start_mm_s))
+            .chain([speeds.segments.last().map_or(0.0, |g| g.v_end_mm_s)])
+            .collect();
+        let limits = Limits::new(path, v_max, joints, opts);
+        let profile = MotionProfile::plan(&limits, opts)?;
+        Ok(SpeedPlan { speeds, profile })
+    }
+
+    /// Planned speeds per segment, in path order.
+    pub fn segments(&self) -> &[SegmentSpeed] {
+        self.speeds.segments()
+    }
+
+    /// The segment speeds alone.
+    pub fn speeds(&self) -> &SegmentSpeeds {
+        &self.speeds
     }
 
     /// The motion profile on the control cycle.
