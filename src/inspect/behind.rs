@@ -38,8 +38,11 @@ pub(super) fn measure_and_evaluate<T>(
         let worker = std::thread::Builder::new()
             .name("cmm-evaluate".into())
             .spawn_scoped(s, || queue.work());
+        // Closed even if `measure` panics, so the worker cannot wait for
+        // jobs forever while the scope waits for the worker.
+        let closing = CloseOnDrop(&queue);
         let out = measure(&queue);
-        queue.close();
+        drop(closing);
         queue.work();
         if let Ok(Err(panic)) = worker.map(|w| w.join()) {
             std::panic::resume_unwind(panic);
@@ -47,6 +50,15 @@ pub(super) fn measure_and_evaluate<T>(
         out
     });
     (out, queue.into_reports(features))
+}
+
+/// Closes the queue when dropped.
+struct CloseOnDrop<'q, 'a>(&'q Queue<'a>);
+
+impl Drop for CloseOnDrop<'_, '_> {
+    fn drop(&mut self) {
+        self.0.close();
+    }
 }
 
 /// Evaluation jobs and their results, shared by the two threads.
@@ -181,6 +193,26 @@ mod tests {
                 }
             })
             .collect()
+    }
+
+    /// A measurement that panics after handing over points ends the
+    /// evaluation thread too: the panic comes through instead of a hang.
+    #[test]
+    fn a_panicking_measurement_does_not_hang() {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs/blade-z60.json");
+        let program = match crate::program::load(&file) {
+            Ok(p) => p,
+            Err(e) => panic!("{e}"),
+        };
+        let truth = program.as_machined.clone();
+        let points = measured_points(&program, 40);
+        let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+            measure_and_evaluate(&program, &truth, 1, |queue| {
+                queue.submit(0, &[0, 1], &points);
+                panic!("measuring failed");
+            })
+        }));
+        assert!(result.is_err());
     }
 
     /// Three features of 0, 70 and 45 points, evaluated behind a slow
