@@ -169,6 +169,14 @@ mod tests {
     use crate::math::{Point3, Vec3};
     use std::path::Path;
 
+    fn blade_z60() -> Program {
+        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs/blade-z60.json");
+        match crate::program::load(&file) {
+            Ok(p) => p,
+            Err(e) => panic!("{e}"),
+        }
+    }
+
     /// Points off the blade's surfaces (machine frame) along a line over
     /// each face, as a feature's measured points come.
     fn measured_points(program: &Program, n: usize) -> Vec<Measured> {
@@ -199,11 +207,7 @@ mod tests {
     /// evaluation thread too: the panic comes through instead of a hang.
     #[test]
     fn a_panicking_measurement_does_not_hang() {
-        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs/blade-z60.json");
-        let program = match crate::program::load(&file) {
-            Ok(p) => p,
-            Err(e) => panic!("{e}"),
-        };
+        let program = blade_z60();
         let truth = program.as_machined.clone();
         let points = measured_points(&program, 40);
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
@@ -221,11 +225,7 @@ mod tests {
     /// chunks only change where the searches start).
     #[test]
     fn reports_come_back_in_order_and_equal_lone_evaluations() {
-        let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs/blade-z60.json");
-        let program = match crate::program::load(&file) {
-            Ok(p) => p,
-            Err(e) => panic!("{e}"),
-        };
+        let program = blade_z60();
         let truth = program.as_machined.clone().without_roughness();
         let faces: Vec<usize> = (0..program.workpiece.faces.len()).collect();
         let sets = [

@@ -14,6 +14,9 @@ use crate::math::{Vec3, Vec4};
 pub const FAST_MAX_DEGREE: usize = 5;
 const CAP: usize = FAST_MAX_DEGREE + 1;
 
+/// A local patch parameter in [0, 1] with the inverse width of its span.
+type LocalParam = (f64, f64);
+
 /// Power-basis coefficients of all patches of a surface.
 #[derive(Debug, Clone)]
 pub(crate) struct PowerPatches {
@@ -77,22 +80,18 @@ impl PowerPatches {
         self.polynomial_into(u, v, 2, out)
     }
 
-    /// The second-order jet of a rational surface with bicubic or lower
-    /// patches of equal degrees, by Horner's rule on the homogeneous
-    /// coefficients and the quotient rule; `false` when it does not apply
-    /// (the general homogeneous path serves then).
+    /// The second-order jet of a rational surface whose patches have a
+    /// dedicated kernel (bicubic, biquadratic, bilinear, quadratic by
+    /// linear), by Horner's rule on the homogeneous coefficients and the
+    /// quotient rule; `false` when it does not apply (the general
+    /// homogeneous path serves then).
     #[inline]
     pub fn jet2_rational(&self, u: f64, v: f64, out: &mut Jet2) -> bool {
         let [p, q] = self.degree;
-        let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
-        let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
-        let stride = (p + 1) * (q + 1);
-        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
-        let Some(patch) = self.coef.get(start..start + stride) else {
+        let Some((patch, su, tv)) = self.patch_at(&self.coef, u, v) else {
             return false;
         };
         let mut hom = HomogeneousJet2([Vec4::zeros(); 6]);
-        let (su, tv) = ((s, hu), (t, hv));
         match (p + 1, q + 1) {
             (4, 4) => poly_kernel::<4, 4, 2, _, _>(patch, su, tv, &mut hom),
             (3, 3) => poly_kernel::<3, 3, 2, _, _>(patch, su, tv, &mut hom),
@@ -105,20 +104,34 @@ impl PowerPatches {
         true
     }
 
+    /// The coefficients of the patch holding `(u, v)` (from `coef`, laid
+    /// out as [`Self::coef`]) with the local parameters and inverse span
+    /// widths `(s, 1/hu)`, `(t, 1/hv)`.
+    #[inline(always)]
+    fn patch_at<'c, V>(
+        &self,
+        coef: &'c [V],
+        u: f64,
+        v: f64,
+    ) -> Option<(&'c [V], LocalParam, LocalParam)> {
+        let [p, q] = self.degree;
+        let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
+        let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
+        let stride = (p + 1) * (q + 1);
+        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
+        let patch = coef.get(start..start + stride)?;
+        Some((patch, (s, hu), (t, hv)))
+    }
+
     #[inline(always)]
     fn polynomial_into<S: Sink<Vec3>>(&self, u: f64, v: f64, nd: usize, out: &mut S) -> bool {
         if self.coef3.is_empty() {
             return false;
         }
         let [p, q] = self.degree;
-        let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
-        let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
-        let stride = (p + 1) * (q + 1);
-        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
-        let Some(patch) = self.coef3.get(start..start + stride) else {
+        let Some((patch, su, tv)) = self.patch_at(&self.coef3, u, v) else {
             return false;
         };
-        let (su, tv) = ((s, hu), (t, hv));
         match (p + 1, q + 1, nd) {
             // Bicubic patches with the orders Newton iterations ask for get
             // fully unrolled kernels.
