@@ -101,14 +101,9 @@ impl ProjectionIndex {
                         best = (obb.max(d2), Some(i));
                     }
                 }
-                Err((a, b)) => {
-                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
-                    let (near, far) = if da <= db {
-                        ((da, a), (db, b))
-                    } else {
-                        ((db, b), (da, a))
-                    };
-                    stack.extend([far, near].into_iter().filter(|c| c.0 < best.0));
+                Err(children) => {
+                    let next = self.children_far_near(children, p);
+                    stack.extend(next.into_iter().filter(|c| c.0 < best.0));
                 }
             }
         }
@@ -121,6 +116,18 @@ impl ProjectionIndex {
         let node = self.nodes.get(i)?;
         let leaf = self.leaves.get(node.kind.ok()?)?;
         Some(leaf.obb.dist2(p).max(node.aabb.dist2(p)))
+    }
+
+    /// The two children of a node with their squared box distances from
+    /// `p`, the farther first (the order a depth-first stack takes them, so
+    /// that the nearer is searched first; the first child on a tie).
+    fn children_far_near(&self, (a, b): (usize, usize), p: Point3) -> [(f64, usize); 2] {
+        let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
+        if da <= db {
+            [(db, b), (da, a)]
+        } else {
+            [(da, a), (db, b)]
+        }
     }
 
     /// Squared distance from `p` to node `i`'s box (infinite for a missing
@@ -223,14 +230,9 @@ impl ProjectionIndex {
             };
             match node.kind {
                 Ok(leaf) => self.visit_leaf(surface, trim, leaf, p, skip, &mut best)?,
-                Err((a, b)) => {
-                    let (da, db) = (self.child_dist2(a, p), self.child_dist2(b, p));
-                    let (near, far) = if da <= db {
-                        ((da, a), (db, b))
-                    } else {
-                        ((db, b), (da, a))
-                    };
-                    stack.extend([far, near].into_iter().filter(|c| c.0 < best.dist2));
+                Err(children) => {
+                    let next = self.children_far_near(children, p);
+                    stack.extend(next.into_iter().filter(|c| c.0 < best.dist2));
                 }
             }
         }
