@@ -2,6 +2,7 @@
 //! ball-centre velocity goes in every control cycle, readings come out. The
 //! simulator implements it ([`crate::world::cmm::SimulatedCmm`]); a real
 //! machine (e.g. over I++ DME) could later.
+use crate::host::modes::Measured;
 use crate::math::{Point3, Vec3};
 
 /// Machine state as the software sees it after a control cycle.
@@ -51,6 +52,10 @@ pub trait Cmm {
     /// What the software is doing from the next cycle on, for traces;
     /// machines that keep no trace ignore it.
     fn note_phase(&mut self, _phase: Phase) {}
+    /// A point the software has just taken (a scan's measured points, in
+    /// order), for whoever watches the measuring (a live evaluation, a
+    /// trace); machines ignore it.
+    fn note_point(&mut self, _point: &Measured) {}
     /// Number of probe-head axes (0: no head).
     fn head_axes(&self) -> usize {
         0

@@ -1,38 +1,42 @@
-//! Evaluation behind measurement: while the machine measures the next
-//! feature, a second thread turns the points already measured into point
-//! reports (nominal and true deviations, which need global closest-point
-//! searches and cost about as much as the measuring itself).
+//! Evaluation behind measurement: while the machine measures, a second
+//! thread turns the points already measured into point reports (nominal
+//! and true deviations, which need global closest-point searches and cost
+//! about a third of the measuring itself).
 //!
-//! The points are cut into fixed chunks ([`CHUNK_POINTS`]), evaluated
-//! independently (each chunk's searches start cold and then follow its
-//! points) and put back in order, so the reports do not depend on which
-//! thread evaluated what, nor on timing: the same inputs give the same
-//! bytes. When the measuring ends, the measuring thread helps evaluate
-//! what is left. Without a second thread (it cannot be started) the
-//! measuring thread evaluates everything at the end.
-use std::collections::VecDeque;
+//! Points come in *streams*: a design-value scan hands over its points
+//! while it runs ([`super::live`]), and whatever else a feature measured
+//! comes as one stream when the feature ends. A stream is cut into fixed
+//! chunks ([`CHUNK_POINTS`]) in the order its points were taken; each
+//! chunk is evaluated on its own (its searches start cold, then follow its
+//! points) and the chunks are put back in order, so the reports depend
+//! neither on which thread evaluated what nor on timing: the same inputs
+//! give the same bytes. A failed attempt's stream is discarded. When the
+//! measuring ends, the measuring thread helps evaluate what is left.
+//! Without a second thread (it cannot be started) the measuring thread
+//! evaluates everything at the end.
+use std::collections::{BTreeMap, VecDeque};
 use std::sync::{Condvar, Mutex, MutexGuard};
 
 use super::evaluate::point_reports;
+use super::LivePoints;
 use crate::host::modes::Measured;
 use crate::program::Program;
 use crate::report::PointReport;
 use crate::workpiece::as_machined::AsMachined;
 
 /// Measured points per evaluation job: small enough that both threads
-/// share the last feature's points, large enough that the cold start of
-/// each chunk's first search costs little.
+/// share the last points, large enough that the cold start of each
+/// chunk's first search costs little.
 pub const CHUNK_POINTS: usize = 32;
 
-/// Runs `measure` (which hands over each feature's points with
-/// [`Queue::submit`]) while evaluating the submitted points behind it;
-/// returns `measure`'s result and the point reports of features `0..n`.
+/// Runs `measure` (which hands over points with [`Queue::submit`] and
+/// the [`LivePoints`] streams) while evaluating them behind it; returns
+/// `measure`'s result and the point reports of every stream.
 pub(super) fn measure_and_evaluate<T>(
     program: &Program,
     truth: &AsMachined,
-    features: usize,
     measure: impl FnOnce(&Queue) -> T,
-) -> (T, Vec<Vec<PointReport>>) {
+) -> (T, Streams) {
     let queue = Queue::new(program, truth);
     let out = std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
@@ -49,7 +53,20 @@ pub(super) fn measure_and_evaluate<T>(
         }
         out
     });
-    (out, queue.into_reports(features))
+    (out, queue.into_streams())
+}
+
+/// The point reports of each kept stream, by stream id.
+#[derive(Debug, Default)]
+pub(super) struct Streams(BTreeMap<usize, Vec<PointReport>>);
+
+impl Streams {
+    /// The reports of `streams` one after the other.
+    pub(super) fn concat(&mut self, streams: &[usize]) -> Vec<PointReport> {
+        (streams.iter())
+            .flat_map(|s| self.0.remove(s).unwrap_or_default())
+            .collect()
+    }
 }
 
 /// Closes the queue when dropped.
@@ -72,13 +89,17 @@ pub(super) struct Queue<'a> {
 #[derive(Default)]
 struct State {
     jobs: VecDeque<Job>,
+    /// Nominal faces of each stream opened so far (index = stream id).
+    faces: Vec<Vec<usize>>,
+    /// Streams whose points are not wanted.
+    discarded: Vec<usize>,
     done: Vec<(usize, usize, Vec<PointReport>)>,
     closed: bool,
 }
 
-/// One chunk of one feature's measured points.
+/// One chunk of one stream.
 struct Job {
-    feature: usize,
+    stream: usize,
     chunk: usize,
     faces: Vec<usize>,
     points: Vec<Measured>,
@@ -94,20 +115,14 @@ impl<'a> Queue<'a> {
         }
     }
 
-    /// Hands over feature `feature`'s measured points (machine frame), to
-    /// be evaluated against the nominal surfaces `faces`.
-    pub(super) fn submit(&self, feature: usize, faces: &[usize], points: &[Measured]) {
-        let jobs = points
-            .chunks(CHUNK_POINTS)
-            .enumerate()
-            .map(|(chunk, c)| Job {
-                feature,
-                chunk,
-                faces: faces.to_vec(),
-                points: c.to_vec(),
-            });
-        self.lock().jobs.extend(jobs);
-        self.wake.notify_all();
+    /// Hands over `points` (machine frame) as one new stream evaluated
+    /// against the nominal faces `faces`; returns its id.
+    pub(super) fn submit(&self, faces: &[usize], points: &[Measured]) -> usize {
+        let stream = self.open(faces);
+        for (chunk, c) in points.chunks(CHUNK_POINTS).enumerate() {
+            self.push(stream, chunk, c.to_vec());
+        }
+        stream
     }
 
     /// No more jobs will come.
@@ -120,7 +135,7 @@ impl<'a> Queue<'a> {
     fn work(&self) {
         while let Some(job) = self.next_job() {
             let reports = point_reports(self.program, self.truth, &job.faces, &job.points);
-            self.lock().done.push((job.feature, job.chunk, reports));
+            self.lock().done.push((job.stream, job.chunk, reports));
         }
     }
 
@@ -139,27 +154,51 @@ impl<'a> Queue<'a> {
     }
 
     /// The state; a thread that panicked while holding the lock leaves it
-    /// consistent (every update is a single push or flag), so a poisoned
-    /// lock is used as it is.
+    /// consistent (every update is a single push, retain or flag), so a
+    /// poisoned lock is used as it is.
     fn lock(&self) -> MutexGuard<'_, State> {
         self.state.lock().unwrap_or_else(|p| p.into_inner())
     }
 
-    /// The reports of features `0..n`, chunks put back in order.
-    fn into_reports(self, n: usize) -> Vec<Vec<PointReport>> {
-        let mut done = self
-            .state
-            .into_inner()
-            .unwrap_or_else(|p| p.into_inner())
-            .done;
+    /// The reports of every stream not discarded, chunks put back in order.
+    fn into_streams(self) -> Streams {
+        let state = self.state.into_inner().unwrap_or_else(|p| p.into_inner());
+        let mut done = state.done;
         done.sort_by_key(|d| (d.0, d.1));
-        let mut out: Vec<Vec<PointReport>> = (0..n).map(|_| Vec::new()).collect();
-        for (feature, _, reports) in done {
-            if let Some(slot) = out.get_mut(feature) {
-                slot.extend(reports);
+        let mut out = Streams::default();
+        for (stream, _, reports) in done {
+            if !state.discarded.contains(&stream) {
+                out.0.entry(stream).or_default().extend(reports);
             }
         }
         out
+    }
+}
+
+impl LivePoints for Queue<'_> {
+    fn open(&self, faces: &[usize]) -> usize {
+        let mut state = self.lock();
+        state.faces.push(faces.to_vec());
+        state.faces.len() - 1
+    }
+
+    fn push(&self, stream: usize, chunk: usize, points: Vec<Measured>) {
+        let mut state = self.lock();
+        let faces = state.faces.get(stream).cloned().unwrap_or_default();
+        state.jobs.push_back(Job {
+            stream,
+            chunk,
+            faces,
+            points,
+        });
+        drop(state);
+        self.wake.notify_all();
+    }
+
+    fn discard(&self, stream: usize) {
+        let mut state = self.lock();
+        state.jobs.retain(|j| j.stream != stream);
+        state.discarded.push(stream);
     }
 }
 
@@ -211,18 +250,20 @@ mod tests {
         let truth = program.as_machined.clone();
         let points = measured_points(&program, 40);
         let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-            measure_and_evaluate(&program, &truth, 1, |queue| {
-                queue.submit(0, &[0, 1], &points);
+            measure_and_evaluate(&program, &truth, |queue| {
+                queue.submit(&[0, 1], &points);
                 panic!("measuring failed");
             })
         }));
         assert!(result.is_err());
     }
 
-    /// Three features of 0, 70 and 45 points, evaluated behind a slow
-    /// "measurement": the reports come back per feature in submission
-    /// order, each equal to the report of its point evaluated alone (the
-    /// chunks only change where the searches start).
+    /// Streams of 0, 70 and 45 points, evaluated behind a slow
+    /// "measurement", the second one pushed live chunk by chunk, and a
+    /// discarded stream between them: each kept stream's reports come back
+    /// in measuring order, each equal to the report of its point evaluated
+    /// alone (the chunks only change where the searches start), and the
+    /// discarded one's do not come back.
     #[test]
     fn reports_come_back_in_order_and_equal_lone_evaluations() {
         let program = blade_z60();
@@ -233,18 +274,23 @@ mod tests {
             measured_points(&program, 70),
             measured_points(&program, 45),
         ];
-        let (count, reports) = measure_and_evaluate(&program, &truth, 3, |queue| {
-            for (i, set) in sets.iter().enumerate() {
+        let (ids, mut streams) = measure_and_evaluate(&program, &truth, |queue| {
+            let first = queue.submit(&faces, &sets[0]);
+            let live = queue.open(&faces);
+            let dropped = queue.submit(&faces, &sets[2]);
+            queue.discard(dropped);
+            for (k, chunk) in sets[1].chunks(CHUNK_POINTS).enumerate() {
                 std::thread::sleep(std::time::Duration::from_millis(2));
-                queue.submit(i, &faces, set);
+                queue.push(live, k, chunk.to_vec());
             }
-            sets.len()
+            let last = queue.submit(&faces, &sets[2]);
+            [first, live, dropped, last]
         });
-        assert_eq!(count, 3);
-        assert_eq!(reports.len(), 3);
-        for (set, got) in sets.iter().zip(&reports) {
+        assert!(streams.concat(&[ids[2]]).is_empty(), "discarded stream");
+        for (set, id) in sets.iter().zip([ids[0], ids[1], ids[3]]) {
+            let got = streams.concat(&[id]);
             assert_eq!(set.len(), got.len());
-            for (m, r) in set.iter().zip(got) {
+            for (m, r) in set.iter().zip(&got) {
                 let want = point_reports(&program, &truth, &faces, std::slice::from_ref(m));
                 let want = &want[0];
                 let part = program.placement.to_part(m.point);

@@ -1,11 +1,12 @@
 //! One feature of a program: its measurement on the machine, then its
 //! report from the evaluated points.
+use super::behind::Queue;
 use super::correction::DesignPoint;
 use super::fitted::fit_feature;
 use super::supervisor::scan_curve;
-use super::{Ctx, CurveResult, LearnedSet, RunOptions};
+use super::{Ctx, CurveResult, LearnedSet, LivePoints, RunOptions};
 use crate::host::machine::Cmm;
-use crate::host::modes::{touch_point, FreeSpace, HostProbe, Measured, ModeOptions, Outcome};
+use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::program::{Feature, Program};
 use crate::report::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
 
@@ -16,6 +17,8 @@ pub(super) struct Run<'r> {
     pub(super) modes: &'r ModeOptions,
     pub(super) opts: &'r RunOptions,
     pub(super) free: &'r dyn FreeSpace,
+    /// Where scans hand over their points while they run.
+    pub(super) live: Option<&'r dyn LivePoints>,
 }
 
 /// A feature as measured, before its points are evaluated.
@@ -27,10 +30,16 @@ pub(super) struct MeasuredFeature {
 }
 
 impl MeasuredFeature {
-    /// Every measured point, in measuring order.
-    pub(super) fn points(&self) -> Vec<Measured> {
+    /// The streams that carry the feature's points, in measuring order:
+    /// each curve's live stream when its points came in one, else its
+    /// points handed over now.
+    pub(super) fn hand_over(&self, queue: &Queue) -> Vec<usize> {
         (self.results.iter())
-            .flat_map(|r| r.points.iter().copied())
+            .filter_map(|r| match r.stream {
+                Some(s) => Some(s),
+                None if r.points.is_empty() => None,
+                None => Some(queue.submit(&self.faces, &r.points)),
+            })
             .collect()
     }
 }
@@ -49,6 +58,7 @@ pub(super) fn measure_feature(
         modes,
         opts,
         free,
+        live,
     } = *run;
     let (results, faces, tolerance, kind) = match feature {
         Feature::Section {
@@ -88,6 +98,7 @@ pub(super) fn measure_feature(
                         supervisor: opts.supervisor,
                         learned,
                         free: opts.direct_moves.then_some(free),
+                        live: live.map(|l| (l, faces.as_slice())),
                     };
                     let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
                     if let Some(l) = &res.learned {

@@ -13,6 +13,7 @@ mod evaluate;
 mod feature;
 pub mod fitted;
 pub mod learned;
+mod live;
 mod run;
 pub mod supervisor;
 
@@ -48,6 +49,21 @@ pub struct Ctx<'c> {
     /// Free space around the part for direct moves between measurements
     /// (`None`: every move goes over the clearance height).
     pub free: Option<&'c dyn FreeSpace>,
+    /// Where design-value scans hand over their points as they are
+    /// measured, with the feature's nominal faces (`None`: the points are
+    /// evaluated after the feature).
+    pub live: Option<(&'c dyn LivePoints, &'c [usize])>,
+}
+
+/// Streams of measured points evaluated while the measuring goes on.
+pub trait LivePoints: Sync {
+    /// Opens a stream of points (machine frame) to be evaluated against
+    /// the nominal faces `faces`; returns its id.
+    fn open(&self, faces: &[usize]) -> usize;
+    /// Chunk number `chunk` (from 0, in measuring order) of `stream`.
+    fn push(&self, stream: usize, chunk: usize, points: Vec<Measured>);
+    /// The stream's points are not wanted (its attempt failed).
+    fn discard(&self, stream: usize);
 }
 
 /// Corrections learned per (feature name, curve index), carried from part
@@ -96,6 +112,8 @@ pub struct CurveResult {
     pub corrections: Vec<CorrectionReport>,
     /// Points of the last completed scan (machine frame).
     pub points: Vec<Measured>,
+    /// The [`LivePoints`] stream that carried exactly these points, if any.
+    pub stream: Option<usize>,
     /// Whether the last scan completed.
     pub complete: bool,
     /// Notes for the report.
@@ -119,6 +137,7 @@ impl CurveResult {
             self.complete = outcome == Outcome::Completed;
             if self.complete {
                 self.points = attempt.points;
+                self.stream = None;
             }
         }
         outcome

@@ -167,27 +167,28 @@ pub fn run_program_traced(
         pose: program.placement,
         ..free
     };
-    let count = program.features.len();
-    let run = Run {
-        program,
-        probe: host_probe,
-        modes: &modes,
-        opts,
-        free: &free,
-    };
-    // Each feature's points are evaluated behind the measuring of the next.
-    let (measured, points) = measure_and_evaluate(program, &truth, count, |queue| {
-        let measured: Vec<MeasuredFeature> = (program.features.iter().enumerate())
-            .map(|(i, f)| {
+    // Points are evaluated behind the measuring: a scan's while it runs,
+    // the rest after their feature.
+    let (measured, mut streams) = measure_and_evaluate(program, &truth, |queue| {
+        let run = Run {
+            program,
+            probe: host_probe,
+            modes: &modes,
+            opts,
+            free: &free,
+            live: Some(queue),
+        };
+        let measured: Vec<(MeasuredFeature, Vec<usize>)> = (program.features.iter())
+            .map(|f| {
                 let m = measure_feature(&run, f, &mut traced, &mut learned_out);
-                queue.submit(i, &m.faces, &m.points());
-                m
+                let streams = m.hand_over(queue);
+                (m, streams)
             })
             .collect();
         measured
     });
-    let features: Vec<FeatureReport> = (program.features.iter().zip(measured).zip(points))
-        .map(|((f, m), p)| feature_report(f, m, p))
+    let features: Vec<FeatureReport> = (program.features.iter().zip(measured))
+        .map(|(f, (m, s))| feature_report(f, m, streams.concat(&s)))
         .collect();
     let machine_time_s = traced.readings().time_s;
     let rows = traced.into_rows();

@@ -3,6 +3,7 @@
 //! points (flag 0) or an autonomous correction (flag 1, or when no simple
 //! model fits); a bounded number of autonomous corrections.
 use super::correction::{fit_correction, DesignPoint};
+use super::live::LiveCmm;
 use super::{Ctx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
@@ -157,14 +158,30 @@ fn design_attempt(
     };
     let t0 = ctx.cmm.readings().time_s;
     position(ctx, scan_start(&path, targets.deflection_mm, &ctx.modes));
-    let mut attempt = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
+    let (mut attempt, stream) = match ctx.live {
+        Some((live, faces)) => {
+            let mut cmm = LiveCmm::new(&mut *ctx.cmm, live, faces);
+            let a = design_value_scan(&mut cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
+            let completed = a.outcome == Outcome::Completed;
+            let stream = cmm.finish(completed.then_some(a.points.as_slice()));
+            (a, stream)
+        }
+        None => {
+            let a = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
+            (a, None)
+        }
+    };
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let mode = if kind == ScanKind::Active {
         "active"
     } else {
         "passive"
     };
-    res.record(mode, attempt)
+    let outcome = res.record(mode, attempt);
+    if outcome == Outcome::Completed {
+        res.stream = stream;
+    }
+    outcome
 }
 
 /// Goes straight to a probing start point (ball centre) when the line is

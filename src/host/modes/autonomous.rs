@@ -105,7 +105,7 @@ fn follow(
         if lost >= opts.lost_contact_cycles {
             return Err(Outcome::LostContact);
         }
-        tr.sample(task.pitch_mm);
+        tr.sample(cmm, task.pitch_mm);
         if finished(task, tr, start, travelled, dir) {
             return Ok(());
         }

@@ -76,8 +76,9 @@ impl Tracker {
         }
     }
 
-    /// Records the current point when it is at least `pitch` from the last.
-    pub fn sample(&mut self, pitch: f64) {
+    /// Records the current point when it is at least `pitch` from the
+    /// last, and notes it on the machine ([`Cmm::note_point`]).
+    pub fn sample(&mut self, cmm: &mut dyn Cmm, pitch: f64) {
         let Some(m) = self.measured() else { return };
         if self
             .last_point
@@ -85,6 +86,7 @@ impl Tracker {
         {
             self.points.push(m);
             self.last_point = Some(m.point);
+            cmm.note_point(&m);
         }
     }
 

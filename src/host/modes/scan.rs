@@ -169,7 +169,7 @@ fn passive(
             return Err(o);
         }
         contact_check(tr, &mut lost, opts.over_deflection_mm, &strict)?;
-        tr.sample(t.pitch_mm);
+        tr.sample(cmm, t.pitch_mm);
     }
     Ok(())
 }
@@ -233,7 +233,7 @@ fn active(
             return Err(o);
         }
         contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
-        tr.sample(t.pitch_mm);
+        tr.sample(cmm, t.pitch_mm);
     }
     Err(Outcome::Aborted)
 }
