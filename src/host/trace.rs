@@ -59,9 +59,10 @@ impl Cmm for TracingCmm<'_> {
     }
 
     fn step(&mut self, velocity: Vec3) -> Readings {
-        let before = self.inner.readings();
+        // Only a trace needs the readings before the step.
+        let before = self.enabled.then(|| self.inner.readings());
         let now = self.inner.step(velocity);
-        if self.enabled {
+        if let Some(before) = before {
             let dt = (now.time_s - before.time_s).max(f64::MIN_POSITIVE);
             self.rows.push(TraceRow {
                 t: now.time_s,
