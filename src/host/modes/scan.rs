@@ -174,16 +174,31 @@ fn passive(
     Ok(())
 }
 
-/// Planned speed at arc length `s` from the segment speeds.
-fn planned_speed(segs: &[SegmentSpeed], s: f64, a: f64) -> f64 {
-    let seg = segs
-        .get(segs.partition_point(|g| g.s_end < s))
-        .or(segs.last());
+/// Planned speed at arc length `s` from the segment speeds; `cursor` is
+/// the segment found for the last `s` and moves to the one for this `s`.
+fn planned_speed(segs: &[SegmentSpeed], s: f64, a: f64, cursor: &mut usize) -> f64 {
+    *cursor = segment_at(segs, s, *cursor);
+    let seg = segs.get(*cursor).or(segs.last());
     seg.map_or(0.0, |g| {
         let up = (g.v_start_mm_s.powi(2) + 2.0 * a * (s - g.s_start).max(0.0)).sqrt();
         let down = (g.v_end_mm_s.powi(2) + 2.0 * a * (g.s_end - s).max(0.0)).sqrt();
         g.v_max_mm_s.min(up).min(down)
     })
+}
+
+/// The first segment that ends at or after `s` (`segs.len()` when none
+/// does; segment ends grow along the path), walking from segment `from`:
+/// the scan moves on by a fraction of a segment per cycle, so this is the
+/// binary search `partition_point(|g| g.s_end < s)` in a step or two.
+fn segment_at(segs: &[SegmentSpeed], s: f64, from: usize) -> usize {
+    let mut i = from.min(segs.len());
+    while i > 0 && segs.get(i - 1).is_some_and(|g| g.s_end >= s) {
+        i -= 1;
+    }
+    while segs.get(i).is_some_and(|g| g.s_end < s) {
+        i += 1;
+    }
+    i
 }
 
 /// Slowest speed while the scan is under way (the plan starts at rest), mm/s.
@@ -201,6 +216,7 @@ fn active(
     cmm.note_phase(Phase::Scan);
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
+    let mut cursor = 0;
     let mut here = path.location(0.0);
     let searching = ModeOptions {
         lost_contact_cycles: opts.active_lost_contact_cycles,
@@ -224,7 +240,7 @@ fn active(
             return Err(Outcome::TrajectoryError);
         }
         let brake = (2.0 * a * remaining.max(0.0)).sqrt();
-        let want = planned_speed(speeds, progress, a)
+        let want = planned_speed(speeds, progress, a, &mut cursor)
             .max(CREEP_MM_S)
             .min(brake.max(0.5));
         speed += (want - speed).clamp(-a * dt, a * dt);
@@ -290,4 +306,53 @@ fn wrapped_step(path: &BallPath, progress: f64, s_loc: f64) -> f64 {
         }
     }
     ds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// From any starting segment the walk finds what the binary search
+    /// finds, on segment ends with repeats (zero-length segments), for
+    /// arc lengths before, inside and past the path.
+    #[test]
+    fn segment_walk_agrees_with_the_binary_search() {
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(5);
+        for case in 0..200 {
+            let n = rng.random_range(0..12usize);
+            let mut end = 0.0;
+            let segs: Vec<SegmentSpeed> = (0..n)
+                .map(|_| {
+                    let start = end;
+                    end += [0.0, 0.3, 0.5][rng.random_range(0..3usize)];
+                    SegmentSpeed {
+                        s_start: start,
+                        s_end: end,
+                        r_curv_mm: 1.0,
+                        r_angle_mm: 1.0,
+                        r_eff_mm: 1.0,
+                        v_max_mm_s: 10.0,
+                        v_start_mm_s: 0.0,
+                        v_end_mm_s: 0.0,
+                    }
+                })
+                .collect();
+            for _ in 0..20 {
+                let s = rng.random_range(-0.5..end + 0.5);
+                let s = if rng.random_range(0..4usize) == 0 {
+                    (s * 10.0).round() / 10.0
+                } else {
+                    s
+                };
+                let from = rng.random_range(0..n + 3);
+                let want = segs.partition_point(|g| g.s_end < s);
+                assert_eq!(
+                    segment_at(&segs, s, from),
+                    want,
+                    "case {case}, s {s}, from {from}"
+                );
+            }
+        }
+    }
 }
