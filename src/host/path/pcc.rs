@@ -32,6 +32,30 @@ pub struct CubicSegment {
     panel_arcs: [f64; MAX_QUAD_PANELS],
 }
 
+/// The parts of a segment's curvature `|P' x P''| / |P'|^3` at one
+/// parameter (`P' = dP/du`, `P'' = d2P/du2`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CurvatureParts {
+    /// `|P'|`, mm/mm (about 1: the parameter is close to arc length).
+    pub speed: f64,
+    /// `|P' x P''|`, 1/mm.
+    pub cross: f64,
+    /// `|P''|`, 1/mm.
+    pub d2: f64,
+}
+
+impl CurvatureParts {
+    /// The curvature, 1/mm (0 where `|P'|` is 0).
+    #[inline]
+    pub fn curvature(&self) -> f64 {
+        let speed = self.speed;
+        if speed == 0.0 {
+            return 0.0;
+        }
+        self.cross / (speed * speed * speed)
+    }
+}
+
 /// Most Gauss-Legendre panels per segment (more are clamped to this).
 pub const MAX_QUAD_PANELS: usize = 8;
 
@@ -99,12 +123,25 @@ impl CubicSegment {
 
     /// Curvature at local parameter `u`, 1/mm (0 where `dP/du` vanishes).
     pub fn curvature(&self, u: f64) -> f64 {
+        self.curvature_parts(u).curvature()
+    }
+
+    /// The parts the curvature at local parameter `u` is made of.
+    #[inline]
+    pub(crate) fn curvature_parts(&self, u: f64) -> CurvatureParts {
         let (d1, d2) = (self.d1(u), self.d2(u));
-        let speed = d1.norm();
-        if speed == 0.0 {
-            return 0.0;
+        CurvatureParts {
+            speed: d1.norm(),
+            cross: d1.cross(&d2).norm(),
+            d2: d2.norm(),
         }
-        d1.cross(&d2).norm() / (speed * speed * speed)
+    }
+
+    /// `|d2/du2 (dP/du x d2P/du2)| = 12 |c2 x c3|`, 1/mm^3: the second
+    /// derivative of `dP/du x d2P/du2` (a quadratic in `u`) is constant.
+    pub(crate) fn cross_d2(&self) -> f64 {
+        let [_, _, c2, c3] = self.coeffs;
+        12.0 * c2.cross(&c3).norm()
     }
 
     /// Arc length from `u = 0` to `u`, mm (composite Gauss-Legendre).

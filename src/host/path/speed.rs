@@ -32,7 +32,8 @@ pub struct SpeedOptions {
     /// Evenly spaced curvature evaluations per segment.
     pub curvature_samples: usize,
     /// Golden-section steps refining the largest curvature of a segment
-    /// (only where it can limit the speed, see `SegmentSpeed::r_curv_mm`).
+    /// (only where it can limit the speed and does not provably peak at a
+    /// sample, see `SegmentSpeed::r_curv_mm`).
     pub curvature_refine_iters: usize,
     /// Bisection steps choosing each cycle's acceleration (30 resolve it to
     /// `2 a_tan / 2^30`, about 2e-6 mm/s^2 at 1000 mm/s^2: a speed error
@@ -94,10 +95,13 @@ pub struct SegmentSpeed {
     pub s_start: f64,
     /// Arc length at the segment end, mm.
     pub s_end: f64,
-    /// Smallest curvature radius over the segment, mm: refined by
-    /// golden-section search where it can limit the speed; elsewhere (when
-    /// the whole segment provably allows the commanded speed) the smallest
-    /// of the evenly spaced samples.
+    /// Smallest curvature radius over the segment, mm, exact (to the
+    /// refinement) where it can limit the speed: the smallest of the evenly
+    /// spaced samples, refined by golden-section search unless the
+    /// curvature provably peaks at that sample. Elsewhere (when the whole
+    /// segment provably allows the commanded speed, or its curvature radius
+    /// provably exceeds `r_angle_mm`) the radius at the segment's middle or
+    /// the smallest of the samples, an upper bound of it.
     pub r_curv_mm: f64,
     /// Chord-angle radius with the next segment, mm (infinite for the last
     /// segment of an open path).
@@ -208,20 +212,25 @@ fn radii(path: &BallPath, opts: &SpeedOptions) -> Vec<(f64, f64, f64)> {
         .map(|s| s.position(s.param_len()) - s.position(0.0))
         .collect();
     let n = segs.len();
+    // Up to this curvature the commanded speed holds, 1/mm.
+    let commanded = opts.a_lat_mm_s2 / (opts.speed_mm_s * opts.speed_mm_s);
     segs.iter()
         .enumerate()
         .map(|(i, seg)| {
-            let k = max_curvature(
-                seg,
-                opts.curvature_samples,
-                opts.curvature_refine_iters,
-                opts.a_lat_mm_s2 / (opts.speed_mm_s * opts.speed_mm_s),
-            );
-            let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
             let next = if path.is_closed() { (i + 1) % n } else { i + 1 };
             let r_angle = chords.get(next).map_or(f64::INFINITY, |c| {
                 chord_angle_radius(&chords[i], c, opts.min_chord_angle_rad)
             });
+            // Up to this curvature, `R_eff` and so `v_max` do not depend on
+            // the curvature radius (1/mm; NaN `r_angle` is ignored).
+            let enough = commanded.max(1.0 / r_angle);
+            let k = max_curvature(
+                seg,
+                opts.curvature_samples,
+                opts.curvature_refine_iters,
+                enough,
+            );
+            let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
             (r_curv, r_angle, r_curv.min(r_angle))
         })
         .collect()
@@ -270,5 +279,106 @@ fn segment_speed(
         v_max_mm_s,
         v_start_mm_s: joints[i],
         v_end_mm_s: joints[i + 1],
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::radius::reference;
+    use super::*;
+    use crate::host::path::PathOptions;
+    use crate::math::{Point3, Vec3};
+    use crate::program::{load, Feature};
+
+    /// The ball-centre paths of every section curve of every part program
+    /// (machine frame), each with its commanded speed.
+    fn part_program_paths() -> Vec<(String, BallPath, f64)> {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs");
+        let mut files: Vec<_> = std::fs::read_dir(dir)
+            .unwrap()
+            .map(|e| e.unwrap().path())
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .collect();
+        files.sort();
+        let mut out = Vec::new();
+        for file in files {
+            let p = load(&file).unwrap();
+            for f in &p.features {
+                let Feature::Section {
+                    name,
+                    curves,
+                    settings,
+                    ..
+                } = f
+                else {
+                    continue;
+                };
+                for c in curves {
+                    let pts: Vec<(Point3, Vec3)> = (c.points.iter())
+                        .map(|q| {
+                            let n = p.placement.dir_to_machine(q.normal);
+                            (p.placement.to_machine(q.point), n)
+                        })
+                        .collect();
+                    let offset = p.probe.tip_radius_mm - settings.deflection_mm;
+                    let path =
+                        BallPath::from_section(&pts, c.closed, offset, PathOptions::default())
+                            .unwrap();
+                    let label = format!("{} {name}", file.display());
+                    out.push((label, path, settings.speed_mm_s));
+                }
+            }
+        }
+        out
+    }
+
+    /// `v_max` per segment as planned before the curvature maximisation was
+    /// sped up (commit e4de353), with [`reference::max_curvature`].
+    fn reference_v_max(path: &BallPath, opts: &SpeedOptions) -> Vec<f64> {
+        let segs = path.segments();
+        let chords: Vec<_> = (segs.iter())
+            .map(|s| s.position(s.param_len()) - s.position(0.0))
+            .collect();
+        let n = segs.len();
+        let enough = opts.a_lat_mm_s2 / (opts.speed_mm_s * opts.speed_mm_s);
+        (segs.iter().enumerate())
+            .map(|(i, seg)| {
+                let (s, it) = (opts.curvature_samples, opts.curvature_refine_iters);
+                let k = reference::max_curvature(seg, s, it, enough);
+                let r_curv = if k > 0.0 { 1.0 / k } else { f64::INFINITY };
+                let next = if path.is_closed() { (i + 1) % n } else { i + 1 };
+                let r_angle = chords.get(next).map_or(f64::INFINITY, |c| {
+                    chord_angle_radius(&chords[i], c, opts.min_chord_angle_rad)
+                });
+                segment_v_max(r_curv.min(r_angle), opts)
+            })
+            .collect()
+    }
+
+    /// On every section of every part program, at its speed and at 40 and
+    /// 150 mm/s, the planned speeds are exactly those of the old
+    /// maximisation: the same largest speed per segment, so the same joint
+    /// speeds.
+    #[test]
+    fn speeds_as_before_on_part_programs() {
+        let mut limited = 0;
+        for (label, path, speed) in part_program_paths() {
+            for v in [speed, 40.0, 150.0] {
+                let opts = SpeedOptions {
+                    speed_mm_s: v,
+                    ..SpeedOptions::default()
+                };
+                let old = reference_v_max(&path, &opts);
+                let new = SegmentSpeeds::new(&path, &opts).unwrap();
+                let got: Vec<f64> = new.segments().iter().map(|g| g.v_max_mm_s).collect();
+                assert_eq!(got, old, "{label} at {v} mm/s");
+                let joints = joint_speeds(&path, &old, opts.a_tan_mm_s2);
+                for (i, g) in new.segments().iter().enumerate() {
+                    assert_eq!((g.v_start_mm_s, g.v_end_mm_s), (joints[i], joints[i + 1]));
+                }
+                limited += old.iter().filter(|&&x| x < v).count();
+            }
+        }
+        assert!(limited > 500, "{limited} limited segments");
     }
 }
