@@ -14,7 +14,6 @@ use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
 use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
 use form::Form;
-use normal_jet::Second;
 pub use spec::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
 
 /// Why an `as_machined` block is invalid; `json_path` is relative to it.
@@ -168,7 +167,7 @@ impl AsMachined {
     /// `q(u, v)` with its derivatives to second order on `face` (the
     /// Newton iterations' evaluation), written into `out`. Point and first
     /// derivatives are exact; the second derivatives keep only the normal
-    /// part of the normal's curvature terms ([`Second::NormalPart`]): the
+    /// part of the normal's curvature terms ([`normal_jet::Second::NormalPart`]): the
     /// Newton gradient, and so the foot, stays exact.
     fn jet_into(&self, wp: &Workpiece, face: usize, uv: Vec2, out: &mut Jet2) {
         let Some(f) = wp.faces.get(face) else {
@@ -178,8 +177,7 @@ impl AsMachined {
         if self.face_terms(face).next().is_none() {
             f.surface.jet2_into(uv.x, uv.y, out);
         } else {
-            let terms = self.face_terms(face);
-            normal_jet::displaced_into(&f.surface, terms, uv, 2, Second::NormalPart, out);
+            normal_jet::displaced_jet_into(&f.surface, self.face_terms(face), uv, out);
         }
         if self.linear != Mat3::identity() || self.offset != Vec3::zeros() {
             *out = out.mapped(&self.linear, self.offset);
