@@ -54,9 +54,11 @@ fn displace<'a, I: Iterator<Item = &'a Form>>(
     second: Second,
     g: &mut Jet2,
 ) -> bool {
+    // The height field first: its call (and the exponentials in it) then
+    // finds no derivatives live in registers to save.
+    let jet = sum_jets(terms, g.point());
     let s = *g;
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
-    let jet = sum_jets(terms, s.point());
     let mut n = [Vec3::zeros(); 6];
     if !normal_jet(&s, sign, second, &mut n) {
         return false;
