@@ -104,6 +104,9 @@ pub struct SimulatedCmm<'a> {
     mounted_probe: Vec3,
     /// Whether `mount` turns anything (a head indexed away from zero).
     turned: bool,
+    /// The sensor's reading of the stylus at rest (a zero deflection; no
+    /// noise is drawn then), computed once.
+    rest_reading: Vec3,
     /// Reused per-cycle buffers (axis commands, scale readings).
     command: Vec<f64>,
     scales: Vec<f64>,
@@ -135,6 +138,7 @@ impl<'a> SimulatedCmm<'a> {
         };
         let rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let geometric = profile.geometric != GeometricErrors::default();
+        let rest_reading = probe.response(Vec3::zeros());
         let mut sim = SimulatedCmm {
             part,
             model,
@@ -151,6 +155,7 @@ impl<'a> SimulatedCmm<'a> {
             mount: Iso3::identity(),
             mounted_probe: Vec3::zeros(),
             turned: false,
+            rest_reading,
             command: Vec::new(),
             scales: Vec::new(),
         };
@@ -264,6 +269,8 @@ impl<'a> SimulatedCmm<'a> {
         let deflection = if self.turned {
             let turn = self.mount.rotation;
             turn * self.probe.sense(turn.inverse() * d, &mut self.rng)
+        } else if is_rest(d) {
+            self.rest_reading
         } else {
             self.probe.sense(d, &mut self.rng)
         };
@@ -276,6 +283,13 @@ impl<'a> SimulatedCmm<'a> {
             status,
         }
     }
+}
+
+/// Whether `d` is exactly the zero vector (every component `+0.0`, as
+/// [`SimulatedCmm::contact`] returns when not touching): its sensor
+/// reading is then [`TrueProbe::response`] of zero, without noise.
+fn is_rest(d: Vec3) -> bool {
+    d.iter().all(|c| c.to_bits() == 0)
 }
 
 impl SimulatedCmm<'_> {
