@@ -11,6 +11,9 @@ pub struct LinearAxes {
     directions: Vec<Option<Vec3>>,
     /// Index and home direction of each prismatic axis, chain order.
     prismatic: Vec<(usize, Vec3)>,
+    /// The same when there are exactly three (every machine so far), for
+    /// a sum without a loop.
+    three: Option<[(usize, Vec3); 3]>,
 }
 
 impl LinearAxes {
@@ -21,14 +24,16 @@ impl LinearAxes {
             .iter()
             .map(|a| (a.kind == AxisKind::Prismatic).then_some(a.home_direction))
             .collect();
-        let prismatic = directions
+        let prismatic: Vec<(usize, Vec3)> = directions
             .iter()
             .enumerate()
             .filter_map(|(i, d)| d.map(|d| (i, d)))
             .collect();
+        let three = <[(usize, Vec3); 3]>::try_from(prismatic.as_slice()).ok();
         LinearAxes {
             directions,
             prismatic,
+            three,
         }
     }
 
@@ -47,9 +52,13 @@ impl LinearAxes {
     /// the prismatic axes, in chain order); a missing value counts as 0.
     #[inline]
     pub fn xyz(&self, q: &[f64]) -> Vec3 {
-        self.prismatic.iter().fold(Vec3::zeros(), |acc, &(i, d)| {
-            acc + d * q.get(i).copied().unwrap_or(0.0)
-        })
+        let at = |i: usize| q.get(i).copied().unwrap_or(0.0);
+        if let Some([(i, a), (j, b), (k, c)]) = self.three {
+            return Vec3::zeros() + a * at(i) + b * at(j) + c * at(k);
+        }
+        self.prismatic
+            .iter()
+            .fold(Vec3::zeros(), |acc, &(i, d)| acc + d * at(i))
     }
 
     /// Axis values (chain order) whose linear axes add up to `v`, written
