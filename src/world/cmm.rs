@@ -9,7 +9,9 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
-use super::machine::{AxisKind, GeometricErrors, MachineModel, MachineProfile, Servo, ServoError};
+use super::machine::{
+    GeometricErrors, LinearAxes, MachineModel, MachineProfile, Servo, ServoError,
+};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
 use crate::geometry::{ProjectionError, ProjectionOptions};
@@ -76,6 +78,8 @@ pub enum SimError {
 pub struct SimulatedCmm<'a> {
     part: TruePart<'a>,
     model: MachineModel,
+    /// The model's linear axes, resolved once for the per-cycle sums.
+    linear: LinearAxes,
     profile: MachineProfile,
     probe: TrueProbe,
     servo: Servo,
@@ -100,6 +104,9 @@ pub struct SimulatedCmm<'a> {
     mounted_probe: Vec3,
     /// Whether `mount` turns anything (a head indexed away from zero).
     turned: bool,
+    /// The sensor's reading of the stylus at rest (a zero deflection; no
+    /// noise is drawn then), computed once.
+    rest_reading: Vec3,
     /// Reused per-cycle buffers (axis commands, scale readings).
     command: Vec<f64>,
     scales: Vec<f64>,
@@ -119,7 +126,9 @@ impl<'a> SimulatedCmm<'a> {
         if n < 3 {
             return Err(SimError::Axes(n));
         }
-        let q = to_axes(&model, start.coords);
+        let linear = LinearAxes::new(&model);
+        let mut q = Vec::new();
+        linear.to_axes_into(start.coords, &mut q);
         let servo = Servo::new(&model, &profile, &q)?;
         let last = Readings {
             time_s: 0.0,
@@ -129,9 +138,11 @@ impl<'a> SimulatedCmm<'a> {
         };
         let rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let geometric = profile.geometric != GeometricErrors::default();
+        let rest_reading = probe.response(Vec3::zeros());
         let mut sim = SimulatedCmm {
             part,
             model,
+            linear,
             profile,
             probe,
             servo,
@@ -144,6 +155,7 @@ impl<'a> SimulatedCmm<'a> {
             mount: Iso3::identity(),
             mounted_probe: Vec3::zeros(),
             turned: false,
+            rest_reading,
             command: Vec::new(),
             scales: Vec::new(),
         };
@@ -158,14 +170,12 @@ impl<'a> SimulatedCmm<'a> {
     /// geometric error terms acting through the effective probe vector
     /// (spindle reference point `B` to the ball, seed 003).
     fn ball_centre(&self, q: &[f64]) -> Point3 {
-        let xyz = self.model.linear_xyz(q).unwrap_or([0.0; 3]);
-        let ball = Point3::from(xyz) + self.mounted_probe;
+        let xyz = Point3::from(self.linear.xyz(q));
+        let ball = xyz + self.mounted_probe;
         if !self.geometric {
             return ball;
         }
-        ball + self
-            .profile
-            .geometric_error(xyz, &(ball - Point3::from(xyz)))
+        ball + self.profile.geometric_error(xyz.into(), &(ball - xyz))
     }
 
     /// Pose of the probe mount (URDF tip link) for axis positions `q`.
@@ -223,11 +233,12 @@ impl<'a> SimulatedCmm<'a> {
     /// a wrong local foot and is redone cold.
     fn project(&mut self, y: Point3) -> Result<TrueProjection, ProjectionError> {
         let (am, wp) = (self.part.as_machined, self.part.workpiece);
-        if let Some(mut warm) = self.hint {
-            let tp = am.closest_point_along(wp, y, &mut warm, &self.contact)?;
+        // The warm start moves to the new foot in place (on an error the
+        // caller drops it).
+        if let Some(warm) = self.hint.as_mut() {
+            let tp = am.closest_point_along(wp, y, warm, &self.contact)?;
             let limit = WRONG_FOOT_DEFLECTIONS * self.probe.max_deflection_mm;
             if self.probe.tip_radius_mm - tp.signed_distance <= limit {
-                self.hint = Some(warm);
                 return Ok(tp);
             }
         }
@@ -258,11 +269,13 @@ impl<'a> SimulatedCmm<'a> {
         let deflection = if self.turned {
             let turn = self.mount.rotation;
             turn * self.probe.sense(turn.inverse() * d, &mut self.rng)
+        } else if is_rest(d) {
+            self.rest_reading
         } else {
             self.probe.sense(d, &mut self.rng)
         };
         let time_s = self.servo.time_s();
-        let xyz = Point3::from(self.model.linear_xyz(&self.scales).unwrap_or([0.0; 3]));
+        let xyz = Point3::from(self.linear.xyz(&self.scales));
         Readings {
             time_s,
             scales: xyz,
@@ -272,24 +285,11 @@ impl<'a> SimulatedCmm<'a> {
     }
 }
 
-/// Axis values (chain order) whose linear axes add up to `v` (x, y, z);
-/// rotary axes stay at zero.
-fn to_axes(model: &MachineModel, v: Vec3) -> Vec<f64> {
-    let mut out = Vec::new();
-    to_axes_into(model, v, &mut out);
-    out
-}
-
-/// [`to_axes`] into a reused buffer.
-fn to_axes_into(model: &MachineModel, v: Vec3, out: &mut Vec<f64>) {
-    out.clear();
-    out.extend(model.axes().iter().map(|a| {
-        if a.kind == AxisKind::Prismatic {
-            a.home_direction.dot(&v)
-        } else {
-            0.0
-        }
-    }));
+/// Whether `d` is exactly the zero vector (every component `+0.0`, as
+/// [`SimulatedCmm::contact`] returns when not touching): its sensor
+/// reading is then [`TrueProbe::response`] of zero, without noise.
+fn is_rest(d: Vec3) -> bool {
+    d.iter().all(|c| c.to_bits() == 0)
 }
 
 impl SimulatedCmm<'_> {
@@ -363,7 +363,7 @@ impl Cmm for SimulatedCmm<'_> {
     }
 
     fn step(&mut self, velocity: Vec3) -> Readings {
-        to_axes_into(&self.model, velocity, &mut self.command);
+        self.linear.to_axes_into(velocity, &mut self.command);
         let status = match self.servo.advance(&self.command) {
             Ok(()) => MachineStatus::Ok,
             Err(ServoError::AxisLimit { axis, position, .. }) => {
@@ -374,11 +374,7 @@ impl Cmm for SimulatedCmm<'_> {
                 position: f64::NAN,
             },
         };
-        let actual = Vec3::from(
-            self.model
-                .linear_xyz(self.servo.velocity())
-                .unwrap_or([0.0; 3]),
-        );
+        let actual = self.linear.xyz(self.servo.velocity());
         self.last = self.observe(actual, status);
         self.last.clone()
     }

@@ -85,9 +85,17 @@ impl TrueProbe {
         n * depth + drag
     }
 
-    /// The sensor reading of a true deflection `d`.
+    /// The sensor's noise-free response to a true deflection `d` (gain,
+    /// cross-talk and nonlinearity).
+    #[inline]
+    pub fn response(&self, d: Vec3) -> Vec3 {
+        self.gain * d + d * (self.cubic_per_mm2 * d.norm_squared())
+    }
+
+    /// The sensor reading of a true deflection `d`: [`Self::response`]
+    /// plus noise (none drawn for a zero deflection).
     pub fn sense(&self, d: Vec3, rng: &mut impl Rng) -> Vec3 {
-        let mut reading = self.gain * d + d * (self.cubic_per_mm2 * d.norm_squared());
+        let mut reading = self.response(d);
         if self.noise_mm > 0.0 && d.norm_squared() > 0.0 {
             reading += Vec3::new(
                 gaussian(rng, self.noise_mm),

@@ -5,17 +5,20 @@
 //! (far below 0.1 um), using exact second derivatives of `q` (which need the
 //! third derivatives of the NURBS).
 
+mod affine;
 pub mod form;
 mod normal_jet;
 pub mod spec;
+mod validate;
 
 use crate::geometry::projection::{minimise_with, Bounds, Foot, WarmStart};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
-use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec2, Vec3};
+use crate::math::{Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
+use affine::Affine;
 use form::Form;
-use normal_jet::Second;
 pub use spec::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
+use validate::{err, faces_of, form_of, transform};
 
 /// Why an `as_machined` block is invalid; `json_path` is relative to it.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -34,8 +37,8 @@ const NORMAL_CONDITION: f64 = 1e-6;
 /// The true (simulated) part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AsMachined {
-    linear: Mat3,
-    offset: Vec3,
+    /// The transform `T`.
+    affine: Affine,
     /// Form terms with the faces they act on (`None` = all).
     terms: Vec<(Form, Option<Vec<usize>>)>,
     /// Roughness standard deviation, mm.
@@ -63,8 +66,7 @@ impl AsMachined {
     /// The nominal part itself (no transform, no form, no roughness).
     pub fn nominal() -> AsMachined {
         AsMachined {
-            linear: Mat3::identity(),
-            offset: Vec3::zeros(),
+            affine: Affine::identity(),
             terms: Vec::new(),
             roughness_mm: 0.0,
         }
@@ -90,8 +92,7 @@ impl AsMachined {
             ));
         }
         Ok(AsMachined {
-            linear,
-            offset,
+            affine: Affine::new(linear, offset),
             terms,
             roughness_mm: r * 1e-3,
         })
@@ -108,12 +109,13 @@ impl AsMachined {
             let k = 0.9 + 0.2 * rng.random::<f64>();
             form.scale_size(k);
         }
-        out.offset += Vec3::new(
+        let delta = Vec3::new(
             rng.random::<f64>(),
             rng.random::<f64>(),
             rng.random::<f64>(),
         )
         .map(|c| (c - 0.5) * 0.04);
+        out.affine = self.affine.moved(delta);
         out
     }
 
@@ -125,7 +127,7 @@ impl AsMachined {
 
     /// Maps a nominal point to machine... to the true part: `T(x)`.
     pub fn transform_point(&self, x: Point3) -> Point3 {
-        Point3::from(self.linear * x.coords + self.offset)
+        self.affine.apply(x)
     }
 
     /// Sum of the form terms acting on `face` at the nominal point `p`, mm.
@@ -168,7 +170,7 @@ impl AsMachined {
     /// `q(u, v)` with its derivatives to second order on `face` (the
     /// Newton iterations' evaluation), written into `out`. Point and first
     /// derivatives are exact; the second derivatives keep only the normal
-    /// part of the normal's curvature terms ([`Second::NormalPart`]): the
+    /// part of the normal's curvature terms ([`normal_jet::Second::NormalPart`]): the
     /// Newton gradient, and so the foot, stays exact.
     fn jet_into(&self, wp: &Workpiece, face: usize, uv: Vec2, out: &mut Jet2) {
         let Some(f) = wp.faces.get(face) else {
@@ -178,21 +180,20 @@ impl AsMachined {
         if self.face_terms(face).next().is_none() {
             f.surface.jet2_into(uv.x, uv.y, out);
         } else {
-            let terms = self.face_terms(face);
-            normal_jet::displaced_into(&f.surface, terms, uv, 2, Second::NormalPart, out);
+            normal_jet::displaced_jet_into(&f.surface, self.face_terms(face), uv, out);
         }
-        if self.linear != Mat3::identity() || self.offset != Vec3::zeros() {
-            *out = out.mapped(&self.linear, self.offset);
+        if !self.affine.is_identity() {
+            *out = out.mapped(self.affine.linear(), self.affine.offset());
         }
     }
 
     fn apply_linear(&self, mut g: SurfaceDerivs) -> SurfaceDerivs {
         for row in g.d.iter_mut() {
             for v in row.iter_mut() {
-                *v = self.linear * *v;
+                *v = self.affine.linear() * *v;
             }
         }
-        g.d[0][0] += self.offset;
+        g.d[0][0] += self.affine.offset();
         g
     }
 
@@ -280,12 +281,11 @@ impl AsMachined {
 
     /// Largest factor by which `T` stretches lengths.
     fn stretch(&self) -> f64 {
-        self.linear.singular_values().max().max(1.0)
+        self.affine.stretch()
     }
 
     fn inverse_point(&self, x: Point3) -> Point3 {
-        let inv = self.linear.try_inverse().unwrap_or_else(Mat3::identity);
-        Point3::from(inv * (x.coords - self.offset))
+        self.affine.inverse_point(x)
     }
 
     fn newton(
@@ -320,10 +320,8 @@ impl AsMachined {
         } else {
             wp.faces.get(face).map_or(Vec3::z(), |f| {
                 let nominal = f.surface.normal(foot.uv.x, foot.uv.y);
-                let inv_t = self
-                    .linear
-                    .try_inverse()
-                    .map_or(self.linear, |m| m.transpose());
+                let linear = self.affine.linear();
+                let inv_t = linear.try_inverse().map_or(*linear, |m| m.transpose());
                 (inv_t * nominal).try_normalize(1e-300).unwrap_or(nominal)
             })
         };
@@ -408,100 +406,4 @@ fn on_boundary(wp: &Workpiece, face: usize, uv: Vec2) -> bool {
         let ((u0, u1), (v0, v1)) = f.surface.domain();
         uv.x <= u0 || uv.x >= u1 || uv.y <= v0 || uv.y >= v1
     })
-}
-
-fn err(path: impl Into<String>, reason: impl Into<String>) -> AsMachinedError {
-    AsMachinedError {
-        json_path: path.into(),
-        reason: reason.into(),
-    }
-}
-
-fn finite3(v: [f64; 3], path: &str) -> Result<Vec3, AsMachinedError> {
-    if v.iter().all(|c| c.is_finite()) {
-        Ok(Vec3::from(v))
-    } else {
-        Err(err(path, format!("{v:?} must be finite")))
-    }
-}
-
-fn transform(t: &TransformSpec) -> Result<(Mat3, Vec3), AsMachinedError> {
-    let tr = finite3(t.translate_mm, "transform.translate_mm")?;
-    let rot = rotation_xyz_deg(finite3(t.rotate_deg, "transform.rotate_deg")?.into());
-    let c = finite3(t.about_mm, "transform.about_mm")?;
-    let s = t.scale.map_or([1.0; 3], Scale::factors);
-    if !s.iter().all(|k| k.is_finite() && *k > 0.0) {
-        return Err(err(
-            "transform.scale",
-            format!("{s:?}: scale factors must be finite and positive"),
-        ));
-    }
-    let linear = rot * Mat3::from_diagonal(&Vec3::from(s));
-    Ok((linear, c + tr - linear * c))
-}
-
-fn positive(v: f64, path: String) -> Result<f64, AsMachinedError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(err(path, format!("{v} must be finite and positive")))
-    }
-}
-
-fn finite(v: f64, path: String) -> Result<f64, AsMachinedError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(err(path, format!("{v} must be finite")))
-    }
-}
-
-fn form_of(t: &FormTerm, i: usize) -> Result<Form, AsMachinedError> {
-    let at = |k: &str| format!("form[{i}].{k}");
-    Ok(match t {
-        FormTerm::Offset { mm, .. } => Form::Offset(finite(*mm, at("mm"))?),
-        FormTerm::Bump {
-            center_mm,
-            radius_mm,
-            height_mm,
-            ..
-        } => Form::Bump {
-            center: Point3::from(finite3(*center_mm, &at("center_mm"))?),
-            radius: positive(*radius_mm, at("radius_mm"))?,
-            height: finite(*height_mm, at("height_mm"))?,
-        },
-        FormTerm::Waviness {
-            amplitude_mm,
-            wavelength_mm,
-            direction,
-            phase_deg,
-            ..
-        } => Form::Waviness {
-            amplitude: finite(*amplitude_mm, at("amplitude_mm"))?,
-            wavenumber: std::f64::consts::TAU / positive(*wavelength_mm, at("wavelength_mm"))?,
-            direction: finite3(*direction, &at("direction"))?
-                .try_normalize(1e-12)
-                .ok_or_else(|| err(at("direction"), "direction must not be the zero vector"))?,
-            phase: finite(*phase_deg, at("phase_deg"))?.to_radians(),
-        },
-    })
-}
-
-fn faces_of(t: &FormTerm, i: usize, wp: &Workpiece) -> Result<Option<Vec<usize>>, AsMachinedError> {
-    let Some(names) = t.surfaces() else {
-        return Ok(None);
-    };
-    names
-        .iter()
-        .enumerate()
-        .map(|(k, n)| {
-            wp.face_index(n).ok_or_else(|| {
-                err(
-                    format!("form[{i}].surfaces[{k}]"),
-                    format!("no surface named '{n}' in the workpiece"),
-                )
-            })
-        })
-        .collect::<Result<Vec<_>, _>>()
-        .map(Some)
 }

@@ -1,59 +1,73 @@
 //! The displaced surface `G = S + h(S) n` and its derivatives to second
 //! order, from the NURBS derivatives to third order.
 use super::form::{sum_jets, Form, Jet};
-use crate::geometry::{Jet2, NurbsSurface, SurfaceDerivs};
+use crate::geometry::{Jet2, NurbsSurface};
 use crate::math::{Vec2, Vec3};
 
 /// Unit normal with its first and second parameter derivatives:
 /// `[n, n_u, n_v, n_uu, n_uv, n_vv]`.
 type NormalJet = [Vec3; 6];
 
-/// `G(u, v)` and its derivatives to order `nd` (values 1..3 give order 2).
+/// `G(u, v)` and its derivatives to order `nd` (values 1..3 give order 2),
+/// with the normal's second derivatives exact.
 pub(super) fn displaced<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface: &NurbsSurface,
     terms: I,
     uv: Vec2,
     nd: usize,
 ) -> Jet2 {
-    let mut g = Jet2 {
-        d: [Vec3::zeros(); 6],
-    };
-    displaced_into(surface, terms, uv, nd, Second::Exact, &mut g);
+    let order = if nd == 0 { 1 } else { 3 };
+    let s = surface.derivs(uv.x, uv.y, order);
+    let t = &s.d;
+    let third = [t[3][0], t[2][1], t[1][2], t[0][3]];
+    let mut g = Jet2::from(&s);
+    let second = Second::Exact(&third);
+    if !displace(surface, terms.clone(), nd, second, &mut g) {
+        g = displaced_degenerate(surface, terms, uv, nd);
+    }
     g
 }
 
-/// [`displaced`] written into `g` (the per-cycle path copies no tables),
-/// with the normal's second derivatives as `second` says.
-pub(super) fn displaced_into<'a, I: Iterator<Item = &'a Form> + Clone>(
+/// `G(u, v)` with its derivatives to second order written into `g`, the
+/// normal's second derivatives as [`Second::NormalPart`] gives them: only
+/// the surface's second-order jet is evaluated (no derivative table).
+pub(super) fn displaced_jet_into<'a, I: Iterator<Item = &'a Form> + Clone>(
     surface: &NurbsSurface,
     terms: I,
     uv: Vec2,
+    g: &mut Jet2,
+) {
+    surface.jet2_into(uv.x, uv.y, g);
+    if !displace(surface, terms.clone(), 2, Second::NormalPart, g) {
+        *g = displaced_degenerate(surface, terms, uv, 2);
+    }
+}
+
+/// Turns the surface jet `g` (`S` and its derivatives) into that of the
+/// displaced surface in place; false (and `g` untouched) where the normal
+/// is degenerate.
+#[inline(always)]
+fn displace<'a, I: Iterator<Item = &'a Form>>(
+    surface: &NurbsSurface,
+    terms: I,
     nd: usize,
     second: Second,
     g: &mut Jet2,
-) {
-    let mut s = SurfaceDerivs {
-        d: [[Vec3::zeros(); 4]; 4],
-    };
-    let order = match (nd, second) {
-        (0, _) => 1,
-        (_, Second::Exact) => 3,
-        (_, Second::NormalPart) => 2,
-    };
-    surface.derivs_into(uv.x, uv.y, order, &mut s);
+) -> bool {
+    // The height field first: its call (and the exponentials in it) then
+    // finds no derivatives live in registers to save.
+    let jet = sum_jets(terms, g.point());
+    let s = *g;
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
-    let jet = sum_jets(terms.clone(), s.point());
     let mut n = [Vec3::zeros(); 6];
     if !normal_jet(&s, sign, second, &mut n) {
-        *g = displaced_degenerate(surface, terms, uv, nd);
-        return;
+        return false;
     }
-    let t = &s.d;
-    g.d = [t[0][0], t[1][0], t[0][1], t[2][0], t[1][1], t[0][2]];
     g.d[0] += n[0] * jet.h;
     if nd > 0 {
         second_order(g, &s, &n, &jet);
     }
+    true
 }
 
 /// At a degenerate normal (pole) the displacement uses the limit normal and
@@ -69,18 +83,24 @@ fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
     let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
     let nudged = uv + (centre - uv) * 1e-9;
     let s0 = surface.derivs(uv.x, uv.y, 0);
-    let inner = surface.derivs(nudged.x, nudged.y, 3);
+    let table = surface.derivs(nudged.x, nudged.y, 3);
+    let t = &table.d;
+    let third = [t[3][0], t[2][1], t[1][2], t[0][3]];
+    let inner = Jet2::from(&table);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
-    let mut g = Jet2::from(&inner);
+    let mut g = inner;
     let mut nj = [Vec3::zeros(); 6];
-    if normal_jet(&inner, sign, Second::Exact, &mut nj) && nd > 0 {
+    if normal_jet(&inner, sign, Second::Exact(&third), &mut nj) && nd > 0 {
         second_order(&mut g, &inner, &nj, &sum_jets(terms.clone(), inner.point()));
     }
     g.d[0] = s0.d[0][0] + n * sum_jets(terms, s0.point()).h;
     g
 }
 
-fn second_order(g: &mut Jet2, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
+/// The displaced surface's first and second derivatives from the surface
+/// jet `s`, the normal jet `n` and the height field's jet.
+#[inline(always)]
+fn second_order(g: &mut Jet2, s: &Jet2, n: &NormalJet, jet: &Jet) {
     let (su, sv) = (s.su(), s.sv());
     let hu = jet.grad.dot(&su);
     let hv = jet.grad.dot(&sv);
@@ -96,10 +116,11 @@ fn second_order(g: &mut Jet2, s: &SurfaceDerivs, n: &NormalJet, jet: &Jet) {
 }
 
 /// How the normal's second derivatives `n_uu, n_uv, n_vv` are computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(super) enum Second {
-    /// Exactly (needs the surface's third derivatives).
-    Exact,
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(super) enum Second<'t> {
+    /// Exactly, from the surface's third derivatives
+    /// `[Suuu, Suuv, Suvv, Svvv]`.
+    Exact(&'t [Vec3; 4]),
     /// Only their component along `n` (`n . n_ab = -n_a . n_b`), from the
     /// surface's second derivatives. The tangential part dropped enters
     /// the distance Hessian only through the tangential part of the
@@ -111,42 +132,88 @@ pub(super) enum Second {
 
 /// Writes the unit normal `sign * N / |N|`, `N = Su x Sv`, and its
 /// derivatives into `out`; false (and `out` untouched) where `N` vanishes.
-fn normal_jet(s: &SurfaceDerivs, sign: f64, second: Second, out: &mut NormalJet) -> bool {
-    let d = &s.d;
-    let (su, sv) = (d[1][0], d[0][1]);
+#[inline(always)]
+fn normal_jet(s: &Jet2, sign: f64, second: Second, out: &mut NormalJet) -> bool {
+    let [_, su, sv, suu, suv, svv] = s.d;
     let big_n = su.cross(&sv);
     let m = big_n.norm();
     if m <= 1e-14 * (su.norm_squared() + sv.norm_squared()) || m == 0.0 {
         return false;
     }
-    let nu = d[2][0].cross(&sv) + su.cross(&d[1][1]);
-    let nv = d[1][1].cross(&sv) + su.cross(&d[0][2]);
+    let nu = suu.cross(&sv) + su.cross(&suv);
+    let nv = suv.cross(&sv) + su.cross(&svv);
     let n = big_n / m;
     let (ma, mb) = (n.dot(&nu), n.dot(&nv));
     let n_u = (nu - n * ma) / m;
     let n_v = (nv - n * mb) / m;
-    if second == Second::NormalPart {
+    let [n_uu, n_uv, n_vv] = match second {
         // n . n_ab = -n_a . n_b for a unit normal: the part of the second
         // derivatives along n, from first derivatives only.
-        let normal_part = [-n_u.norm_squared(), -n_u.dot(&n_v), -n_v.norm_squared()];
-        let [n_uu, n_uv, n_vv] = normal_part.map(|k| n * k);
-        for (slot, v) in out.iter_mut().zip([n, n_u, n_v, n_uu, n_uv, n_vv]) {
-            *slot = v * sign;
+        Second::NormalPart => {
+            [-n_u.norm_squared(), -n_u.dot(&n_v), -n_v.norm_squared()].map(|k| n * k)
         }
-        return true;
-    }
-    let nuu = d[3][0].cross(&sv) + d[2][0].cross(&d[1][1]) * 2.0 + su.cross(&d[2][1]);
-    let nuv = d[2][1].cross(&sv) + d[2][0].cross(&d[0][2]) + su.cross(&d[1][2]);
-    let nvv = d[1][2].cross(&sv) + d[1][1].cross(&d[0][2]) * 2.0 + su.cross(&d[0][3]);
-    let second_of = |nab: Vec3, n_b: Vec3, na: Vec3, n_a: Vec3, m_a: f64, m_b: f64| {
-        let m_ab = n_b.dot(&na) + n.dot(&nab);
-        (nab - n_b * m_a - n * m_ab) / m - n_a * (m_b / m)
+        Second::Exact(third) => {
+            let first = FirstOrder {
+                n,
+                m,
+                nu,
+                nv,
+                ma,
+                mb,
+                n_u,
+                n_v,
+            };
+            exact_second(s, third, &first)
+        }
     };
-    let n_uu = second_of(nuu, n_u, nu, n_u, ma, ma);
-    let n_uv = second_of(nuv, n_v, nu, n_u, ma, mb);
-    let n_vv = second_of(nvv, n_v, nv, n_v, mb, mb);
     for (slot, v) in out.iter_mut().zip([n, n_u, n_v, n_uu, n_uv, n_vv]) {
         *slot = v * sign;
     }
     true
+}
+
+/// The unit normal's first-order terms that its exact second derivatives
+/// build on (`N = Su x Sv`, `m = |N|`, `n = N / m`).
+#[derive(Clone, Copy)]
+struct FirstOrder {
+    n: Vec3,
+    m: f64,
+    /// `N_u`, `N_v`.
+    nu: Vec3,
+    nv: Vec3,
+    /// `m_u`, `m_v` (`n . N_u`, `n . N_v`).
+    ma: f64,
+    mb: f64,
+    /// `n_u`, `n_v`.
+    n_u: Vec3,
+    n_v: Vec3,
+}
+
+/// `[n_uu, n_uv, n_vv]` of the unscaled unit normal, exactly, from the
+/// surface's third derivatives `[Suuu, Suuv, Suvv, Svvv]`.
+fn exact_second(s: &Jet2, third: &[Vec3; 4], f: &FirstOrder) -> [Vec3; 3] {
+    let [_, su, sv, suu, suv, svv] = s.d;
+    let [suuu, suuv, suvv, svvv] = *third;
+    let FirstOrder {
+        n,
+        m,
+        nu,
+        nv,
+        ma,
+        mb,
+        n_u,
+        n_v,
+    } = *f;
+    let nuu = suuu.cross(&sv) + suu.cross(&suv) * 2.0 + su.cross(&suuv);
+    let nuv = suuv.cross(&sv) + suu.cross(&svv) + su.cross(&suvv);
+    let nvv = suvv.cross(&sv) + suv.cross(&svv) * 2.0 + su.cross(&svvv);
+    let second_of = |nab: Vec3, n_b: Vec3, na: Vec3, n_a: Vec3, m_a: f64, m_b: f64| {
+        let m_ab = n_b.dot(&na) + n.dot(&nab);
+        (nab - n_b * m_a - n * m_ab) / m - n_a * (m_b / m)
+    };
+    [
+        second_of(nuu, n_u, nu, n_u, ma, ma),
+        second_of(nuv, n_v, nu, n_u, ma, mb),
+        second_of(nvv, n_v, nv, n_v, mb, mb),
+    ]
 }

@@ -361,11 +361,14 @@ impl Servo {
         out
     }
 
-    /// [`Self::read_scales`] into a reused buffer (cleared first).
+    /// [`Self::read_scales`] into a reused buffer (overwritten with one
+    /// value per axis).
     pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
-        out.clear();
+        out.resize(self.axes.len(), 0.0);
         let pairs = self.axes.iter().zip(&self.position);
-        out.extend(pairs.map(|(axis, p)| axis.read(*p, rng)));
+        for (o, (axis, p)) in out.iter_mut().zip(pairs) {
+            *o = axis.read(*p, rng);
+        }
     }
 
     /// The first axis outside its travel, as an error.

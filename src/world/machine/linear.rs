@@ -1,0 +1,99 @@
+//! The linear axes of a chain resolved once for the per-cycle simulation:
+//! machine X, Y, Z from axis values and axis values from X, Y, Z, without
+//! walking the axis metadata every control cycle.
+use super::model::{AxisKind, MachineModel};
+use crate::math::Vec3;
+
+/// Home directions of a chain's axes, resolved from a [`MachineModel`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinearAxes {
+    /// Per axis (chain order): its home direction when it is prismatic.
+    directions: Vec<Option<Vec3>>,
+    /// Index and home direction of each prismatic axis, chain order.
+    prismatic: Vec<(usize, Vec3)>,
+    /// The same when there are exactly three (every machine so far), for
+    /// a sum without a loop.
+    three: Option<[(usize, Vec3); 3]>,
+}
+
+impl LinearAxes {
+    /// The linear axes of `model`.
+    pub fn new(model: &MachineModel) -> LinearAxes {
+        let directions: Vec<Option<Vec3>> = model
+            .axes()
+            .iter()
+            .map(|a| (a.kind == AxisKind::Prismatic).then_some(a.home_direction))
+            .collect();
+        let prismatic: Vec<(usize, Vec3)> = directions
+            .iter()
+            .enumerate()
+            .filter_map(|(i, d)| d.map(|d| (i, d)))
+            .collect();
+        let three = <[(usize, Vec3); 3]>::try_from(prismatic.as_slice()).ok();
+        LinearAxes {
+            directions,
+            prismatic,
+            three,
+        }
+    }
+
+    /// Number of axes in the chain (linear and rotary).
+    pub fn len(&self) -> usize {
+        self.directions.len()
+    }
+
+    /// Whether the chain has no axes.
+    pub fn is_empty(&self) -> bool {
+        self.directions.is_empty()
+    }
+
+    /// Nominal X, Y, Z (mm) of axis values `q` (chain order): the same sum
+    /// as [`MachineModel::linear_xyz`] (`sum q_i * home_direction_i` over
+    /// the prismatic axes, in chain order); a missing value counts as 0.
+    #[inline]
+    pub fn xyz(&self, q: &[f64]) -> Vec3 {
+        let at = |i: usize| q.get(i).copied().unwrap_or(0.0);
+        if let Some([(i, a), (j, b), (k, c)]) = self.three {
+            return Vec3::zeros() + a * at(i) + b * at(j) + c * at(k);
+        }
+        self.prismatic
+            .iter()
+            .fold(Vec3::zeros(), |acc, &(i, d)| acc + d * at(i))
+    }
+
+    /// Axis values (chain order) whose linear axes add up to `v`, written
+    /// over `out` (one value per axis); rotary axes get zero.
+    #[inline]
+    pub fn to_axes_into(&self, v: Vec3, out: &mut Vec<f64>) {
+        out.resize(self.directions.len(), 0.0);
+        for (o, d) in out.iter_mut().zip(&self.directions) {
+            *o = d.map_or(0.0, |d| d.dot(&v));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Same values, bit for bit, as the model's own conversion on the
+    /// default bridge.
+    #[test]
+    fn matches_the_model() {
+        let model = MachineModel::default_bridge();
+        let linear = LinearAxes::new(&model);
+        assert_eq!(linear.len(), model.axes().len());
+        let q = [123.456, -0.0, 987.125e-3];
+        let expected = model.linear_xyz(&q).map(Vec3::from).ok();
+        assert_eq!(Some(linear.xyz(&q)), expected);
+        let v = Vec3::new(1.5, -2.25, 3.0);
+        let mut out = vec![7.0; 5];
+        linear.to_axes_into(v, &mut out);
+        let by_model: Vec<f64> = model
+            .axes()
+            .iter()
+            .map(|a| a.home_direction.dot(&v))
+            .collect();
+        assert_eq!(out, by_model);
+    }
+}
