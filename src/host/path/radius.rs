@@ -350,7 +350,6 @@ fn golden_max(f: impl Fn(f64) -> f64, mut lo: f64, mut hi: f64, iters: usize) ->
 
 /// The curvature maximisation before it was sped up (commit e4de353),
 /// verbatim: the reference the tests compare [`max_curvature`] with.
-
 #[cfg(test)]
 pub(super) mod reference;
 

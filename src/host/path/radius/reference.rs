@@ -1,5 +1,3 @@
-//! The curvature maximisation as it was before the bounds and the
-//! monotonicity proof (commit e4de353), kept as the tests' reference.
 use super::{CubicSegment, SKIP_MARGIN};
 
 /// Largest curvature over a segment, 1/mm, as before: the largest of
