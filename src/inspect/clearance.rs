@@ -1,17 +1,39 @@
 //! Free space around the nominal part for direct moves between
 //! measurements ([`crate::host::modes::direct_move`]).
 //!
-//! A straight move is clear when every sampled position of the ball and of
-//! the stylus shaft along it keeps the ball radius plus a margin from every
-//! nominal surface. The move's two ends lie outside the material, so the
-//! line can only enter it by crossing a surface, which the samples would
-//! come too close to (their spacing is below the required distance). Only
-//! the design data's surfaces are obstacles: fixtures and faces missing
-//! from the design data are not known to the software.
+//! A straight move sweeps the stylus (ball centre to probe mount) over a
+//! parallelogram, one side of which is the ball centre's path. The move is
+//! clear when that area keeps the ball radius plus a margin (`need`) from
+//! every nominal surface. The area is cut in halves while its pieces may
+//! come that close:
+//! - a piece that every face's leaf boxes keep `need` away (by the
+//!   separating-axis test of [`crate::geometry::ProjectionIndex::leaf_near`])
+//!   is clear as a whole;
+//! - else its sample point is looked at (on the area's rim, where the
+//!   probe comes closest, if the piece reaches it: the ball's path and the
+//!   stylus at the start and at the end of the move; else its centre): the
+//!   distance to the nearest leaf box, exact (a projection) once that is
+//!   below `need`. A
+//!   sample closer than `need` touches (so does a failed projection); one
+//!   farther than `need` plus the piece's reach (sample to farthest corner)
+//!   clears the piece (sphere tracing); a piece whose reach is at most
+//!   `step_mm / sqrt(2)` is judged by its sample alone.
+//!
+//! A half's sample keeps at least its parent's distance less the distance
+//! between the two samples, which often spares looking at it. So every
+//! sample of a move called clear keeps `need`, and every point of the area
+//! keeps `need - step_mm / sqrt(2)` at least: the move's ends lie outside
+//! the material, so a surface crossing the area would come too close to a
+//! sample. Only the design data's surfaces are obstacles: fixtures and
+//! faces missing from the design data are not known to the software.
 use crate::host::modes::FreeSpace;
 use crate::math::{Point3, Vec3};
 use crate::program::Pose;
-use crate::workpiece::Workpiece;
+use crate::workpiece::{FootHint, Workpiece};
+
+/// Smallest sampling step the check accepts, mm (a floor for a zero or
+/// negative `step_mm`, which would never stop cutting).
+const MIN_STEP_MM: f64 = 1e-3;
 
 /// Margins of the direct-move check.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -20,8 +42,12 @@ pub struct ClearanceOptions {
     /// surfaces, mm. Covers the as-machined part's deviation from the
     /// design data (the trajectory tolerance and more).
     pub margin_mm: f64,
-    /// Spacing of the samples along the move and along the stylus, mm
-    /// (must stay below the ball radius plus the margin).
+    /// Sampling step over the swept area, mm: the pieces that the surfaces'
+    /// boxes do not clear are cut until all their points lie within
+    /// `step_mm / sqrt(2)` of their samples (half the diagonal of a square
+    /// of side `step_mm`), then judged by the samples, so that a point of a
+    /// move called clear may come that much closer than the ball radius
+    /// plus the margin (`step_mm` must stay below that distance).
     pub step_mm: f64,
 }
 
@@ -48,127 +74,335 @@ pub struct PartClearance<'w> {
     pub opts: ClearanceOptions,
 }
 
-impl PartClearance<'_> {
-    /// A lower bound of the distance from the ball centre at `p` (machine)
-    /// to the part: the distance to the nearest leaf box of the faces'
-    /// search trees (each face's search starts from its nearest leaf of
-    /// the previous sample, `hints`), exact (a projection) once that comes
-    /// closer than `need`; projection failures count as touching (0).
-    fn distance_bound(&self, p: Point3, need: f64, hints: &mut [Option<usize>]) -> f64 {
-        let q = self.pose.to_part(p);
-        let bound = self
-            .workpiece
-            .faces
-            .iter()
-            .zip(hints.iter_mut())
-            .map(|(f, hint)| {
-                let (d, nearest) = f.index.box_distance_near(q, *hint);
-                *hint = nearest;
-                d
-            })
-            .fold(f64::INFINITY, f64::min);
-        if bound >= need {
-            return bound;
+/// A piece of the area the stylus sweeps: the points `origin + s a + t b`
+/// for `s, t` in `[0, 1]`, part coordinates, mm (`a` along the move, `b`
+/// along the stylus).
+#[derive(Debug, Clone, Copy)]
+struct Piece {
+    origin: Point3,
+    a: Vec3,
+    b: Vec3,
+    /// Which of its sides lie on the area's sides where the probe comes
+    /// closest.
+    rim: Rim,
+}
+
+/// Sides of a piece that lie on the area's: the ball centre's path, and
+/// the stylus where the move starts and where it ends. They are sampled
+/// on themselves.
+#[derive(Debug, Clone, Copy)]
+struct Rim {
+    /// The side `t = 0` lies on the path.
+    path: bool,
+    /// The side `s = 0` lies on the stylus at the start.
+    start: bool,
+    /// The side `s = 1` lies on the stylus at the end.
+    end: bool,
+}
+
+impl Rim {
+    /// Where the sample lies along the move (`s`): on the start's or the
+    /// end's side, else (on neither or both) in the middle.
+    fn s(&self) -> f64 {
+        match (self.start, self.end) {
+            (true, false) => 0.0,
+            (false, true) => 1.0,
+            _ => 0.5,
         }
-        self.workpiece
-            .closest_point(q)
-            .map_or(0.0, |fp| fp.projection.distance)
     }
 
-    /// Whether every point of the straight line `a -> b` keeps `need` from
-    /// the part, marching by sphere tracing: a sample at distance `d` clears
-    /// the next `d - need` of the line outright; shorter skips fall back to
-    /// `step`, below `need`, so a surface crossing between two samples
-    /// would come closer than `need` to one of them.
-    fn line_clear(
-        &self,
-        (a, b): (Point3, Point3),
-        need: f64,
-        step: f64,
-        hints: &mut [Option<usize>],
-    ) -> bool {
-        let len = (b - a).norm();
-        let dir = (b - a).try_normalize(0.0).unwrap_or_else(Vec3::zeros);
-        let mut t: f64 = 0.0;
-        loop {
-            let d = self.distance_bound(a + dir * t, need, hints);
-            if d < need {
-                return false;
-            }
-            if t >= len {
-                return true;
-            }
-            t = (t + (d - need).max(step)).min(len);
+    /// Where the sample lies along the stylus (`t`).
+    fn t(&self) -> f64 {
+        if self.path {
+            0.0
+        } else {
+            0.5
         }
+    }
+
+    /// How far the sample is from the farther end of a piece's side along
+    /// the move and along the stylus, in side lengths.
+    fn weights(&self) -> (f64, f64) {
+        let weight = |on_rim: bool| if on_rim { 1.0 } else { 0.5 };
+        (weight(self.start != self.end), weight(self.path))
+    }
+}
+
+impl Piece {
+    /// The four corners (the piece is their convex hull).
+    fn corners(&self) -> [Point3; 4] {
+        let o = self.origin;
+        [o, o + self.a, o + self.b, o + self.a + self.b]
+    }
+
+    /// The point that stands for the piece: on its sides on the area's rim
+    /// (where the probe comes closest), else in its middle.
+    fn sample(&self) -> Point3 {
+        self.origin + self.a * self.rim.s() + self.b * self.rim.t()
+    }
+
+    /// The distance from the sample to the farthest corner, mm.
+    fn reach(&self) -> f64 {
+        let s = self.sample();
+        (self.corners().iter()).fold(0.0, |r, c| r.max((c - s).norm()))
+    }
+
+    /// The separating axes the piece offers (those of all pieces cut from
+    /// it): its unit normal and its sides' unit directions, as far as it
+    /// has them (a segment has no normal, a point nothing).
+    fn axes(&self) -> Axes {
+        let unit = |v: Vec3| v.try_normalize(0.0);
+        Axes {
+            normals: unit(self.a.cross(&self.b)).into_iter().collect(),
+            edges: [self.a, self.b].into_iter().filter_map(unit).collect(),
+        }
+    }
+
+    /// The two halves across the longer side, the one nearer the start or
+    /// the path first. A side counts double when the sample lies on one of
+    /// its ends (on the rim), so that the reach comes out shortest for a
+    /// given area.
+    fn halves(&self) -> [Piece; 2] {
+        let (wa, wb) = self.rim.weights();
+        let along = wa * self.a.norm() >= wb * self.b.norm();
+        let (rim, half) = (self.rim, if along { self.a } else { self.b } * 0.5);
+        let (a, b) = if along {
+            (half, self.b)
+        } else {
+            (self.a, half)
+        };
+        let end = rim.end && !along;
+        let first = Piece {
+            a,
+            b,
+            rim: Rim { end, ..rim },
+            ..*self
+        };
+        let (start, path) = (rim.start && !along, rim.path && along);
+        let second = Piece {
+            origin: self.origin + half,
+            rim: Rim { start, path, ..rim },
+            ..first
+        };
+        [first, second]
+    }
+}
+
+/// Face normals and edge directions of a piece, unit vectors: the axes
+/// along which it is tried against the faces' boxes.
+struct Axes {
+    normals: Vec<Vec3>,
+    edges: Vec<Vec3>,
+}
+
+/// The check of one area: what it must keep and what it has learnt.
+struct AreaCheck {
+    /// Ball radius plus margin, mm.
+    need: f64,
+    /// Pieces whose points all lie within this of their samples are judged
+    /// by the samples, mm.
+    fine_reach: f64,
+    /// The area's separating axes.
+    axes: Axes,
+    /// The last sample's box distances per face, mm.
+    bounds: Vec<f64>,
+    /// The faces whose boxes came closer than required to the last
+    /// sample.
+    faces: Vec<usize>,
+    /// Where the last exact foot lay, to start the next projection from.
+    hint: Option<FootHint>,
+    /// Per face, the leaf the last box query found nearest or near, to try
+    /// first in the next.
+    leaves: Vec<Option<usize>>,
+    /// The face whose boxes were found near last.
+    near_face: usize,
+}
+
+/// What is known of a piece's sample before looking at it.
+#[derive(Debug, Clone, Copy)]
+struct Known {
+    /// A lower bound of its distance from the part, mm.
+    floor: f64,
+    /// Whether the sample is its parent's, so that `floor` is what a look
+    /// would find.
+    same: bool,
+}
+
+impl Known {
+    /// What the look at `parent`, whose sample keeps at least `d`, tells
+    /// of `half`'s sample: at least `d` less the distance between the two
+    /// (the distance from the part changes no faster than the point).
+    fn from(parent: &Piece, d: f64, half: &Piece) -> Known {
+        let apart = (half.sample() - parent.sample()).norm();
+        Known {
+            floor: d - apart,
+            same: apart == 0.0,
+        }
+    }
+}
+
+/// What one look at a piece decides.
+enum Verdict {
+    /// Every point keeps the required distance (to the sampling step).
+    Clear,
+    /// Some point comes too close, or a projection failed.
+    Touches,
+    /// Undecided: look at the halves. The sample keeps at least this
+    /// distance, mm.
+    Split(f64),
+}
+
+impl PartClearance<'_> {
+    /// The area the stylus sweeps when the ball centre moves from `from`
+    /// to `to` (machine), in part coordinates.
+    fn swept(&self, from: Point3, to: Point3) -> Piece {
+        let origin = self.pose.to_part(from);
+        Piece {
+            origin,
+            a: self.pose.to_part(to) - origin,
+            b: self.pose.to_part(from + self.stylus) - origin,
+            rim: Rim {
+                path: true,
+                start: true,
+                end: true,
+            },
+        }
+    }
+
+    /// Whether some face's leaf boxes may come within the required
+    /// distance of `piece` (with the axes of the area it was cut from).
+    /// The face found near last is tried first.
+    fn boxes_near(&self, piece: &Piece, check: &mut AreaCheck) -> bool {
+        let hull = piece.corners();
+        let axes = (check.axes.normals.as_slice(), check.axes.edges.as_slice());
+        let faces = &self.workpiece.faces;
+        let order = (0..faces.len()).map(|k| (check.near_face + k) % faces.len());
+        let near = order.clone().find(|&i| {
+            let (Some(face), Some(hint)) = (faces.get(i), check.leaves.get_mut(i)) else {
+                return false;
+            };
+            let leaf = face.index.leaf_near(&hull, axes, check.need, *hint);
+            *hint = leaf.or(*hint);
+            leaf.is_some()
+        });
+        check.near_face = near.unwrap_or(check.near_face);
+        near.is_some()
+    }
+
+    /// A lower bound of the distance from `q` (part) to the part, mm: the
+    /// distance to the faces' nearest leaf boxes, exact once that comes
+    /// closer than the required distance; projection failures count as
+    /// touching (0).
+    fn distance_bound(&self, q: Point3, check: &mut AreaCheck) -> f64 {
+        let faces = self.workpiece.faces.iter().zip(&mut check.leaves);
+        let bounds = faces.map(|(f, hint)| {
+            let (d, nearest) = f.index.box_distance_near(q, *hint);
+            *hint = nearest;
+            d
+        });
+        check.bounds.clear();
+        check.bounds.extend(bounds);
+        let bound = check.bounds.iter().copied().fold(f64::INFINITY, f64::min);
+        if bound >= check.need {
+            return bound;
+        }
+        self.exact_distance(q, check).unwrap_or(0.0)
+    }
+
+    /// The distance from `q` (part) to the faces whose boxes came closer
+    /// than required (a projection started from the check's last foot),
+    /// or the others' box distances where smaller, mm.
+    fn exact_distance(&self, q: Point3, check: &mut AreaCheck) -> Option<f64> {
+        let need = check.need;
+        let near = (check.bounds.iter().enumerate()).filter(|b| *b.1 < need);
+        check.faces.clear();
+        check.faces.extend(near.map(|b| b.0));
+        let found = self
+            .workpiece
+            .closest_point_near(q, &check.faces, check.hint);
+        let (fp, hint) = found.ok()?;
+        check.hint = hint.or(check.hint);
+        let far = check.bounds.iter().filter(|&&b| b >= need);
+        Some(far.fold(fp.projection.distance, |d, &b| d.min(b)))
+    }
+
+    /// Decides `piece` if it can, with what is `known` of its sample:
+    /// clear when the boxes keep it far enough; else by its sample,
+    /// touching when that comes too close, clear when it is far enough for
+    /// the whole piece (sphere tracing) or when the piece is fine enough to
+    /// be judged by its sample.
+    fn verdict(&self, piece: &Piece, known: Known, check: &mut AreaCheck) -> Verdict {
+        let (need, reach) = (check.need, piece.reach());
+        let fine = reach <= check.fine_reach;
+        // A fine piece is judged by its sample alone: its boxes could only
+        // spare a look at the sample, which costs no more.
+        let clear = if fine {
+            known.floor >= need
+        } else {
+            known.same && known.floor >= need + reach || !self.boxes_near(piece, check)
+        };
+        if clear {
+            return Verdict::Clear;
+        }
+        let d = if known.same {
+            known.floor
+        } else {
+            self.distance_bound(piece.sample(), check)
+        };
+        if d < need {
+            Verdict::Touches
+        } else if fine || d >= need + reach {
+            Verdict::Clear
+        } else {
+            Verdict::Split(d.max(known.floor))
+        }
+    }
+
+    /// Whether every point of `area` keeps `need` from the part (to the
+    /// sampling `step`), cutting it as far as that takes.
+    fn area_clear(&self, area: Piece, need: f64, step: f64) -> bool {
+        let mut check = AreaCheck {
+            need,
+            fine_reach: step * std::f64::consts::FRAC_1_SQRT_2,
+            axes: area.axes(),
+            bounds: Vec::with_capacity(self.workpiece.faces.len()),
+            faces: Vec::with_capacity(self.workpiece.faces.len()),
+            hint: None,
+            leaves: vec![None; self.workpiece.faces.len()],
+            near_face: 0,
+        };
+        let start = Known {
+            floor: 0.0,
+            same: false,
+        };
+        let mut pieces = vec![(area, start)];
+        while let Some((piece, known)) = pieces.pop() {
+            match self.verdict(&piece, known, &mut check) {
+                Verdict::Clear => {}
+                Verdict::Touches => return false,
+                Verdict::Split(d) => {
+                    // The first half is looked at first.
+                    let [first, second] = piece.halves();
+                    pieces.extend([second, first].map(|h| (h, Known::from(&piece, d, &h))));
+                }
+            }
+        }
+        true
     }
 }
 
 impl FreeSpace for PartClearance<'_> {
     fn segment_clear(&self, from: Point3, to: Point3) -> bool {
-        let step = self.opts.step_mm.max(1e-3);
+        let step = self.opts.step_mm.max(MIN_STEP_MM);
         let need = self.tip_radius_mm + self.opts.margin_mm;
-        let up = (self.stylus.norm() / step).ceil() as usize;
-        let mut hints = vec![None; self.workpiece.faces.len()];
-        (0..=up).all(|j| {
-            let shaft = if up == 0 { 0.0 } else { j as f64 / up as f64 };
-            let lift = self.stylus * shaft;
-            self.line_clear((from + lift, to + lift), need, step, &mut hints)
-        })
+        let swept = self.swept(from, to);
+        let finite = swept
+            .corners()
+            .iter()
+            .all(|c| c.iter().all(|x| x.is_finite()));
+        finite && self.area_clear(swept, need, step)
     }
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::math::Mat3;
-    use crate::workpiece::examples::reference_sphere;
-    use std::path::Path;
-
-    /// The d25 sphere at the origin, ball radius 1.5 mm, margin 4 mm, a
-    /// 10 mm stylus pointing up: a move along x at height 0 and offset `y0`
-    /// keeps `y0 - 12.5` from the sphere (closest at x = 0, at the ball),
-    /// so it is clear exactly when `y0 >= 18`.
-    fn sphere_clearance(wp: &Workpiece) -> PartClearance<'_> {
-        PartClearance {
-            workpiece: wp,
-            pose: Pose {
-                rotation: Mat3::identity(),
-                translation: Vec3::zeros(),
-            },
-            stylus: Vec3::new(0.0, 0.0, 10.0),
-            tip_radius_mm: 1.5,
-            opts: ClearanceOptions::default(),
-        }
-    }
-
-    #[test]
-    fn moves_past_a_sphere_are_clear_exactly_beyond_the_margin() {
-        let wp = match Workpiece::from_file(&reference_sphere(25.0), Path::new("sphere.json")) {
-            Ok(wp) => wp,
-            Err(e) => panic!("{e}"),
-        };
-        let c = sphere_clearance(&wp);
-        for (y0, clear) in [(18.2, true), (17.8, false), (30.0, true), (0.0, false)] {
-            let (a, b) = (Point3::new(-60.0, y0, 0.0), Point3::new(60.0, y0, 0.0));
-            assert_eq!(c.segment_clear(a, b), clear, "y0 = {y0}");
-        }
-        // A move that ends far away but dips past the sphere's side.
-        let (a, b) = (Point3::new(-40.0, 40.0, 0.0), Point3::new(40.0, -40.0, 0.0));
-        assert!(!c.segment_clear(a, b), "diagonal through the centre");
-        // Only the stylus comes close: the ball passes 20 mm below the
-        // sphere's bottom, the shaft's top 10 mm higher is 15 mm from it.
-        let (a, b) = (
-            Point3::new(-60.0, 0.0, -32.5),
-            Point3::new(60.0, 0.0, -32.5),
-        );
-        assert!(c.segment_clear(a, b));
-        let (a, b) = (
-            Point3::new(-60.0, 0.0, -25.0),
-            Point3::new(60.0, 0.0, -25.0),
-        );
-        assert!(
-            !c.segment_clear(a, b),
-            "the shaft's top passes 2.5 mm from the sphere"
-        );
-    }
-}
+mod tests;

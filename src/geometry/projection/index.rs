@@ -110,6 +110,59 @@ impl ProjectionIndex {
         (best.0.sqrt(), best.1)
     }
 
+    /// A leaf (its node, as [`Self::box_distance_near`] returns it, for the
+    /// next query's `hint`) whose boxes may come within `reach` (mm) of the
+    /// convex hull of `hull`, a shape with the face normals `normals` and
+    /// the edge directions `edges` (unit vectors); `hint` is tried first.
+    /// `None` when each leaf is at least `reach` from the shape along an
+    /// axis of the separating-axis test (its normals, the boxes' own axes
+    /// and their cross products with its edges). A gap along one axis
+    /// bounds the distance from below, so a leaf that is farther may still
+    /// be returned, never the other way round.
+    pub fn leaf_near(
+        &self,
+        hull: &[Point3],
+        (normals, edges): (&[Vec3], &[Vec3]),
+        reach: f64,
+        hint: Option<usize>,
+    ) -> Option<usize> {
+        // The shape's shadows on the axes of the axis-aligned boxes' tests.
+        let world = [Vec3::x(), Vec3::y(), Vec3::z()];
+        let mut fixed: Vec<Shadow> = Vec::with_capacity(3 + normals.len() + 3 * edges.len());
+        fixed.extend(
+            (world.iter().chain(normals).copied())
+                .chain(crossed(&world, edges))
+                .map(|u| (u, extent(hull, &u))),
+        );
+        let on_normals = fixed.get(3..3 + normals.len()).unwrap_or_default();
+        let near_leaf = |i: usize| -> bool {
+            let Some(node) = self.nodes.get(i) else {
+                return false;
+            };
+            let obb = node.kind.ok().and_then(|leaf| self.leaves.get(leaf));
+            obb.is_some_and(|l| {
+                !node.aabb.separated(&fixed, reach)
+                    && !(l.obb).separated(hull, on_normals, edges, reach)
+            })
+        };
+        if let Some(h) = hint.filter(|&h| near_leaf(h)) {
+            return Some(h);
+        }
+        let mut stack = Vec::with_capacity(64);
+        stack.extend(self.nodes.len().checked_sub(1));
+        while let Some(i) = stack.pop() {
+            let Some(node) = self.nodes.get(i) else {
+                continue;
+            };
+            match node.kind {
+                Ok(_) if near_leaf(i) => return Some(i),
+                Err((a, b)) if !node.aabb.separated(&fixed, reach) => stack.extend([a, b]),
+                _ => {}
+            }
+        }
+        None
+    }
+
     /// Squared distance from `p` to the boxes of the leaf at node `i`
     /// (`None` when that is not a leaf).
     fn leaf_box_dist2(&self, i: usize, p: Point3) -> Option<f64> {
@@ -351,7 +404,63 @@ impl Ord for Entry {
     }
 }
 
+/// An axis (a unit vector) with the interval a convex shape covers on it.
+type Shadow = (Vec3, (f64, f64));
+
+/// The gap between the intervals `lo..hi` and `a..b` on one axis (negative
+/// when they overlap).
+fn gap((lo, hi): (f64, f64), (a, b): (f64, f64)) -> f64 {
+    (a - hi).max(lo - b)
+}
+
+/// The interval of `hull`'s points projected on `axis`.
+fn extent(hull: &[Point3], axis: &Vec3) -> (f64, f64) {
+    hull.iter()
+        .map(|p| p.coords.dot(axis))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
+            (lo.min(s), hi.max(s))
+        })
+}
+
+/// The unit cross products of `axes` with `edges` (unit vectors), leaving
+/// out (nearly) parallel pairs: any unit axis bounds the distance, those
+/// add little and normalise poorly.
+fn crossed<'a>(axes: &'a [Vec3], edges: &'a [Vec3]) -> impl Iterator<Item = Vec3> + 'a {
+    (axes.iter()).flat_map(move |a| {
+        edges
+            .iter()
+            .filter_map(move |e| a.cross(e).try_normalize(f64::EPSILON))
+    })
+}
+
 impl Obb {
+    /// Whether the box and the convex hull of `hull` (with its shadows on
+    /// its face normals, `on_normals`, and its edge directions `edges`) are
+    /// at least `reach` apart along one axis of the separating-axis test.
+    fn separated(
+        &self,
+        hull: &[Point3],
+        on_normals: &[Shadow],
+        edges: &[Vec3],
+        reach: f64,
+    ) -> bool {
+        let own = (self.axes.iter().zip(self.half)).any(|(u, half)| {
+            let c = self.center.coords.dot(u);
+            gap(extent(hull, u), (c - half, c + half)) >= reach
+        });
+        own || on_normals.iter().any(|s| self.apart(s, reach))
+            || crossed(&self.axes, edges).any(|u| self.apart(&(u, extent(hull, &u)), reach))
+    }
+
+    /// Whether the box is at least `reach` from a shadow on its axis.
+    fn apart(&self, (u, shadow): &Shadow, reach: f64) -> bool {
+        let c = self.center.coords.dot(u);
+        let half: f64 = (self.axes.iter().zip(self.half))
+            .map(|(a, h)| h * a.dot(u).abs())
+            .sum();
+        gap(*shadow, (c - half, c + half)) >= reach
+    }
+
     fn dist2(&self, p: Point3) -> f64 {
         let r = p - self.center;
         (0..3)
@@ -361,6 +470,16 @@ impl Obb {
 }
 
 impl Aabb {
+    /// Whether the box is at least `reach` from one of the `shadows`.
+    fn separated(&self, shadows: &[Shadow], reach: f64) -> bool {
+        let mid = (self.min.coords + self.max.coords) * 0.5;
+        let size = (self.max - self.min) * 0.5;
+        shadows.iter().any(|(u, shadow)| {
+            let (c, half) = (mid.dot(u), size.dot(&u.abs()));
+            gap(*shadow, (c - half, c + half)) >= reach
+        })
+    }
+
     fn dist2(&self, p: Point3) -> f64 {
         (0..3)
             .map(|k| {
