@@ -3,6 +3,7 @@
 use super::behind::Queue;
 use super::correction::DesignPoint;
 use super::fitted::fit_feature;
+use super::prepared::Prepared;
 use super::supervisor::scan_curve;
 use super::{Ctx, CurveResult, LearnedSet, LivePoints, RunOptions};
 use crate::host::machine::Cmm;
@@ -19,6 +20,8 @@ pub(super) struct Run<'r> {
     pub(super) free: &'r dyn FreeSpace,
     /// Where scans hand over their points while they run.
     pub(super) live: Option<&'r dyn LivePoints>,
+    /// Scans planned before the measuring.
+    pub(super) prepared: &'r Prepared,
 }
 
 /// A feature as measured, before its points are evaluated.
@@ -48,6 +51,7 @@ impl MeasuredFeature {
 /// corrections and fallbacks), recording what it learned.
 pub(super) fn measure_feature(
     run: &Run<'_>,
+    index: usize,
     feature: &Feature,
     cmm: &mut dyn Cmm,
     learned_out: &mut LearnedSet,
@@ -59,6 +63,7 @@ pub(super) fn measure_feature(
         opts,
         free,
         live,
+        prepared,
     } = *run;
     let (results, faces, tolerance, kind) = match feature {
         Feature::Section {
@@ -99,6 +104,7 @@ pub(super) fn measure_feature(
                         learned,
                         free: opts.direct_moves.then_some(free),
                         live: live.map(|l| (l, faces.as_slice())),
+                        prepared: prepared.get(index, k),
                     };
                     let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
                     if let Some(l) = &res.learned {

