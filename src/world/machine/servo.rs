@@ -13,7 +13,7 @@ use rand::Rng;
 
 use super::model::{Axis, AxisKind, MachineModel};
 use super::profile::{LinearAxesProfile, MachineProfile, RotaryAxesProfile};
-use crate::world::noise::gaussian;
+use crate::world::noise::Ziggurat;
 
 /// Resolved dynamics of one axis (mm and s for linear axes, rad and s for
 /// rotary ones).
@@ -132,8 +132,9 @@ impl AxisDynamics {
     }
 
     /// A scale reading of `position`: plus Gaussian noise, then quantised.
-    fn read(&self, position: f64, rng: &mut impl Rng) -> f64 {
-        let noisy = position + gaussian(rng, self.noise_sigma);
+    #[inline]
+    fn read(&self, position: f64, rng: &mut impl Rng, normal: Ziggurat) -> f64 {
+        let noisy = position + normal.gaussian(rng, self.noise_sigma);
         if self.resolution > 0.0 {
             round_half_away(noisy / self.resolution) * self.resolution
         } else {
@@ -143,25 +144,22 @@ impl AxisDynamics {
 }
 
 /// `q.round()` (halves away from zero) without the libm call on targets
-/// without SSE4.1: truncation by integer conversion, then the exact
-/// fraction decides. Beyond 2^52 (where every f64 is an integer) and for
-/// NaN, `f64::round` itself.
+/// without SSE4.1, and without branches: below 2^52, adding and
+/// subtracting 2^52 rounds `|q|` to the nearest integer with ties to even
+/// (exactly); a tie that went down (`|q| - n = 0.5`) goes up instead, and
+/// the sign of `q` comes back (a zero result keeps it, as `f64::round`
+/// does). From 2^52 on (where every f64 is an integer) and for NaN,
+/// `f64::round` itself.
+#[inline]
 fn round_half_away(q: f64) -> f64 {
     const EXACT: f64 = 4_503_599_627_370_496.0; // 2^52
-    if q.is_nan() || q.abs() >= EXACT {
+    let a = q.abs();
+    if !(a < EXACT) {
         return q.round();
     }
-    let t = q as i64 as f64;
-    let frac = q - t;
-    let r = if frac >= 0.5 {
-        t + 1.0
-    } else if frac <= -0.5 {
-        t - 1.0
-    } else {
-        t
-    };
-    // A zero result keeps the sign of `q`, as `f64::round` does.
-    r.copysign(q)
+    let n = (a + EXACT) - EXACT;
+    let up = if a - n >= 0.5 { 1.0 } else { 0.0 };
+    (n + up).copysign(q)
 }
 
 /// True axis positions and velocities at one instant (chain order).
@@ -365,9 +363,10 @@ impl Servo {
     /// value per axis).
     pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
         out.resize(self.axes.len(), 0.0);
+        let normal = Ziggurat::new();
         let pairs = self.axes.iter().zip(&self.position);
         for (o, (axis, p)) in out.iter_mut().zip(pairs) {
-            *o = axis.read(*p, rng);
+            *o = axis.read(*p, rng, normal);
         }
     }
 
@@ -431,7 +430,18 @@ mod tests {
             0.49999999999999994,
             -0.49999999999999994,
             4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_494.5,
+            2_251_799_813_685_248.5,
+            -2_251_799_813_685_249.5,
+            4_503_599_627_370_495.0,
             4_503_599_627_370_496.0,
+            0.500_000_000_000_000_1,
+            1.499_999_999_999_999_8,
+            -0.4,
+            -1e-300,
+            f64::MIN_POSITIVE,
+            f64::NEG_INFINITY,
             1e300,
             -1e300,
             f64::INFINITY,
