@@ -285,10 +285,17 @@ impl Servo {
         check_finite(commanded_velocity)?;
         let states = self.position.iter_mut().zip(self.velocity.iter_mut());
         let axes = self.axes.iter().zip(&self.decays);
+        // Whether every axis stayed in its travel, found on the way (the
+        // error, when there is one, is then looked up).
+        let mut inside = true;
         for (((axis, decay), (p, v)), c) in axes.zip(states).zip(commanded_velocity) {
             (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s, *decay);
+            inside &= (axis.lower <= *p) & (*p <= axis.upper);
         }
         self.time_s += self.cycle_s;
+        if inside {
+            return Ok(());
+        }
         match self.first_outside() {
             Some(err) => Err(self.halt(err)),
             None => Ok(()),
@@ -404,6 +411,11 @@ fn check_count(expected: usize, found: usize) -> Result<(), ServoError> {
 }
 
 fn check_finite(values: &[f64]) -> Result<(), ServoError> {
+    // `v * 0` is NaN exactly when `v` is infinite or NaN (and a signed
+    // zero otherwise): one test for all values in the common case.
+    if values.iter().fold(0.0, |acc, &v| acc + v * 0.0) == 0.0 {
+        return Ok(());
+    }
     match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         Some((index, &value)) => Err(ServoError::NotFinite { index, value }),
         None => Ok(()),
