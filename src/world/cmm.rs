@@ -200,7 +200,6 @@ impl<'a> SimulatedCmm<'a> {
 
     /// True deflection for the current state (zero when not touching).
     fn contact(&mut self, velocity: Vec3) -> Vec3 {
-        let a0 = self.ball_centre(self.servo.position());
         let r = self.probe.tip_radius_mm;
         if self.clearance > r + CONTACT_MARGIN_MM {
             self.clearance -= velocity.norm() * self.servo.cycle_s();
@@ -209,6 +208,7 @@ impl<'a> SimulatedCmm<'a> {
             self.hint = None;
             return Vec3::zeros();
         }
+        let a0 = self.ball_centre(self.servo.position());
         let y = self.part.pose.to_part(a0);
         let Ok(tp) = self.project(y) else {
             self.hint = None;
@@ -289,7 +289,7 @@ impl<'a> SimulatedCmm<'a> {
 /// [`SimulatedCmm::contact`] returns when not touching): its sensor
 /// reading is then [`TrueProbe::response`] of zero, without noise.
 fn is_rest(d: Vec3) -> bool {
-    d.iter().all(|c| c.to_bits() == 0)
+    (d.x.to_bits() | d.y.to_bits() | d.z.to_bits()) == 0
 }
 
 impl SimulatedCmm<'_> {
