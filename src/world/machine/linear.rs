@@ -14,6 +14,9 @@ pub struct LinearAxes {
     /// The same when there are exactly three (every machine so far), for
     /// a sum without a loop.
     three: Option<[(usize, Vec3); 3]>,
+    /// The home directions when the chain is exactly three prismatic axes
+    /// (a machine without a head): values and axes then map one to one.
+    only_xyz: Option<[Vec3; 3]>,
 }
 
 impl LinearAxes {
@@ -30,10 +33,15 @@ impl LinearAxes {
             .filter_map(|(i, d)| d.map(|d| (i, d)))
             .collect();
         let three = <[(usize, Vec3); 3]>::try_from(prismatic.as_slice()).ok();
+        let only_xyz = match directions.as_slice() {
+            [Some(a), Some(b), Some(c)] => Some([*a, *b, *c]),
+            _ => None,
+        };
         LinearAxes {
             directions,
             prismatic,
             three,
+            only_xyz,
         }
     }
 
@@ -50,8 +58,11 @@ impl LinearAxes {
     /// Nominal X, Y, Z (mm) of axis values `q` (chain order): the same sum
     /// as [`MachineModel::linear_xyz`] (`sum q_i * home_direction_i` over
     /// the prismatic axes, in chain order); a missing value counts as 0.
-    #[inline]
+    #[inline(always)]
     pub fn xyz(&self, q: &[f64]) -> Vec3 {
+        if let (Some([a, b, c]), [x, y, z, ..]) = (self.only_xyz, q) {
+            return Vec3::zeros() + a * *x + b * *y + c * *z;
+        }
         let at = |i: usize| q.get(i).copied().unwrap_or(0.0);
         if let Some([(i, a), (j, b), (k, c)]) = self.three {
             return Vec3::zeros() + a * at(i) + b * at(j) + c * at(k);
@@ -63,9 +74,13 @@ impl LinearAxes {
 
     /// Axis values (chain order) whose linear axes add up to `v`, written
     /// over `out` (one value per axis); rotary axes get zero.
-    #[inline]
+    #[inline(always)]
     pub fn to_axes_into(&self, v: Vec3, out: &mut Vec<f64>) {
         out.resize(self.directions.len(), 0.0);
+        if let (Some([a, b, c]), [x, y, z]) = (self.only_xyz, out.as_mut_slice()) {
+            (*x, *y, *z) = (a.dot(&v), b.dot(&v), c.dot(&v));
+            return;
+        }
         for (o, d) in out.iter_mut().zip(&self.directions) {
             *o = d.map_or(0.0, |d| d.dot(&v));
         }
