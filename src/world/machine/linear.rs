@@ -111,4 +111,47 @@ mod tests {
             .collect();
         assert_eq!(out, by_model);
     }
+
+    /// Both conversions bit for bit against the model's own on a bridge
+    /// with a head (five axes: the general path) and on the plain bridge
+    /// (three: the one-to-one path), over a seeded sweep of values with
+    /// signed zeros.
+    #[test]
+    fn matches_the_model_with_and_without_head() {
+        use crate::world::machine::builtin::BRIDGE_AB_HEAD_URDF;
+        let head = MachineModel::from_urdf_str(BRIDGE_AB_HEAD_URDF, "builtin-head")
+            .unwrap_or_else(|e| panic!("builtin head machine: {e}"));
+        let mut x: u64 = 0x2545_f491_4f6c_dd1d;
+        let mut next = || {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            ((x >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 1e3
+        };
+        let bits = |w: &[f64]| w.iter().map(|c| c.to_bits()).collect::<Vec<_>>();
+        for model in [MachineModel::default_bridge(), head] {
+            let linear = LinearAxes::new(&model);
+            let n = model.axes().len();
+            for case in 0..200 {
+                let mut q: Vec<f64> = (0..n).map(|_| next()).collect();
+                if case % 5 == 0 {
+                    q.iter_mut().for_each(|c| *c = -0.0);
+                }
+                let expected = model.linear_xyz(&q).map(|c| bits(&c)).ok();
+                assert_eq!(Some(bits(linear.xyz(&q).as_slice())), expected, "{q:?}");
+                let v = Vec3::new(next(), -0.0, next());
+                let mut out = Vec::new();
+                linear.to_axes_into(v, &mut out);
+                let by_model: Vec<f64> = model
+                    .axes()
+                    .iter()
+                    .map(|a| match a.kind {
+                        AxisKind::Prismatic => a.home_direction.dot(&v),
+                        AxisKind::Revolute => 0.0,
+                    })
+                    .collect();
+                assert_eq!(bits(&out), bits(&by_model));
+            }
+        }
+    }
 }
