@@ -11,6 +11,7 @@
 //! (exact for constant acceleration) when it was.
 use rand::Rng;
 
+use super::axis_cycle::AxisCycle;
 use super::model::{Axis, AxisKind, MachineModel};
 use super::profile::{LinearAxesProfile, MachineProfile, RotaryAxesProfile};
 use crate::world::noise::Ziggurat;
@@ -100,37 +101,6 @@ impl AxisDynamics {
         }
     }
 
-    /// One cycle of length `dt` (s) whose lag decay is `decay`
-    /// ([`Self::decay`]): new (position, velocity).
-    fn advance(
-        &self,
-        position: f64,
-        velocity: f64,
-        command: f64,
-        dt: f64,
-        decay: f64,
-    ) -> (f64, f64) {
-        let target = command.clamp(-self.max_velocity, self.max_velocity);
-        // The lag's acceleration is largest at the start of the cycle,
-        // |target - v| / lag. Within the limit the exact exponential is
-        // integrated; beyond it the axis ramps at the limit (trapezoid), so
-        // the acceleration never exceeds the limit at any instant.
-        let within =
-            self.lag_s > 0.0 && (target - velocity).abs() <= self.max_acceleration * self.lag_s;
-        let (next, distance) = if within {
-            let next = target + (velocity - target) * decay;
-            (
-                next,
-                target * dt + (velocity - target) * self.lag_s * (1.0 - decay),
-            )
-        } else {
-            let max_change = self.max_acceleration * dt;
-            let next = velocity + (target - velocity).clamp(-max_change, max_change);
-            (next, 0.5 * (velocity + next) * dt)
-        };
-        (position + distance, next)
-    }
-
     /// A scale reading of `position`: plus Gaussian noise, then quantised.
     #[inline]
     fn read(&self, position: f64, rng: &mut impl Rng, normal: Ziggurat) -> f64 {
@@ -213,8 +183,8 @@ pub enum ServoError {
 #[derive(Debug, Clone)]
 pub struct Servo {
     axes: Vec<AxisDynamics>,
-    /// Each axis's lag decay over one cycle (computed once).
-    decays: Vec<f64>,
+    /// Each axis's constants over one cycle (computed once).
+    cycles: Vec<AxisCycle>,
     position: Vec<f64>,
     velocity: Vec<f64>,
     cycle_s: f64,
@@ -234,12 +204,13 @@ impl Servo {
             .map(|a| AxisDynamics::for_axis(a, profile))
             .collect();
         check_count(axes.len(), start.len())?;
-        let decays = axes
+        let dt = profile.control_cycle_s;
+        let cycles = axes
             .iter()
-            .map(|a| a.decay(profile.control_cycle_s))
+            .map(|a| AxisCycle::new(a, dt, a.decay(dt)))
             .collect();
         let servo = Self {
-            decays,
+            cycles,
             velocity: vec![0.0; axes.len()],
             position: start.to_vec(),
             axes,
@@ -284,13 +255,12 @@ impl Servo {
         check_count(self.axes.len(), commanded_velocity.len())?;
         check_finite(commanded_velocity)?;
         let states = self.position.iter_mut().zip(self.velocity.iter_mut());
-        let axes = self.axes.iter().zip(&self.decays);
         // Whether every axis stayed in its travel, found on the way (the
         // error, when there is one, is then looked up).
         let mut inside = true;
-        for (((axis, decay), (p, v)), c) in axes.zip(states).zip(commanded_velocity) {
-            (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s, *decay);
-            inside &= (axis.lower <= *p) & (*p <= axis.upper);
+        for ((axis, (p, v)), c) in self.cycles.iter().zip(states).zip(commanded_velocity) {
+            (*p, *v) = axis.advance(*p, *v, *c);
+            inside &= axis.holds(*p);
         }
         self.time_s += self.cycle_s;
         if inside {
