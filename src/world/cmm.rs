@@ -247,6 +247,17 @@ impl<'a> SimulatedCmm<'a> {
         Ok(tp)
     }
 
+    /// Keeps `readings` as the last ones, copying the status only when it
+    /// changed (it may hold a string).
+    fn remember(&mut self, readings: &Readings) {
+        let last = &mut self.last;
+        (last.time_s, last.scales, last.deflection) =
+            (readings.time_s, readings.scales, readings.deflection);
+        if last.status != readings.status {
+            last.status = readings.status.clone();
+        }
+    }
+
     fn on_edge(&self, face: usize, uv: Vec2) -> bool {
         self.part.workpiece.faces.get(face).is_none_or(|f| {
             let ((u0, u1), (v0, v1)) = f.surface.domain();
@@ -375,7 +386,8 @@ impl Cmm for SimulatedCmm<'_> {
             },
         };
         let actual = self.linear.xyz(self.servo.velocity());
-        self.last = self.observe(actual, status);
-        self.last.clone()
+        let readings = self.observe(actual, status);
+        self.remember(&readings);
+        readings
     }
 }
