@@ -200,7 +200,6 @@ impl<'a> SimulatedCmm<'a> {
 
     /// True deflection for the current state (zero when not touching).
     fn contact(&mut self, velocity: Vec3) -> Vec3 {
-        let a0 = self.ball_centre(self.servo.position());
         let r = self.probe.tip_radius_mm;
         if self.clearance > r + CONTACT_MARGIN_MM {
             self.clearance -= velocity.norm() * self.servo.cycle_s();
@@ -209,6 +208,7 @@ impl<'a> SimulatedCmm<'a> {
             self.hint = None;
             return Vec3::zeros();
         }
+        let a0 = self.ball_centre(self.servo.position());
         let y = self.part.pose.to_part(a0);
         let Ok(tp) = self.project(y) else {
             self.hint = None;
@@ -245,6 +245,17 @@ impl<'a> SimulatedCmm<'a> {
         let tp = am.closest_point(wp, y)?;
         self.hint = Some(TrueWarm::new(tp.face, tp.uv));
         Ok(tp)
+    }
+
+    /// Keeps `readings` as the last ones, copying the status only when it
+    /// changed (it may hold a string).
+    fn remember(&mut self, readings: &Readings) {
+        let last = &mut self.last;
+        (last.time_s, last.scales, last.deflection) =
+            (readings.time_s, readings.scales, readings.deflection);
+        if last.status != readings.status {
+            last.status = readings.status.clone();
+        }
     }
 
     fn on_edge(&self, face: usize, uv: Vec2) -> bool {
@@ -289,7 +300,7 @@ impl<'a> SimulatedCmm<'a> {
 /// [`SimulatedCmm::contact`] returns when not touching): its sensor
 /// reading is then [`TrueProbe::response`] of zero, without noise.
 fn is_rest(d: Vec3) -> bool {
-    d.iter().all(|c| c.to_bits() == 0)
+    (d.x.to_bits() | d.y.to_bits() | d.z.to_bits()) == 0
 }
 
 impl SimulatedCmm<'_> {
@@ -375,7 +386,8 @@ impl Cmm for SimulatedCmm<'_> {
             },
         };
         let actual = self.linear.xyz(self.servo.velocity());
-        self.last = self.observe(actual, status);
-        self.last.clone()
+        let readings = self.observe(actual, status);
+        self.remember(&readings);
+        readings
     }
 }

@@ -3,7 +3,7 @@
 //! noise. The host never sees these parameters.
 use rand::Rng;
 
-use super::noise::gaussian;
+use super::noise::Ziggurat;
 use crate::math::{Mat3, Vec3};
 
 /// True probe parameters.
@@ -97,11 +97,12 @@ impl TrueProbe {
     pub fn sense(&self, d: Vec3, rng: &mut impl Rng) -> Vec3 {
         let mut reading = self.response(d);
         if self.noise_mm > 0.0 && d.norm_squared() > 0.0 {
-            reading += Vec3::new(
-                gaussian(rng, self.noise_mm),
-                gaussian(rng, self.noise_mm),
-                gaussian(rng, self.noise_mm),
-            );
+            // Positive sigma: the draws need no zero check.
+            let (normal, sigma) = (Ziggurat::new(), self.noise_mm);
+            let x = sigma * normal.standard_normal(rng);
+            let y = sigma * normal.standard_normal(rng);
+            let z = sigma * normal.standard_normal(rng);
+            reading += Vec3::new(x, y, z);
         }
         reading
     }

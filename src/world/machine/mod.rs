@@ -9,6 +9,7 @@
 //! - [`Servo`]: per-axis first-order velocity loop with velocity and
 //!   acceleration limits, travel-limit outcome, quantised noisy scale readings.
 
+mod axis_cycle;
 pub mod builtin;
 mod chain;
 mod error;

@@ -11,9 +11,10 @@
 //! (exact for constant acceleration) when it was.
 use rand::Rng;
 
+use super::axis_cycle::AxisCycle;
 use super::model::{Axis, AxisKind, MachineModel};
 use super::profile::{LinearAxesProfile, MachineProfile, RotaryAxesProfile};
-use crate::world::noise::gaussian;
+use crate::world::noise::Ziggurat;
 
 /// Resolved dynamics of one axis (mm and s for linear axes, rad and s for
 /// rotary ones).
@@ -100,40 +101,10 @@ impl AxisDynamics {
         }
     }
 
-    /// One cycle of length `dt` (s) whose lag decay is `decay`
-    /// ([`Self::decay`]): new (position, velocity).
-    fn advance(
-        &self,
-        position: f64,
-        velocity: f64,
-        command: f64,
-        dt: f64,
-        decay: f64,
-    ) -> (f64, f64) {
-        let target = command.clamp(-self.max_velocity, self.max_velocity);
-        // The lag's acceleration is largest at the start of the cycle,
-        // |target - v| / lag. Within the limit the exact exponential is
-        // integrated; beyond it the axis ramps at the limit (trapezoid), so
-        // the acceleration never exceeds the limit at any instant.
-        let within =
-            self.lag_s > 0.0 && (target - velocity).abs() <= self.max_acceleration * self.lag_s;
-        let (next, distance) = if within {
-            let next = target + (velocity - target) * decay;
-            (
-                next,
-                target * dt + (velocity - target) * self.lag_s * (1.0 - decay),
-            )
-        } else {
-            let max_change = self.max_acceleration * dt;
-            let next = velocity + (target - velocity).clamp(-max_change, max_change);
-            (next, 0.5 * (velocity + next) * dt)
-        };
-        (position + distance, next)
-    }
-
     /// A scale reading of `position`: plus Gaussian noise, then quantised.
-    fn read(&self, position: f64, rng: &mut impl Rng) -> f64 {
-        let noisy = position + gaussian(rng, self.noise_sigma);
+    #[inline]
+    fn read(&self, position: f64, rng: &mut impl Rng, normal: Ziggurat) -> f64 {
+        let noisy = position + normal.gaussian(rng, self.noise_sigma);
         if self.resolution > 0.0 {
             round_half_away(noisy / self.resolution) * self.resolution
         } else {
@@ -143,25 +114,22 @@ impl AxisDynamics {
 }
 
 /// `q.round()` (halves away from zero) without the libm call on targets
-/// without SSE4.1: truncation by integer conversion, then the exact
-/// fraction decides. Beyond 2^52 (where every f64 is an integer) and for
-/// NaN, `f64::round` itself.
+/// without SSE4.1, and without branches: below 2^52, adding and
+/// subtracting 2^52 rounds `|q|` to the nearest integer with ties to even
+/// (exactly); a tie that went down (`|q| - n = 0.5`) goes up instead, and
+/// the sign of `q` comes back (a zero result keeps it, as `f64::round`
+/// does). From 2^52 on (where every f64 is an integer) and for NaN,
+/// `f64::round` itself.
+#[inline]
 fn round_half_away(q: f64) -> f64 {
     const EXACT: f64 = 4_503_599_627_370_496.0; // 2^52
-    if q.is_nan() || q.abs() >= EXACT {
+    let a = q.abs();
+    if !(a < EXACT) {
         return q.round();
     }
-    let t = q as i64 as f64;
-    let frac = q - t;
-    let r = if frac >= 0.5 {
-        t + 1.0
-    } else if frac <= -0.5 {
-        t - 1.0
-    } else {
-        t
-    };
-    // A zero result keeps the sign of `q`, as `f64::round` does.
-    r.copysign(q)
+    let n = (a + EXACT) - EXACT;
+    let up = if a - n >= 0.5 { 1.0 } else { 0.0 };
+    (n + up).copysign(q)
 }
 
 /// True axis positions and velocities at one instant (chain order).
@@ -215,8 +183,8 @@ pub enum ServoError {
 #[derive(Debug, Clone)]
 pub struct Servo {
     axes: Vec<AxisDynamics>,
-    /// Each axis's lag decay over one cycle (computed once).
-    decays: Vec<f64>,
+    /// Each axis's constants over one cycle (computed once).
+    cycles: Vec<AxisCycle>,
     position: Vec<f64>,
     velocity: Vec<f64>,
     cycle_s: f64,
@@ -236,12 +204,13 @@ impl Servo {
             .map(|a| AxisDynamics::for_axis(a, profile))
             .collect();
         check_count(axes.len(), start.len())?;
-        let decays = axes
+        let dt = profile.control_cycle_s;
+        let cycles = axes
             .iter()
-            .map(|a| a.decay(profile.control_cycle_s))
+            .map(|a| AxisCycle::new(a, dt, a.decay(dt)))
             .collect();
         let servo = Self {
-            decays,
+            cycles,
             velocity: vec![0.0; axes.len()],
             position: start.to_vec(),
             axes,
@@ -286,11 +255,17 @@ impl Servo {
         check_count(self.axes.len(), commanded_velocity.len())?;
         check_finite(commanded_velocity)?;
         let states = self.position.iter_mut().zip(self.velocity.iter_mut());
-        let axes = self.axes.iter().zip(&self.decays);
-        for (((axis, decay), (p, v)), c) in axes.zip(states).zip(commanded_velocity) {
-            (*p, *v) = axis.advance(*p, *v, *c, self.cycle_s, *decay);
+        // Whether every axis stayed in its travel, found on the way (the
+        // error, when there is one, is then looked up).
+        let mut inside = true;
+        for ((axis, (p, v)), c) in self.cycles.iter().zip(states).zip(commanded_velocity) {
+            (*p, *v) = axis.advance(*p, *v, *c);
+            inside &= axis.holds(*p);
         }
         self.time_s += self.cycle_s;
+        if inside {
+            return Ok(());
+        }
         match self.first_outside() {
             Some(err) => Err(self.halt(err)),
             None => Ok(()),
@@ -365,9 +340,10 @@ impl Servo {
     /// value per axis).
     pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
         out.resize(self.axes.len(), 0.0);
+        let normal = Ziggurat::new();
         let pairs = self.axes.iter().zip(&self.position);
         for (o, (axis, p)) in out.iter_mut().zip(pairs) {
-            *o = axis.read(*p, rng);
+            *o = axis.read(*p, rng, normal);
         }
     }
 
@@ -405,6 +381,11 @@ fn check_count(expected: usize, found: usize) -> Result<(), ServoError> {
 }
 
 fn check_finite(values: &[f64]) -> Result<(), ServoError> {
+    // `v * 0` is NaN exactly when `v` is infinite or NaN (and a signed
+    // zero otherwise): one test for all values in the common case.
+    if values.iter().fold(0.0, |acc, &v| acc + v * 0.0) == 0.0 {
+        return Ok(());
+    }
     match values.iter().enumerate().find(|(_, v)| !v.is_finite()) {
         Some((index, &value)) => Err(ServoError::NotFinite { index, value }),
         None => Ok(()),
@@ -431,7 +412,18 @@ mod tests {
             0.49999999999999994,
             -0.49999999999999994,
             4_503_599_627_370_495.5,
+            -4_503_599_627_370_495.5,
+            4_503_599_627_370_494.5,
+            2_251_799_813_685_248.5,
+            -2_251_799_813_685_249.5,
+            4_503_599_627_370_495.0,
             4_503_599_627_370_496.0,
+            0.500_000_000_000_000_1,
+            1.499_999_999_999_999_8,
+            -0.4,
+            -1e-300,
+            f64::MIN_POSITIVE,
+            f64::NEG_INFINITY,
             1e300,
             -1e300,
             f64::INFINITY,
