@@ -8,7 +8,7 @@ use crate::host::modes::Measured;
 use crate::program::Program;
 use crate::report::PointReport;
 use crate::workpiece::as_machined::AsMachined;
-use crate::workpiece::{FootHint, KnownFoot};
+use crate::workpiece::FootHint;
 
 /// Deviation of every measured point (machine frame) from the nominal
 /// surfaces `faces`, with the true deviation from the simulated part.
@@ -19,24 +19,23 @@ pub fn point_reports(
     points: &[Measured],
 ) -> Vec<PointReport> {
     let count = program.workpiece.faces.len();
-    let all: Vec<usize> = (0..count).collect();
     let mut listed = faces.to_vec();
     listed.sort_unstable();
     listed.dedup();
     let mut hints = Hints {
         all: None,
         faces: None,
-        faces_are_all: listed == all,
+        faces_are_all: listed.iter().copied().eq(0..count),
     };
     points
         .iter()
-        .filter_map(|m| point_report(program, truth, faces, &all, m, &mut hints))
+        .filter_map(|m| point_report(program, truth, faces, m, &mut hints))
         .collect()
 }
 
 /// Where the previous point's nominal feet lie.
 struct Hints {
-    /// Foot over all faces.
+    /// Foot over all faces (that of the true point, once it is found).
     all: Option<FootHint>,
     /// Foot over the feature's faces.
     faces: Option<FootHint>,
@@ -48,31 +47,25 @@ fn point_report(
     program: &Program,
     truth: &AsMachined,
     faces: &[usize],
-    all: &[usize],
     m: &Measured,
     hints: &mut Hints,
 ) -> Option<PointReport> {
     let wp = &program.workpiece;
     let p = program.placement.to_part(m.point);
-    let (foot, hint) = wp.closest_point_near(p, all, hints.all).ok()?;
-    hints.all = hint;
-    let known = KnownFoot {
-        query: p,
-        foot,
-        hint,
-    };
+    let all = 0..wp.faces.len();
+    let foot = wp.closest_point_tracked(p, all, &mut hints.all).ok()?;
     // The closest point over all faces is the closest over the feature's
     // faces too when it lies on one of them.
     let nominal = if hints.faces_are_all || faces.contains(&foot.face) {
         foot
     } else {
-        let (found, hint) = wp.closest_point_near(p, faces, hints.faces).ok()?;
-        hints.faces = hint;
-        found
+        let listed = faces.iter().copied();
+        wp.closest_point_tracked(p, listed, &mut hints.faces).ok()?
     }
     .projection;
     // The truth is read here only, for the report's true_deviation_mm.
-    let true_dev = truth.true_deviation_near(wp, p, Some(&known)).ok()?;
+    let known = Some((p, &foot));
+    let true_dev = (truth.true_deviation_tracked(wp, p, known, &mut hints.all)).ok()?;
     Some(PointReport {
         measured: p.into(),
         nominal: nominal.point.into(),

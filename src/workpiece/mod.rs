@@ -10,7 +10,7 @@ mod validate;
 
 use std::path::{Path, PathBuf};
 
-use crate::geometry::projection::Foot;
+use crate::geometry::projection::{Foot, LeafMemo};
 use crate::geometry::{
     NurbsSurface, Projection, ProjectionError, ProjectionIndex, ProjectionOptions, Trim,
 };
@@ -177,31 +177,22 @@ impl Face {
         self.trim.as_ref().is_none_or(|t| t.contains(uv))
     }
 
-    /// Closest point of the face (trim respected) closer than
-    /// `sqrt(best_dist2)`, if any.
-    pub(crate) fn project_within(
-        &self,
-        p: Point3,
-        best_dist2: f64,
-    ) -> Result<Option<Foot>, ProjectionError> {
-        self.index
-            .project_within(&self.surface, self.trim.as_ref(), p, best_dist2)
-    }
-
-    /// [`Self::project_within`] leaving out leaf `skip`, with the leaf of
+    /// The closest point of the face (trim respected) closer than
+    /// `sqrt(best_dist2)`, if any, leaving out leaf `skip`, with the leaf of
     /// the foot (`None` on the trim boundary); depth first when `tight`
     /// (`best_dist2` comes from a point found nearby), else best first.
+    /// `memo` (depth first only) spares leaves that earlier queries found
+    /// far enough, and learns from this one.
     fn search(
         &self,
-        p: Point3,
-        best_dist2: f64,
+        (p, best_dist2): (Point3, f64),
         skip: Option<usize>,
         tight: bool,
+        memo: &mut dyn LeafMemo,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         let (surface, trim) = (&self.surface, self.trim.as_ref());
         if tight {
-            self.index
-                .search_depth_first(surface, trim, p, best_dist2, skip)
+            (self.index).search_depth_first(surface, trim, (p, best_dist2), skip, memo)
         } else {
             self.index.search(surface, trim, p, best_dist2, skip)
         }

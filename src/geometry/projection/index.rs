@@ -2,19 +2,31 @@
 //! under an axis-aligned bounding-box tree, searched best-first.
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
+use std::sync::OnceLock;
 
 use super::newton::{self, Bounds, Foot};
 use super::{check_finite, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
-use crate::geometry::{NurbsSurface, Trim};
+use crate::geometry::{BezierPatch, NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
 
+mod boxes;
 mod build;
+mod convex;
+mod grid;
+mod stack;
+mod warm;
+
+use boxes::{crossed, extent, Shadow};
+use stack::NodeStack;
+pub(crate) use warm::{LeafMemo, NoMemo};
 
 /// Search structure for global closest-point queries on one surface.
 #[derive(Debug, Clone)]
 pub struct ProjectionIndex {
     leaves: Vec<Leaf>,
     nodes: Vec<Node>,
+    /// The leaves listed by place, for searches with a tight bound.
+    grid: grid::Grid,
     opts: ProjectionOptions,
 }
 
@@ -22,6 +34,13 @@ pub struct ProjectionIndex {
 struct Leaf {
     bounds: Bounds,
     obb: Obb,
+    /// The axis-aligned box (that of its node in the tree).
+    aabb: Aabb,
+    /// The Bezier piece (for its certificate).
+    patch: BezierPatch,
+    /// The certificate that spares a warm search the Newton iteration in
+    /// the leaf of its foot, made when first needed.
+    convexity: OnceLock<convex::Convexity>,
     /// A 3 x 3 grid of surface points with their parameters.
     samples: [(Vec2, Point3); 9],
 }
@@ -88,7 +107,7 @@ impl ProjectionIndex {
         }
         // Depth-first, nearer child first, pruning boxes no nearer than the
         // nearest leaf so far (a median-split tree is shallow).
-        let mut stack = Vec::with_capacity(64);
+        let mut stack = NodeStack::new();
         stack.push((self.child_dist2(root, p), root));
         while let Some((d2, i)) = stack.pop() {
             let Some(node) = self.nodes.get(i).filter(|_| d2 < best.0) else {
@@ -103,7 +122,9 @@ impl ProjectionIndex {
                 }
                 Err(children) => {
                     let next = self.children_far_near(children, p);
-                    stack.extend(next.into_iter().filter(|c| c.0 < best.0));
+                    (next.into_iter())
+                        .filter(|c| c.0 < best.0)
+                        .for_each(|c| stack.push(c));
                 }
             }
         }
@@ -255,40 +276,37 @@ impl ProjectionIndex {
                         }
                     }
                 }
-                Ok(leaf) => self.visit_leaf(surface, trim, leaf, p, skip, &mut best)?,
+                Ok(leaf) => {
+                    self.visit_leaf(surface, trim, leaf, p, skip, &mut best, &mut NoMemo)?
+                }
             }
         }
         self.with_boundary(surface, trim, p, best)
     }
 
-    /// [`Self::search`] depth first (nearer child first) instead of best
-    /// first: no heap, and as good when `best_dist2` is already tight (a
-    /// bound from a nearby foot). The same answer up to exact ties.
+    /// [`Self::search`] over the leaves near `p` (from the grid, or depth
+    /// first down the tree, nearer child first) instead of best first: no
+    /// heap, and as good when `best_dist2` is already tight (a bound from a
+    /// nearby foot). The same answer up to exact ties. `memo` spares the
+    /// leaves that earlier queries found far enough, and learns from this
+    /// one.
     pub(crate) fn search_depth_first(
         &self,
         surface: &NurbsSurface,
         trim: Option<&Trim>,
-        p: Point3,
-        best_dist2: f64,
+        (p, best_dist2): (Point3, f64),
         skip: Option<usize>,
+        memo: &mut dyn LeafMemo,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
-        let Some((root, mut best)) = self.start(p, best_dist2)? else {
+        let Some((_, mut best)) = self.start(p, best_dist2)? else {
             return Ok(None);
         };
-        let mut stack = Vec::with_capacity(64);
-        stack.push((self.child_dist2(root, p), root));
-        while let Some((d2, i)) = stack.pop() {
-            let Some(node) = self.nodes.get(i).filter(|_| d2 < best.dist2) else {
-                continue;
-            };
-            match node.kind {
-                Ok(leaf) => self.visit_leaf(surface, trim, leaf, p, skip, &mut best)?,
-                Err(children) => {
-                    let next = self.children_far_near(children, p);
-                    stack.extend(next.into_iter().filter(|c| c.0 < best.dist2));
-                }
-            }
-        }
+        let mut bound2 = best_dist2;
+        self.for_leaves_near(p, &mut bound2, |leaf, bound2| {
+            self.visit_leaf(surface, trim, leaf, p, skip, &mut best, memo)?;
+            *bound2 = best.dist2;
+            Ok(())
+        })?;
         self.with_boundary(surface, trim, p, best)
     }
 
@@ -305,6 +323,7 @@ impl ProjectionIndex {
 
     /// Searches leaf `leaf` (unless it is `skip`) and keeps its foot when
     /// it beats `best`.
+    #[allow(clippy::too_many_arguments)]
     fn visit_leaf(
         &self,
         surface: &NurbsSurface,
@@ -313,11 +332,12 @@ impl ProjectionIndex {
         p: Point3,
         skip: Option<usize>,
         best: &mut Best,
+        memo: &mut dyn LeafMemo,
     ) -> Result<(), ProjectionError> {
         if skip == Some(leaf) {
             return Ok(());
         }
-        if let Some(foot) = self.search_leaf(surface, trim, leaf, p, best.dist2)? {
+        if let Some(foot) = self.search_leaf_with(surface, trim, leaf, (p, best.dist2), memo)? {
             best.dist2 = foot.dist2;
             best.found = Some((Some(leaf), foot));
         }
@@ -351,27 +371,57 @@ impl ProjectionIndex {
         p: Point3,
         best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
-        let Some(leaf) = self.leaves.get(leaf) else {
+        self.search_leaf_with(surface, trim, leaf, (p, best_dist2), &mut NoMemo)
+    }
+
+    /// [`Self::search_leaf`], but `None` without a Newton iteration when
+    /// `memo` knows the leaf to be far enough; on an untrimmed surface the
+    /// leaf's least distance is noted in `memo`.
+    fn search_leaf_with(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        leaf: usize,
+        (p, best_dist2): (Point3, f64),
+        memo: &mut dyn LeafMemo,
+    ) -> Result<Option<Foot>, ProjectionError> {
+        let Some(l) = self.leaves.get(leaf) else {
             return Ok(None);
         };
-        if leaf.obb.dist2(p) >= best_dist2 {
+        if l.obb.dist2(p) >= best_dist2 {
             return Ok(None);
         }
-        if trim.is_some_and(|t| !t.may_touch(leaf.bounds.lo, leaf.bounds.hi)) {
+        if trim.is_some_and(|t| !t.may_touch(l.bounds.lo, l.bounds.hi)) {
             return Ok(None);
         }
-        let start = leaf
-            .samples
-            .iter()
-            .min_by(|a, b| {
-                (a.1 - p)
-                    .norm_squared()
-                    .total_cmp(&(b.1 - p).norm_squared())
-            })
-            .map_or(leaf.bounds.lo, |s| s.0);
-        let foot = newton::minimise(surface, p, start, &leaf.bounds, &self.opts)?;
+        let floor = memo.floor(leaf, p);
+        if floor > 0.0 && floor * floor >= best_dist2 {
+            return Ok(None);
+        }
+        let start = l.nearest_sample(p).0;
+        let foot = newton::minimise(surface, p, start, &l.bounds, &self.opts)?;
+        if trim.is_none() {
+            memo.note(leaf, p, foot.dist2.sqrt());
+        }
         let on_face = trim.is_none_or(|t| t.contains(foot.uv));
         Ok((on_face && foot.dist2 < best_dist2).then_some(foot))
+    }
+}
+
+impl Leaf {
+    /// The leaf's certificate (made on first use).
+    fn convexity(&self) -> &convex::Convexity {
+        self.convexity
+            .get_or_init(|| convex::Convexity::of(&self.patch, &self.obb))
+    }
+
+    /// The parameters of the sample nearest to `p` (the first on a tie)
+    /// and its squared distance.
+    fn nearest_sample(&self, p: Point3) -> (Vec2, f64) {
+        let dist2 = |s: &(Vec2, Point3)| (s.1 - p).norm_squared();
+        (self.samples.iter())
+            .min_by(|a, b| dist2(a).total_cmp(&dist2(b)))
+            .map_or((self.bounds.lo, f64::INFINITY), |s| (s.0, dist2(s)))
     }
 }
 
@@ -401,99 +451,5 @@ impl PartialOrd for Entry {
 impl Ord for Entry {
     fn cmp(&self, other: &Self) -> Ordering {
         other.dist2.total_cmp(&self.dist2)
-    }
-}
-
-/// An axis (a unit vector) with the interval a convex shape covers on it.
-type Shadow = (Vec3, (f64, f64));
-
-/// The gap between the intervals `lo..hi` and `a..b` on one axis (negative
-/// when they overlap).
-fn gap((lo, hi): (f64, f64), (a, b): (f64, f64)) -> f64 {
-    (a - hi).max(lo - b)
-}
-
-/// The interval of `hull`'s points projected on `axis`.
-fn extent(hull: &[Point3], axis: &Vec3) -> (f64, f64) {
-    hull.iter()
-        .map(|p| p.coords.dot(axis))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), s| {
-            (lo.min(s), hi.max(s))
-        })
-}
-
-/// The unit cross products of `axes` with `edges` (unit vectors), leaving
-/// out (nearly) parallel pairs: any unit axis bounds the distance, those
-/// add little and normalise poorly.
-fn crossed<'a>(axes: &'a [Vec3], edges: &'a [Vec3]) -> impl Iterator<Item = Vec3> + 'a {
-    (axes.iter()).flat_map(move |a| {
-        edges
-            .iter()
-            .filter_map(move |e| a.cross(e).try_normalize(f64::EPSILON))
-    })
-}
-
-impl Obb {
-    /// Whether the box and the convex hull of `hull` (with its shadows on
-    /// its face normals, `on_normals`, and its edge directions `edges`) are
-    /// at least `reach` apart along one axis of the separating-axis test.
-    fn separated(
-        &self,
-        hull: &[Point3],
-        on_normals: &[Shadow],
-        edges: &[Vec3],
-        reach: f64,
-    ) -> bool {
-        let own = (self.axes.iter().zip(self.half)).any(|(u, half)| {
-            let c = self.center.coords.dot(u);
-            gap(extent(hull, u), (c - half, c + half)) >= reach
-        });
-        own || on_normals.iter().any(|s| self.apart(s, reach))
-            || crossed(&self.axes, edges).any(|u| self.apart(&(u, extent(hull, &u)), reach))
-    }
-
-    /// Whether the box is at least `reach` from a shadow on its axis.
-    fn apart(&self, (u, shadow): &Shadow, reach: f64) -> bool {
-        let c = self.center.coords.dot(u);
-        let half: f64 = (self.axes.iter().zip(self.half))
-            .map(|(a, h)| h * a.dot(u).abs())
-            .sum();
-        gap(*shadow, (c - half, c + half)) >= reach
-    }
-
-    fn dist2(&self, p: Point3) -> f64 {
-        let r = p - self.center;
-        (0..3)
-            .map(|k| (r.dot(&self.axes[k]).abs() - self.half[k]).max(0.0).powi(2))
-            .sum()
-    }
-}
-
-impl Aabb {
-    /// Whether the box is at least `reach` from one of the `shadows`.
-    fn separated(&self, shadows: &[Shadow], reach: f64) -> bool {
-        let mid = (self.min.coords + self.max.coords) * 0.5;
-        let size = (self.max - self.min) * 0.5;
-        shadows.iter().any(|(u, shadow)| {
-            let (c, half) = (mid.dot(u), size.dot(&u.abs()));
-            gap(*shadow, (c - half, c + half)) >= reach
-        })
-    }
-
-    fn dist2(&self, p: Point3) -> f64 {
-        (0..3)
-            .map(|k| {
-                (self.min[k] - p[k])
-                    .max(p[k] - self.max[k])
-                    .max(0.0)
-                    .powi(2)
-            })
-            .sum()
-    }
-    fn union(&self, o: &Aabb) -> Aabb {
-        Aabb {
-            min: self.min.inf(&o.min),
-            max: self.max.sup(&o.max),
-        }
     }
 }

@@ -17,6 +17,7 @@ mod newton;
 mod trimmed;
 
 pub use index::ProjectionIndex;
+pub(crate) use index::{LeafMemo, NoMemo};
 pub(crate) use newton::{minimise_cached, minimise_with, Bounds, Foot};
 pub(crate) use trimmed::closest_on_boundary;
 
@@ -52,6 +53,15 @@ pub struct ProjectionOptions {
     pub leaf_flatness: f64,
     /// Maximum subdivision depth of one Bezier patch into leaves.
     pub max_leaf_depth: usize,
+    /// Cell size of the grid that lists the leaves near a point (for the
+    /// searches that start with a tight bound), relative to the median
+    /// longest side of the leaves' axis-aligned boxes.
+    pub grid_cell_ratio: f64,
+    /// Most cells of that grid per surface (the cells grow until they fit).
+    pub grid_max_cells: usize,
+    /// A search whose bound spans more cells of the grid than this goes
+    /// down the box tree instead.
+    pub grid_query_cells: usize,
 }
 
 impl Default for ProjectionOptions {
@@ -65,6 +75,9 @@ impl Default for ProjectionOptions {
             max_halvings: 40,
             leaf_flatness: 0.05,
             max_leaf_depth: 8,
+            grid_cell_ratio: 1.0,
+            grid_max_cells: 1 << 12,
+            grid_query_cells: 8,
         }
     }
 }

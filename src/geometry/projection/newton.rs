@@ -15,6 +15,11 @@ pub struct Bounds {
 }
 
 impl Bounds {
+    /// Whether `x` lies in the box (its boundary included).
+    pub(crate) fn contains(&self, x: Vec2) -> bool {
+        (self.lo.x..=self.hi.x).contains(&x.x) && (self.lo.y..=self.hi.y).contains(&x.y)
+    }
+
     pub(crate) fn clamp(&self, x: Vec2) -> Vec2 {
         Vec2::new(
             x.x.clamp(self.lo.x, self.hi.x),
@@ -24,7 +29,7 @@ impl Bounds {
 }
 
 /// A local minimum found by Newton (crate-internal).
-#[derive(Debug, Clone, Copy)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Foot {
     /// Parameters.
     pub uv: Vec2,

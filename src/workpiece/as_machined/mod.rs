@@ -257,22 +257,37 @@ impl AsMachined {
         x: Point3,
         near: Option<&crate::workpiece::KnownFoot>,
     ) -> Result<(TrueProjection, Option<crate::workpiece::FootHint>), ProjectionError> {
+        let mut hint = near.and_then(|k| k.hint);
+        let known = near.map(|k| (k.query, &k.foot));
+        let tp = self.closest_point_tracked(wp, x, known, &mut hint)?;
+        Ok((tp, hint))
+    }
+
+    /// [`Self::closest_point_near`] with `known`, the global nominal foot
+    /// of a query point found with `hint`, and `hint` moved in place to the
+    /// nominal foot of `T^-1(x)`.
+    pub fn closest_point_tracked(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        known: Option<(Point3, &crate::workpiece::FaceProjection)>,
+        hint: &mut Option<crate::workpiece::FootHint>,
+    ) -> Result<TrueProjection, ProjectionError> {
         let y = self.inverse_point(x);
         // Seeds: the nominal feet of `y` on every face that could hold the
         // answer (the form moves a face by at most max|h|, stretched by T).
         let stretch = self.stretch();
         let reach =
             |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best));
-        let found = wp.feet_within_reach(y, near, reach)?;
-        let (seeds, hint) = (found.feet, found.hint);
         let mut best: Option<TrueProjection> = None;
-        for (face, uv) in seeds {
+        wp.for_feet_within_reach(y, known, hint, reach, |face, uv| {
             let foot = self.newton(wp, x, face, uv)?;
             if best.is_none_or(|b| foot.dist2.sqrt() < b.distance) {
                 best = Some(self.finish(wp, x, face, &foot));
             }
-        }
-        best.map(|b| (b, hint)).ok_or(ProjectionError::NotFinite {
+            Ok(())
+        })?;
+        best.ok_or(ProjectionError::NotFinite {
             x: x.x,
             y: x.y,
             z: x.z,
@@ -357,13 +372,30 @@ impl AsMachined {
         m: Point3,
         near: Option<&crate::workpiece::KnownFoot>,
     ) -> Result<f64, ProjectionError> {
-        let (tp, hint) = self.closest_point_near(wp, m, near)?;
-        let all: Vec<usize> = (0..wp.faces.len()).collect();
-        Ok(wp
-            .closest_point_near(tp.point, &all, hint)?
-            .0
-            .projection
-            .signed_distance)
+        let mut hint = near.and_then(|k| k.hint);
+        let known = near.map(|k| (k.query, &k.foot));
+        self.true_deviation_tracked(wp, m, known, &mut hint)
+    }
+
+    /// [`Self::true_deviation_near`] with `known`, the global nominal foot
+    /// of a query point (such as `m`) found with `hint`, and `hint` moved
+    /// in place to the nominal foot of the true point.
+    pub fn true_deviation_tracked(
+        &self,
+        wp: &Workpiece,
+        m: Point3,
+        known: Option<(Point3, &crate::workpiece::FaceProjection)>,
+        hint: &mut Option<crate::workpiece::FootHint>,
+    ) -> Result<f64, ProjectionError> {
+        let tp = self.closest_point_tracked(wp, m, known, hint)?;
+        // The nominal foot of the true point, started from the nominal
+        // parameters of that point (its foot when `T` is the identity).
+        match hint.as_mut() {
+            Some(h) => h.restart_at(tp.face, tp.uv),
+            None => *hint = Some(crate::workpiece::FootHint::at(tp.face, tp.uv)),
+        }
+        let found = wp.closest_point_tracked(tp.point, 0..wp.faces.len(), hint)?;
+        Ok(found.projection.signed_distance)
     }
 }
 

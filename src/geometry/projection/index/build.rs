@@ -2,7 +2,9 @@
 //! leaves with their boxes and sample points, and the box tree over them.
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
+use std::sync::OnceLock;
 
+use super::grid::Grid;
 use super::{Aabb, Leaf, Node, Obb, ProjectionIndex};
 use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
 use crate::geometry::projection::newton::Bounds;
@@ -19,13 +21,12 @@ pub(super) fn index(surface: &NurbsSurface, opts: &ProjectionOptions) -> Project
     // each distinct one is evaluated once.
     let mut points =
         PointCache::with_capacity_and_hasher(9 * leaf_patches.len(), Default::default());
-    let leaves: Vec<Leaf> = leaf_patches
-        .iter()
-        .map(|(p, obb)| make_leaf(surface, p, *obb, &mut points))
-        .collect();
     let boxes: Vec<Aabb> = leaf_patches
         .iter()
         .map(|(p, _)| aabb_of(p.points()))
+        .collect();
+    let leaves: Vec<Leaf> = (leaf_patches.into_iter().zip(&boxes))
+        .map(|((p, obb), aabb)| make_leaf(surface, p, (obb, *aabb), &mut points))
         .collect();
     let mut nodes = Vec::with_capacity(2 * leaves.len());
     let mut ids: Vec<usize> = (0..leaves.len()).collect();
@@ -33,6 +34,7 @@ pub(super) fn index(surface: &NurbsSurface, opts: &ProjectionOptions) -> Project
     ProjectionIndex {
         leaves,
         nodes,
+        grid: Grid::new(&boxes, opts),
         opts: *opts,
     }
 }
@@ -164,13 +166,13 @@ impl Hasher for BitsHasher {
     }
 }
 
-/// A leaf for `patch` with its oriented box; its sample points come from
-/// `points` when their parameters were evaluated already (keyed by the
-/// parameters' bits, so a hit gives the very same point).
+/// A leaf for `patch` with its oriented and axis-aligned boxes; its sample
+/// points come from `points` when their parameters were evaluated already
+/// (keyed by the parameters' bits, so a hit gives the very same point).
 fn make_leaf(
     surface: &NurbsSurface,
-    patch: &BezierPatch,
-    obb: Obb,
+    patch: BezierPatch,
+    (obb, aabb): (Obb, Aabb),
     points: &mut PointCache,
 ) -> Leaf {
     let bounds = Bounds {
@@ -188,7 +190,10 @@ fn make_leaf(
     Leaf {
         bounds,
         obb,
+        aabb,
         samples,
+        patch,
+        convexity: OnceLock::new(),
     }
 }
 

@@ -1,0 +1,164 @@
+//! A certificate that no point of a leaf comes closer to a point `p` than
+//! a local minimum `f` of the distance found on it (by a warm start), at
+//! distance `d`: then the leaf needs no Newton iteration of its own.
+//!
+//! Take the leaf's own parameters on `[0, 1]^2`, scaled by the mean
+//! lengths of the first derivatives (an affine change of the surface's
+//! parameters: local minima stay local minima, convex functions convex).
+//! A polynomial Bezier leaf's first derivatives `a = S_u`, `b = S_v` lie in
+//! the convex hulls of its scaled control point differences, its second
+//! ones in those of the second differences. From their extreme points:
+//! `|P J w| >= sigma` for unit `w`, where `P` projects on the plane of the
+//! leaf's oriented box (`sigma` = the least 2-D cross product of projected
+//! `a` and `b` over the largest Frobenius norm: the cross product is
+//! bilinear, so least at extreme points), `|J w| <= m`, and
+//! `|D^2 S [w, w]| <= kappa`. Then `|S(x) - S(y)| >= sigma |x - y|`
+//! (integrate `P J` along the segment: its mean lies in the same hulls),
+//! so a point `x` of the leaf at most `d` from `p`, within `2 d` of `f`,
+//! has `|x - x_f| <= 2 d / sigma`. On that disc (cut to the leaf, a convex
+//! set) `|S - p| <= d + 2 d m / sigma`, and the Hessian of `|S - p|^2 / 2`,
+//! `J^T J + (S - p) . D^2 S >= sigma^2 - d (1 + 2 m / sigma) kappa`. When
+//! that is positive the squared distance is strictly convex there, so `f`,
+//! a local minimum, is its least value on the disc, and no point of the
+//! leaf outside it comes within `d`. Rational leaves get no certificate.
+use super::Obb;
+use crate::geometry::nurbs::bezier::BezierPatch;
+use crate::math::{Vec2, Vec3};
+
+/// Relative margin of the certificate's inequality against rounding.
+const MARGIN: f64 = 1e-9;
+
+/// The constants of one leaf's certificate.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Convexity {
+    /// `sigma` (zero: no certificate).
+    sigma: f64,
+    /// `m`.
+    m: f64,
+    /// `kappa`.
+    kappa: f64,
+}
+
+impl Convexity {
+    /// No certificate.
+    const NONE: Convexity = Convexity {
+        sigma: 0.0,
+        m: f64::INFINITY,
+        kappa: f64::INFINITY,
+    };
+
+    /// The certificate's constants for the leaf `patch` with the oriented
+    /// box `obb`.
+    pub(super) fn of(patch: &BezierPatch, obb: &Obb) -> Convexity {
+        let [p, q] = patch.degree;
+        let w0 = patch.pw.first().map_or(f64::NAN, |c| c.w);
+        if p == 0 || q == 0 || patch.pw.iter().any(|c| c.w != w0) {
+            return Convexity::NONE;
+        }
+        let at = |i: usize, j: usize| patch.point(i, j).coords;
+        let (pf, qf) = (p as f64, q as f64);
+        let mut su: Vec<Vec3> = (0..p)
+            .flat_map(|i| (0..=q).map(move |j| (at(i + 1, j) - at(i, j)) * pf))
+            .collect();
+        let mut sv: Vec<Vec3> = (0..=p)
+            .flat_map(|i| (0..q).map(move |j| (at(i, j + 1) - at(i, j)) * qf))
+            .collect();
+        let (ku, kv) = (1.0 / mean_length(&su), 1.0 / mean_length(&sv));
+        if !(ku.is_finite() && kv.is_finite()) {
+            return Convexity::NONE;
+        }
+        su.iter_mut().for_each(|x| *x *= ku);
+        sv.iter_mut().for_each(|x| *x *= kv);
+        let longest = |d: &mut dyn Iterator<Item = Vec3>| d.map(|x| x.norm()).fold(0.0, f64::max);
+        let kuu = longest(&mut (0..p.saturating_sub(1)).flat_map(|i| {
+            (0..=q).map(move |j| (at(i + 2, j) - at(i + 1, j) * 2.0 + at(i, j)) * (pf * (pf - 1.0)))
+        })) * ku * ku;
+        let kvv = longest(&mut (0..=p).flat_map(|i| {
+            (0..q.saturating_sub(1))
+                .map(move |j| (at(i, j + 2) - at(i, j + 1) * 2.0 + at(i, j)) * (qf * (qf - 1.0)))
+        })) * kv * kv;
+        let kuv = longest(&mut (0..p).flat_map(|i| {
+            (0..q).map(move |j| (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * (pf * qf))
+        })) * ku * kv;
+        let (spread_sigma, spread_m) = spread_bounds(&su, &sv, &obb.axes);
+        let frobenius = longest(&mut su.iter().copied()).hypot(longest(&mut sv.iter().copied()));
+        let m = spread_m.min(frobenius);
+        let sigma = spread_sigma.max(cross_sigma(&su, &sv, &obb.axes));
+        if !(sigma > 0.0 && m.is_finite()) {
+            return Convexity::NONE;
+        }
+        Convexity {
+            sigma,
+            m,
+            kappa: largest_eigenvalue(kuu, kuv, kvv),
+        }
+    }
+
+    /// Whether no point of the leaf comes closer to a point than `d`, the
+    /// distance of a local minimum of the distance found on the leaf.
+    pub(super) fn excludes_closer(&self, d: f64) -> bool {
+        let s = self.sigma;
+        s > 0.0 && s * s > d * (1.0 + 2.0 * self.m / s) * self.kappa * (1.0 + MARGIN)
+    }
+}
+
+/// The mean length of the vectors `d` (not finite when there are none).
+fn mean_length(d: &[Vec3]) -> f64 {
+    d.iter().map(|x| x.norm()).sum::<f64>() / d.len() as f64
+}
+
+/// A lower bound of the smallest singular value of `[P a, P b]` over all
+/// `a`, `b` in the convex hulls of `su`, `sv`, with `P` the projection on
+/// the plane of `axes[0]` and `axes[1]`: the least cross product over the
+/// largest Frobenius norm; zero when the cross products change sign.
+fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
+    let flat = |x: &Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
+    let (fu, fv): (Vec<Vec2>, Vec<Vec2>) = (su.iter().map(flat).collect(), sv.iter().map(flat).collect());
+    let crosses = fu.iter().flat_map(|a| fv.iter().map(move |b| a.x * b.y - a.y * b.x));
+    let (lo, hi) = crosses.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c), hi.max(c)));
+    let least = if lo > 0.0 { lo } else if hi < 0.0 { -hi } else { 0.0 };
+    let longest = |d: &[Vec2]| d.iter().map(|x| x.norm()).fold(0.0, f64::max);
+    let sigma = least / longest(&fu).hypot(longest(&fv));
+    if sigma.is_finite() {
+        sigma
+    } else {
+        0.0
+    }
+}
+
+/// Bounds `(sigma, m)` over all `a`, `b` in the convex hulls of `su` and
+/// `sv` and unit `w`: `sigma <= |P (a w_1 + b w_2)|` with `P` the
+/// projection on the plane of `axes[0]` and `axes[1]` (the smallest
+/// singular value of the projected means less the projected spread, zero
+/// when that is not positive), and `m >= |a w_1 + b w_2|` (the largest
+/// singular value of the means plus the spread).
+fn spread_bounds(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> (f64, f64) {
+    let mean = |d: &[Vec3]| d.iter().sum::<Vec3>() / d.len().max(1) as f64;
+    let (a, b) = (mean(su), mean(sv));
+    let spread = |d: &[Vec3], m: Vec3| d.iter().map(|x| (x - m).norm()).fold(0.0, f64::max);
+    let e = spread(su, a).hypot(spread(sv, b));
+    let flat = |x: Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
+    let flat_spread = |d: &[Vec3], m: Vec3| (d.iter()).map(|x| (flat(*x) - flat(m)).norm()).fold(0.0, f64::max);
+    let e_flat = flat_spread(su, a).hypot(flat_spread(sv, b));
+    let (fa, fb) = (flat(a), flat(b));
+    let sigma = singular_values(fa.dot(&fa), fa.dot(&fb), fb.dot(&fb)).0 - e_flat;
+    let m = singular_values(a.dot(&a), a.dot(&b), b.dot(&b)).1 + e;
+    if sigma.is_finite() && sigma > 0.0 {
+        (sigma, m)
+    } else {
+        (0.0, m)
+    }
+}
+
+/// The singular values (smallest, largest) of a matrix with the Gram
+/// matrix `[[g11, g12], [g12, g22]]`.
+fn singular_values(g11: f64, g12: f64, g22: f64) -> (f64, f64) {
+    let half_gap = (0.25 * (g11 - g22).powi(2) + g12 * g12).sqrt();
+    let mid = 0.5 * (g11 + g22);
+    ((mid - half_gap).max(0.0).sqrt(), (mid + half_gap).sqrt())
+}
+
+/// The largest eigenvalue of `[[a, b], [b, c]]`.
+fn largest_eigenvalue(a: f64, b: f64, c: f64) -> f64 {
+    0.5 * (a + c) + (0.25 * (a - c).powi(2) + b * b).sqrt()
+}
