@@ -266,6 +266,7 @@ impl<'a> SimulatedCmm<'a> {
         })
     }
 
+    #[inline(always)]
     fn observe(&mut self, velocity: Vec3, status: MachineStatus) -> Readings {
         let d = self.contact(velocity);
         let status = if d.norm() > self.probe.max_deflection_mm && status == MachineStatus::Ok {

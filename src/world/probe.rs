@@ -94,6 +94,7 @@ impl TrueProbe {
 
     /// The sensor reading of a true deflection `d`: [`Self::response`]
     /// plus noise (none drawn for a zero deflection).
+    #[inline(always)]
     pub fn sense(&self, d: Vec3, rng: &mut impl Rng) -> Vec3 {
         let mut reading = self.response(d);
         if self.noise_mm > 0.0 && d.norm_squared() > 0.0 {

@@ -320,6 +320,7 @@ impl AsMachined {
         )
     }
 
+    #[inline(always)]
     fn finish(&self, wp: &Workpiece, x: Point3, face: usize, foot: &Foot) -> TrueProjection {
         let sign = wp
             .faces

@@ -338,6 +338,7 @@ impl Servo {
 
     /// [`Self::read_scales`] into a reused buffer (overwritten with one
     /// value per axis).
+    #[inline(always)]
     pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
         out.resize(self.axes.len(), 0.0);
         let normal = Ziggurat::new();
