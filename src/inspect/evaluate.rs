@@ -53,7 +53,9 @@ fn point_report(
     let wp = &program.workpiece;
     let p = program.placement.to_part(m.point);
     let all = 0..wp.faces.len();
-    let foot = wp.closest_point_tracked(p, all, &mut hints.all).ok()?;
+    // The other faces are searched as far as the true part's seeds need.
+    let reach = truth.seed_reach();
+    let foot = (wp.closest_point_reaching(p, all, &mut hints.all, Some(&reach))).ok()?;
     // The closest point over all faces is the closest over the feature's
     // faces too when it lies on one of them.
     let nominal = if hints.faces_are_all || faces.contains(&foot.face) {

@@ -8,8 +8,13 @@ use super::{FaceProjection, Workpiece};
 use crate::geometry::projection::{Foot, NoMemo};
 use crate::geometry::ProjectionError;
 use crate::math::Point3;
+use far::FarLeaves;
 pub use hint::{FootHint, KnownFoot};
 pub use reach::FeetWithinReach;
+
+/// Relative slack on the squared search radius of a face, so that
+/// rounding cannot drop a point right at it (the exact tests follow).
+const BOUND_SLACK: f64 = 1e-9;
 
 mod far;
 mod hint;
@@ -44,12 +49,27 @@ impl Workpiece {
         faces: impl Iterator<Item = usize> + Clone,
         hint: &mut Option<FootHint>,
     ) -> Result<FaceProjection, ProjectionError> {
+        self.closest_point_reaching(p, faces, hint, None)
+    }
+
+    /// [`Self::closest_point_tracked`] that searches each face other than
+    /// the foot's within `reach(face, distance)` too (at least the
+    /// distance), when given, so that queries near `p` within that reach
+    /// (the seeds of the true part's search, see
+    /// [`Self::for_feet_within_reach`]) find the face searched already.
+    pub fn closest_point_reaching(
+        &self,
+        p: Point3,
+        faces: impl Iterator<Item = usize> + Clone,
+        hint: &mut Option<FootHint>,
+        reach: Option<&dyn Fn(usize, f64) -> f64>,
+    ) -> Result<FaceProjection, ProjectionError> {
         let warm = hint.as_mut().filter(|h| {
             let untrimmed = self.faces.get(h.face).is_some_and(|f| f.trim.is_none());
             untrimmed && faces.clone().any(|i| i == h.face)
         });
         if let Some(h) = warm {
-            if let Some(found) = self.closest_point_warm(p, faces.clone(), h)? {
+            if let Some(found) = self.closest_point_warm(p, faces.clone(), h, reach)? {
                 return Ok(found);
             }
         }
@@ -67,13 +87,14 @@ impl Workpiece {
     /// The closest point over `faces` (which hold `h.face`, untrimmed):
     /// Newton from the hint's foot on its face, then the search trees
     /// confirm it, depth first with its distance as the bound (the hint's
-    /// face first); `h` becomes the hint of the answer. `None` (with `h`
-    /// spoilt) when that Newton fails.
+    /// face first, the others within `reach` when given); `h` becomes the
+    /// hint of the answer. `None` (with `h` spoilt) when that Newton fails.
     fn closest_point_warm(
         &self,
         p: Point3,
         faces: impl Iterator<Item = usize>,
         h: &mut FootHint,
+        reach: Option<&dyn Fn(usize, f64) -> f64>,
     ) -> Result<Option<FaceProjection>, ProjectionError> {
         let Some(face) = self.faces.get(h.face) else {
             return Ok(None);
@@ -83,23 +104,48 @@ impl Workpiece {
         }
         let memo = &mut h.far.of_face(h.face);
         h.leaf = face.index.confirm(&face.surface, p, &mut h.foot, memo)?;
-        for i in faces {
-            let Some(f) = self.faces.get(i).filter(|_| i != h.face) else {
-                continue;
-            };
-            let lb = f.index.lower_bound(p);
-            if lb * lb >= h.foot.dist2 {
-                continue;
-            }
-            let memo = &mut h.far.of_face(i);
-            if let Some((leaf, found)) = f.search((p, h.foot.dist2), None, true, memo)? {
-                (h.face, h.leaf, h.foot) = (i, leaf, found);
+        let own = h.face;
+        for i in faces.filter(|&i| i != own) {
+            let best = h.foot.dist2.sqrt();
+            let within = reach.map_or(best, |r| r(i, best).max(best));
+            if let Some((leaf, found)) = self.face_within(p, i, within, &mut h.far)? {
+                if found.dist2 < h.foot.dist2 {
+                    (h.face, h.leaf, h.foot) = (i, leaf, found);
+                }
             }
         }
         Ok(self.faces.get(h.face).map(|f| FaceProjection {
             face: h.face,
             projection: h.foot.projection(&f.surface, p),
         }))
+    }
+
+    /// The closest point of face `i` to `p` when it comes within `within`
+    /// (with its leaf), unless `far` knows the face to be that far; notes
+    /// in `far` how far the face is.
+    pub(super) fn face_within(
+        &self,
+        p: Point3,
+        i: usize,
+        within: f64,
+        far: &mut FarLeaves,
+    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        let Some(f) = self.faces.get(i) else {
+            return Ok(None);
+        };
+        let floor = far.face_floor(i, p).max(f.index.lower_bound(p));
+        if floor > within {
+            return Ok(None);
+        }
+        let bound2 = within * within * (1.0 + BOUND_SLACK);
+        let found = f.search((p, bound2), None, true, &mut far.of_face(i))?;
+        // Nothing found: every point is farther than `within` (by about
+        // half the slack; a quarter is kept).
+        let least = found.map_or(within * (1.0 + 0.25 * BOUND_SLACK), |(_, foot)| {
+            foot.dist2.sqrt()
+        });
+        far.note_face(i, p, least);
+        Ok(found)
     }
 
     /// The closest point over `faces` among the points closer than

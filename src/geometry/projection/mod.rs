@@ -53,6 +53,12 @@ pub struct ProjectionOptions {
     pub leaf_flatness: f64,
     /// Maximum subdivision depth of one Bezier patch into leaves.
     pub max_leaf_depth: usize,
+    /// A leaf is also split (to `max_leaf_depth`) while its control net's
+    /// tangents turn by more than this (radians) along u or along v, such
+    /// as a thin flat leaf round a sharp edge: a warm search can then
+    /// certify the leaf of its foot (one minimum of the distance there)
+    /// and leave out its Newton iteration.
+    pub leaf_max_turn: f64,
     /// Cell size of the grid that lists the leaves near a point (for the
     /// searches that start with a tight bound), relative to the median
     /// longest side of the leaves' axis-aligned boxes.
@@ -75,6 +81,7 @@ impl Default for ProjectionOptions {
             max_halvings: 40,
             leaf_flatness: 0.05,
             max_leaf_depth: 8,
+            leaf_max_turn: std::f64::consts::FRAC_PI_4,
             grid_cell_ratio: 1.0,
             grid_max_cells: 1 << 12,
             grid_query_cells: 8,

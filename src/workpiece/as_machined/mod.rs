@@ -274,13 +274,8 @@ impl AsMachined {
         hint: &mut Option<crate::workpiece::FootHint>,
     ) -> Result<TrueProjection, ProjectionError> {
         let y = self.inverse_point(x);
-        // Seeds: the nominal feet of `y` on every face that could hold the
-        // answer (the form moves a face by at most max|h|, stretched by T).
-        let stretch = self.stretch();
-        let reach =
-            |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best));
         let mut best: Option<TrueProjection> = None;
-        wp.for_feet_within_reach(y, known, hint, reach, |face, uv| {
+        wp.for_feet_within_reach(y, known, hint, self.seed_reach(), |face, uv| {
             let foot = self.newton(wp, x, face, uv)?;
             if best.is_none_or(|b| foot.dist2.sqrt() < b.distance) {
                 best = Some(self.finish(wp, x, face, &foot));
@@ -292,6 +287,16 @@ impl AsMachined {
             y: x.y,
             z: x.z,
         })
+    }
+
+    /// How far from `T^-1(x)` the true closest point's seeds are sought:
+    /// on face `i`, within `reach(i, d)` of it, `d` its nominal distance
+    /// (the form moves a face by at most max|h|, stretched by T).
+    pub fn seed_reach(&self) -> impl Fn(usize, f64) -> f64 + '_ {
+        let stretch = self.stretch();
+        move |i: usize, best: f64| {
+            best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best))
+        }
     }
 
     /// Largest factor by which `T` stretches lengths.

@@ -6,10 +6,6 @@ use crate::geometry::ProjectionError;
 use crate::math::{Point3, Vec2};
 use crate::workpiece::{FaceProjection, Workpiece};
 
-/// Relative slack on the squared search radius, so that rounding cannot
-/// drop a face right at the reach (the exact reach test follows).
-const BOUND_SLACK: f64 = 1e-9;
-
 /// The result of [`Workpiece::feet_within_reach`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FeetWithinReach {
@@ -88,15 +84,8 @@ impl Workpiece {
         within: f64,
         far: &mut FarLeaves,
     ) -> Result<Option<Vec2>, ProjectionError> {
-        let Some(f) = self.faces.get(i) else {
-            return Ok(None);
-        };
-        if f.index.lower_bound(y) > within {
-            return Ok(None);
-        }
-        let bound2 = within * within * (1.0 + BOUND_SLACK);
-        let found = f.search((y, bound2), None, true, &mut far.of_face(i))?;
-        Ok(found
+        Ok(self
+            .face_within(y, i, within, far)?
             .filter(|(_, foot)| foot.dist2.sqrt() <= within)
             .map(|(_, foot)| foot.uv))
     }
@@ -121,7 +110,7 @@ impl Workpiece {
             let (Some(f), false) = (self.faces.get(i), lb > within) else {
                 continue;
             };
-            let bound2 = within * within * (1.0 + BOUND_SLACK);
+            let bound2 = within * within * (1.0 + super::BOUND_SLACK);
             let tight = within.is_finite();
             if let Some((_, foot)) = f.search((y, bound2), None, tight, &mut far.of_face(i))? {
                 let d = foot.dist2.sqrt();

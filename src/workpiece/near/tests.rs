@@ -5,10 +5,11 @@
 //! neighbours). Seeded random walks over the faces, on both sides of the
 //! surface, across leaf boundaries, round the blade's edges from one face
 //! to the other, and jumping to random places.
-use super::*;
+use super::KnownFoot;
 use crate::geometry::projection::project_from;
 use crate::geometry::Projection;
-use crate::math::Vec3;
+use crate::math::{Point3, Vec2, Vec3};
+use crate::workpiece::Workpiece;
 use crate::workpiece::as_machined::{AsMachined, AsMachinedSpec};
 use crate::workpiece::examples;
 use rand::rngs::ChaCha8Rng;

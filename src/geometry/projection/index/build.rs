@@ -39,8 +39,9 @@ pub(super) fn index(surface: &NurbsSurface, opts: &ProjectionOptions) -> Project
     }
 }
 
-/// Splits `patch` in halves until each piece is flat, collecting the
-/// pieces with their oriented boxes.
+/// Splits `patch` in halves until each piece is flat and its control
+/// net's tangents turn by at most `leaf_max_turn` along u and along v,
+/// collecting the pieces with their oriented boxes.
 fn split_until_flat(
     patch: BezierPatch,
     depth: usize,
@@ -48,17 +49,49 @@ fn split_until_flat(
     out: &mut Vec<(BezierPatch, Obb)>,
 ) {
     let obb = obb_of(&patch);
-    if depth >= opts.max_leaf_depth || is_flat(&obb, opts.leaf_flatness) {
+    let flat = is_flat(&obb, opts.leaf_flatness);
+    let turn = if flat { turns(&patch) } else { [0.0; 2] };
+    let turning = turn[0].max(turn[1]) > opts.leaf_max_turn;
+    if depth >= opts.max_leaf_depth || (flat && !turning) {
         out.push((patch, obb));
         return;
     }
-    let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
+    let along_u = if turning {
+        turn[0] >= turn[1]
+    } else {
+        u_extent(&patch) >= v_extent(&patch)
+    };
+    let (a, b) = if along_u {
         patch.split_u()
     } else {
         patch.split_v()
     };
     split_until_flat(a, depth + 1, opts, out);
     split_until_flat(b, depth + 1, opts, out);
+}
+
+/// The largest angles (radians) between the control net's tangents (its
+/// point differences) along u, and along v, within each row or column.
+fn turns(patch: &BezierPatch) -> [f64; 2] {
+    let [p, q] = patch.degree;
+    let angle = |a: Vec3, b: Vec3| match (a.try_normalize(0.0), b.try_normalize(0.0)) {
+        (Some(a), Some(b)) => a.dot(&b).clamp(-1.0, 1.0).acos(),
+        _ => 0.0,
+    };
+    let along = |n: usize, m: usize, at: &dyn Fn(usize, usize) -> Point3| {
+        let mut most = 0.0f64;
+        for j in 0..=m {
+            let first = at(1, j) - at(0, j);
+            for i in 2..=n {
+                most = most.max(angle(first, at(i, j) - at(i - 1, j)));
+            }
+        }
+        most
+    };
+    [
+        along(p, q, &|i, j| patch.point(i, j)),
+        along(q, p, &|j, i| patch.point(i, j)),
+    ]
 }
 
 fn corners(patch: &BezierPatch) -> [Point3; 4] {

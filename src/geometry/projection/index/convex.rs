@@ -2,7 +2,7 @@
 //! a local minimum `f` of the distance found on it (by a warm start), at
 //! distance `d`: then the leaf needs no Newton iteration of its own.
 //!
-//! Take the leaf's own parameters on `[0, 1]^2`, scaled by the mean
+//! Take the leaf's own parameters on `[0, 1]^2`, scaled by the (root mean square)
 //! lengths of the first derivatives (an affine change of the surface's
 //! parameters: local minima stay local minima, convex functions convex).
 //! A polynomial Bezier leaf's first derivatives `a = S_u`, `b = S_v` lie in
@@ -55,33 +55,48 @@ impl Convexity {
         if p == 0 || q == 0 || patch.pw.iter().any(|c| c.w != w0) {
             return Convexity::NONE;
         }
-        let at = |i: usize, j: usize| patch.point(i, j).coords;
+        let pts: Vec<Vec3> = patch.pw.iter().map(|c| c.xyz() / c.w).collect();
+        let at = |i: usize, j: usize| pts.get(i * (q + 1) + j).copied().unwrap_or_default();
         let (pf, qf) = (p as f64, q as f64);
-        let mut su: Vec<Vec3> = (0..p)
-            .flat_map(|i| (0..=q).map(move |j| (at(i + 1, j) - at(i, j)) * pf))
-            .collect();
-        let mut sv: Vec<Vec3> = (0..=p)
-            .flat_map(|i| (0..q).map(move |j| (at(i, j + 1) - at(i, j)) * qf))
-            .collect();
-        let (ku, kv) = (1.0 / mean_length(&su), 1.0 / mean_length(&sv));
+        let mut su = Vec::with_capacity(p * (q + 1));
+        let mut sv = Vec::with_capacity((p + 1) * q);
+        for i in 0..=p {
+            for j in 0..=q {
+                if i < p {
+                    su.push((at(i + 1, j) - at(i, j)) * pf);
+                }
+                if j < q {
+                    sv.push((at(i, j + 1) - at(i, j)) * qf);
+                }
+            }
+        }
+        let (ku, kv) = (1.0 / rms_length(&su), 1.0 / rms_length(&sv));
         if !(ku.is_finite() && kv.is_finite()) {
             return Convexity::NONE;
         }
         su.iter_mut().for_each(|x| *x *= ku);
         sv.iter_mut().for_each(|x| *x *= kv);
-        let longest = |d: &mut dyn Iterator<Item = Vec3>| d.map(|x| x.norm()).fold(0.0, f64::max);
-        let kuu = longest(&mut (0..p.saturating_sub(1)).flat_map(|i| {
-            (0..=q).map(move |j| (at(i + 2, j) - at(i + 1, j) * 2.0 + at(i, j)) * (pf * (pf - 1.0)))
-        })) * ku * ku;
-        let kvv = longest(&mut (0..=p).flat_map(|i| {
-            (0..q.saturating_sub(1))
-                .map(move |j| (at(i, j + 2) - at(i, j + 1) * 2.0 + at(i, j)) * (qf * (qf - 1.0)))
-        })) * kv * kv;
-        let kuv = longest(&mut (0..p).flat_map(|i| {
-            (0..q).map(move |j| (at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j)) * (pf * qf))
-        })) * ku * kv;
+        // Largest squared lengths of the second differences.
+        let (mut kuu, mut kuv, mut kvv) = (0.0f64, 0.0f64, 0.0f64);
+        for i in 0..=p {
+            for j in 0..=q {
+                if i + 1 < p {
+                    kuu = kuu.max((at(i + 2, j) - at(i + 1, j) * 2.0 + at(i, j)).norm_squared());
+                }
+                if j + 1 < q {
+                    kvv = kvv.max((at(i, j + 2) - at(i, j + 1) * 2.0 + at(i, j)).norm_squared());
+                }
+                if i < p && j < q {
+                    let twist = at(i + 1, j + 1) - at(i + 1, j) - at(i, j + 1) + at(i, j);
+                    kuv = kuv.max(twist.norm_squared());
+                }
+            }
+        }
+        let kuu = kuu.sqrt() * pf * (pf - 1.0) * ku * ku;
+        let kvv = kvv.sqrt() * qf * (qf - 1.0) * kv * kv;
+        let kuv = kuv.sqrt() * pf * qf * ku * kv;
         let (spread_sigma, spread_m) = spread_bounds(&su, &sv, &obb.axes);
-        let frobenius = longest(&mut su.iter().copied()).hypot(longest(&mut sv.iter().copied()));
+        let frobenius = longest(&su).hypot(longest(&sv));
         let m = spread_m.min(frobenius);
         let sigma = spread_sigma.max(cross_sigma(&su, &sv, &obb.axes));
         if !(sigma > 0.0 && m.is_finite()) {
@@ -102,9 +117,15 @@ impl Convexity {
     }
 }
 
-/// The mean length of the vectors `d` (not finite when there are none).
-fn mean_length(d: &[Vec3]) -> f64 {
-    d.iter().map(|x| x.norm()).sum::<f64>() / d.len() as f64
+/// The largest length of the vectors `d` (zero when there are none).
+fn longest(d: &[Vec3]) -> f64 {
+    d.iter().map(|x| x.norm_squared()).fold(0.0, f64::max).sqrt()
+}
+
+/// The root mean square length of the vectors `d` (any positive scale
+/// serves; not finite when there are none).
+fn rms_length(d: &[Vec3]) -> f64 {
+    (d.iter().map(|x| x.norm_squared()).sum::<f64>() / d.len() as f64).sqrt()
 }
 
 /// A lower bound of the smallest singular value of `[P a, P b]` over all
@@ -114,11 +135,23 @@ fn mean_length(d: &[Vec3]) -> f64 {
 fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
     let flat = |x: &Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
     let (fu, fv): (Vec<Vec2>, Vec<Vec2>) = (su.iter().map(flat).collect(), sv.iter().map(flat).collect());
-    let crosses = fu.iter().flat_map(|a| fv.iter().map(move |b| a.x * b.y - a.y * b.x));
-    let (lo, hi) = crosses.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), c| (lo.min(c), hi.max(c)));
-    let least = if lo > 0.0 { lo } else if hi < 0.0 { -hi } else { 0.0 };
-    let longest = |d: &[Vec2]| d.iter().map(|x| x.norm()).fold(0.0, f64::max);
-    let sigma = least / longest(&fu).hypot(longest(&fv));
+    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for a in &fu {
+        for b in &fv {
+            let c = a.x * b.y - a.y * b.x;
+            lo = if c < lo { c } else { lo };
+            hi = if c > hi { c } else { hi };
+        }
+    }
+    let least = if lo > 0.0 {
+        lo
+    } else if hi < 0.0 {
+        -hi
+    } else {
+        0.0
+    };
+    let longest = |d: &[Vec2]| d.iter().map(|x| x.norm_squared()).fold(0.0, f64::max);
+    let sigma = least / (longest(&fu) + longest(&fv)).sqrt();
     if sigma.is_finite() {
         sigma
     } else {
@@ -135,10 +168,13 @@ fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
 fn spread_bounds(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> (f64, f64) {
     let mean = |d: &[Vec3]| d.iter().sum::<Vec3>() / d.len().max(1) as f64;
     let (a, b) = (mean(su), mean(sv));
-    let spread = |d: &[Vec3], m: Vec3| d.iter().map(|x| (x - m).norm()).fold(0.0, f64::max);
+    let spread = |d: &[Vec3], m: Vec3| (d.iter().map(|x| (x - m).norm_squared()).fold(0.0, f64::max)).sqrt();
     let e = spread(su, a).hypot(spread(sv, b));
     let flat = |x: Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
-    let flat_spread = |d: &[Vec3], m: Vec3| (d.iter()).map(|x| (flat(*x) - flat(m)).norm()).fold(0.0, f64::max);
+    let flat_spread = |d: &[Vec3], m: Vec3| {
+        let fm = flat(m);
+        (d.iter().map(|x| (flat(*x) - fm).norm_squared()).fold(0.0, f64::max)).sqrt()
+    };
     let e_flat = flat_spread(su, a).hypot(flat_spread(sv, b));
     let (fa, fb) = (flat(a), flat(b));
     let sigma = singular_values(fa.dot(&fa), fa.dot(&fb), fb.dot(&fb)).0 - e_flat;
@@ -161,4 +197,22 @@ fn singular_values(g11: f64, g12: f64, g22: f64) -> (f64, f64) {
 /// The largest eigenvalue of `[[a, b], [b, c]]`.
 fn largest_eigenvalue(a: f64, b: f64, c: f64) -> f64 {
     0.5 * (a + c) + (0.25 * (a - c).powi(2) + b * b).sqrt()
+}
+
+#[cfg(test)]
+mod dbg {
+    use crate::workpiece::examples;
+    use crate::workpiece::Workpiece;
+    #[test]
+    fn print_certs() {
+        let wp = Workpiece::from_file(&examples::blade(), "b.json".as_ref()).unwrap();
+        for f in &wp.faces {
+            for (i, l) in f.index.leaves.iter().enumerate().filter(|(i, _)| [409usize, 128].contains(i)) {
+                let c = l.convexity();
+                println!("{} leaf {i} {:?} bounds {:?} half {:?}", f.name, c, l.bounds, l.obb.half);
+                let [p, q] = l.patch.degree;
+                for i in 0..=p { for j in 0..=q { let x = l.patch.point(i, j); println!("  cp {i} {j} {:.3} {:.3} {:.3}", x.x, x.y, x.z); } }
+            }
+        }
+    }
 }
