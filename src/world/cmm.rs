@@ -247,13 +247,17 @@ impl<'a> SimulatedCmm<'a> {
         Ok(tp)
     }
 
-    /// Keeps `readings` as the last ones, copying the status only when it
-    /// changed (it may hold a string).
+    /// Keeps `readings` as the last ones, copying the status unless both
+    /// are `Ok` (a status may hold a string).
     fn remember(&mut self, readings: &Readings) {
         let last = &mut self.last;
         (last.time_s, last.scales, last.deflection) =
             (readings.time_s, readings.scales, readings.deflection);
-        if last.status != readings.status {
+        let both_ok = matches!(
+            (&last.status, &readings.status),
+            (MachineStatus::Ok, MachineStatus::Ok)
+        );
+        if !both_ok {
             last.status = readings.status.clone();
         }
     }
