@@ -254,14 +254,12 @@ impl Servo {
     pub fn advance(&mut self, commanded_velocity: &[f64]) -> Result<(), ServoError> {
         check_count(self.axes.len(), commanded_velocity.len())?;
         check_finite(commanded_velocity)?;
-        let states = self.position.iter_mut().zip(self.velocity.iter_mut());
-        // Whether every axis stayed in its travel, found on the way (the
-        // error, when there is one, is then looked up).
-        let mut inside = true;
-        for ((axis, (p, v)), c) in self.cycles.iter().zip(states).zip(commanded_velocity) {
-            (*p, *v) = axis.advance(*p, *v, *c);
-            inside &= axis.holds(*p);
-        }
+        let inside = advance_axes(
+            &self.cycles,
+            &mut self.position,
+            &mut self.velocity,
+            commanded_velocity,
+        );
         self.time_s += self.cycle_s;
         if inside {
             return Ok(());
@@ -371,6 +369,33 @@ impl Servo {
         }
         err
     }
+}
+
+/// One cycle of every axis (positions and velocities in place) under
+/// `commands`; whether every axis stayed in its travel (the error, when
+/// there is one, is looked up afterwards). Three axes without a loop.
+#[inline(always)]
+fn advance_axes(
+    cycles: &[AxisCycle],
+    position: &mut [f64],
+    velocity: &mut [f64],
+    commands: &[f64],
+) -> bool {
+    if let ([a, b, c], [pa, pb, pc], [va, vb, vc], [ca, cb, cc]) =
+        (cycles, &mut *position, &mut *velocity, commands)
+    {
+        (*pa, *va) = a.advance(*pa, *va, *ca);
+        (*pb, *vb) = b.advance(*pb, *vb, *cb);
+        (*pc, *vc) = c.advance(*pc, *vc, *cc);
+        return a.holds(*pa) & b.holds(*pb) & c.holds(*pc);
+    }
+    let states = position.iter_mut().zip(velocity.iter_mut());
+    let mut inside = true;
+    for ((axis, (p, v)), c) in cycles.iter().zip(states).zip(commands) {
+        (*p, *v) = axis.advance(*p, *v, *c);
+        inside &= axis.holds(*p);
+    }
+    inside
 }
 
 fn check_count(expected: usize, found: usize) -> Result<(), ServoError> {
