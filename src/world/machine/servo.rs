@@ -340,6 +340,15 @@ impl Servo {
     pub fn read_scales_into(&self, rng: &mut impl Rng, out: &mut Vec<f64>) {
         out.resize(self.axes.len(), 0.0);
         let normal = Ziggurat::new();
+        // Three axes without a loop (the draws in axis order all the same).
+        if let ([a, b, c], [pa, pb, pc], [oa, ob, oc]) =
+            (self.axes.as_slice(), self.position.as_slice(), out.as_mut_slice())
+        {
+            *oa = a.read(*pa, rng, normal);
+            *ob = b.read(*pb, rng, normal);
+            *oc = c.read(*pc, rng, normal);
+            return;
+        }
         let pairs = self.axes.iter().zip(&self.position);
         for (o, (axis, p)) in out.iter_mut().zip(pairs) {
             *o = axis.read(*p, rng, normal);
