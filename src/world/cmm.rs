@@ -199,6 +199,7 @@ impl<'a> SimulatedCmm<'a> {
     }
 
     /// True deflection for the current state (zero when not touching).
+    #[inline(always)]
     fn contact(&mut self, velocity: Vec3) -> Vec3 {
         let r = self.probe.tip_radius_mm;
         if self.clearance > r + CONTACT_MARGIN_MM {
@@ -208,6 +209,14 @@ impl<'a> SimulatedCmm<'a> {
             self.hint = None;
             return Vec3::zeros();
         }
+        self.near_contact(velocity)
+    }
+
+    /// [`Self::contact`] when the ball may be near the part: the contact
+    /// computation proper.
+    #[inline(never)]
+    fn near_contact(&mut self, velocity: Vec3) -> Vec3 {
+        let r = self.probe.tip_radius_mm;
         let a0 = self.ball_centre(self.servo.position());
         let y = self.part.pose.to_part(a0);
         let Ok(tp) = self.project(y) else {
@@ -247,13 +256,17 @@ impl<'a> SimulatedCmm<'a> {
         Ok(tp)
     }
 
-    /// Keeps `readings` as the last ones, copying the status only when it
-    /// changed (it may hold a string).
+    /// Keeps `readings` as the last ones, copying the status unless both
+    /// are `Ok` (a status may hold a string).
     fn remember(&mut self, readings: &Readings) {
         let last = &mut self.last;
         (last.time_s, last.scales, last.deflection) =
             (readings.time_s, readings.scales, readings.deflection);
-        if last.status != readings.status {
+        let both_ok = matches!(
+            (&last.status, &readings.status),
+            (MachineStatus::Ok, MachineStatus::Ok)
+        );
+        if !both_ok {
             last.status = readings.status.clone();
         }
     }

@@ -20,6 +20,7 @@ mod linear;
 mod model;
 pub mod profile;
 mod profile_check;
+mod scale;
 pub mod servo;
 pub mod urdf;
 
