@@ -345,6 +345,7 @@ impl ProjectionIndex {
     }
 
     /// The end of a search: with a trim, its boundary is searched too.
+    #[inline]
     fn with_boundary(
         &self,
         surface: &NurbsSurface,

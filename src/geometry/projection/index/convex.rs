@@ -9,9 +9,10 @@
 //! the convex hulls of its scaled control point differences, its second
 //! ones in those of the second differences. From their extreme points:
 //! `|P J w| >= sigma` for unit `w`, where `P` projects on the plane of the
-//! leaf's oriented box (`sigma` = the least 2-D cross product of projected
-//! `a` and `b` over the largest Frobenius norm: the cross product is
-//! bilinear, so least at extreme points), `|J w| <= m`, and
+//! leaf's oriented box (`sigma` from the spread of `P a` and `P b` about
+//! their means, or from their least 2-D cross product over the largest
+//! Frobenius norm: the cross product is bilinear, so least at extreme
+//! points, the better of both), `|J w| <= m`, and
 //! `|D^2 S [w, w]| <= kappa`. Then `|S(x) - S(y)| >= sigma |x - y|`
 //! (integrate `P J` along the segment: its mean lies in the same hulls),
 //! so a point `x` of the leaf at most `d` from `p`, within `2 d` of `f`,
@@ -96,7 +97,7 @@ impl Convexity {
         let kvv = kvv.sqrt() * qf * (qf - 1.0) * kv * kv;
         let kuv = kuv.sqrt() * pf * qf * ku * kv;
         let (spread_sigma, spread_m) = spread_bounds(&su, &sv, &obb.axes);
-        let frobenius = longest(&su).hypot(longest(&sv));
+        let frobenius = (longest2(&su) + longest2(&sv)).sqrt();
         let m = spread_m.min(frobenius);
         let sigma = spread_sigma.max(cross_sigma(&su, &sv, &obb.axes));
         if !(sigma > 0.0 && m.is_finite()) {
@@ -117,9 +118,10 @@ impl Convexity {
     }
 }
 
-/// The largest length of the vectors `d` (zero when there are none).
-fn longest(d: &[Vec3]) -> f64 {
-    d.iter().map(|x| x.norm_squared()).fold(0.0, f64::max).sqrt()
+/// The largest squared length of the vectors `d` (zero when there are
+/// none).
+fn longest2(d: &[Vec3]) -> f64 {
+    d.iter().map(|x| x.norm_squared()).fold(0.0, f64::max)
 }
 
 /// The root mean square length of the vectors `d` (any positive scale
@@ -131,27 +133,38 @@ fn rms_length(d: &[Vec3]) -> f64 {
 /// A lower bound of the smallest singular value of `[P a, P b]` over all
 /// `a`, `b` in the convex hulls of `su`, `sv`, with `P` the projection on
 /// the plane of `axes[0]` and `axes[1]`: the least cross product over the
-/// largest Frobenius norm; zero when the cross products change sign.
+/// largest Frobenius norm (zero when the cross products may change sign).
+/// The cross product `a x b` is linear in each, so its least value over a
+/// hull pair is at extreme points; here over the points of one and the
+/// bounding box of the other's projections (the better of both ways).
 fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
-    let flat = |x: &Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
-    let (fu, fv): (Vec<Vec2>, Vec<Vec2>) = (su.iter().map(flat).collect(), sv.iter().map(flat).collect());
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for a in &fu {
-        for b in &fv {
-            let c = a.x * b.y - a.y * b.x;
-            lo = if c < lo { c } else { lo };
-            hi = if c > hi { c } else { hi };
-        }
-    }
-    let least = if lo > 0.0 {
-        lo
-    } else if hi < 0.0 {
-        -hi
-    } else {
-        0.0
+    let flat = |x: &Vec3| (x.dot(&axes[0]), x.dot(&axes[1]));
+    let boxed = |d: &[Vec3]| {
+        d.iter().map(flat).fold([f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY], |b, (x, y)| {
+            [b[0].min(x), b[1].max(x), b[2].min(y), b[3].max(y)]
+        })
     };
-    let longest = |d: &[Vec2]| d.iter().map(|x| x.norm_squared()).fold(0.0, f64::max);
-    let sigma = least / (longest(&fu) + longest(&fv)).sqrt();
+    let (bu, bv) = (boxed(su), boxed(sv));
+    // The range of `a.x b.y - a.y b.x` over `b` in the box `bv`, and of
+    // the same over `a` in `bu` for a point `b`.
+    let over_v = |(ax, ay): (f64, f64)| {
+        let (t1, t2) = ((ax * bv[2]).min(ax * bv[3]), (ax * bv[2]).max(ax * bv[3]));
+        let (s1, s2) = ((-ay * bv[0]).min(-ay * bv[1]), (-ay * bv[0]).max(-ay * bv[1]));
+        (t1 + s1, t2 + s2)
+    };
+    let over_u = |(bx, by): (f64, f64)| {
+        let (t1, t2) = ((by * bu[0]).min(by * bu[1]), (by * bu[0]).max(by * bu[1]));
+        let (s1, s2) = ((-bx * bu[2]).min(-bx * bu[3]), (-bx * bu[2]).max(-bx * bu[3]));
+        (t1 + s1, t2 + s2)
+    };
+    let range = |r: &mut dyn Iterator<Item = (f64, f64)>| {
+        r.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+    };
+    let least = |(lo, hi): (f64, f64)| if lo > 0.0 { lo } else if hi < 0.0 { -hi } else { 0.0 };
+    let by_u = least(range(&mut su.iter().map(|a| over_v(flat(a)))));
+    let by_v = least(range(&mut sv.iter().map(|b| over_u(flat(b)))));
+    let frobenius = (longest2(su) + longest2(sv)).sqrt();
+    let sigma = by_u.max(by_v) / frobenius;
     if sigma.is_finite() {
         sigma
     } else {

@@ -136,7 +136,15 @@ impl Grid {
             if b < 0.0 || a >= self.dims[k] as f64 {
                 return Cells::Miss;
             }
-            (lo[k], hi[k]) = (cell_index(a, self.dims[k]), cell_index(b, self.dims[k]));
+            // One conversion: the cube is mostly narrower than a cell.
+            let c = cell_index(0.5 * (a + b), self.dims[k]);
+            let (lo_k, hi_k) = (c as f64, (c + 1) as f64);
+            (lo[k], hi[k]) = match (a >= lo_k, b < hi_k) {
+                (true, true) => (c, c),
+                (true, false) => (c, cell_index(b, self.dims[k])),
+                (false, true) => (cell_index(a, self.dims[k]), c),
+                (false, false) => (cell_index(a, self.dims[k]), cell_index(b, self.dims[k])),
+            };
             count = count.saturating_mul(hi[k] - lo[k] + 1);
         }
         if count > self.query_cells {
