@@ -166,7 +166,10 @@ fn stale_hints_do_not_change_the_answer() {
             let (uv, foot) = (near.projection.uv, near.projection.point);
             let on = wp.faces[near.face].surface.point(uv.x, uv.y);
             assert!((on - foot).norm() <= 1e-9, "{case}: off the face");
-            assert!(((foot - p).norm() - near.projection.distance).abs() <= 1e-9, "{case}");
+            assert!(
+                ((foot - p).norm() - near.projection.distance).abs() <= 1e-9,
+                "{case}"
+            );
         } else {
             assert!(same(near, cold, &mut exact), "{case}");
         }

@@ -74,12 +74,13 @@ impl Workpiece {
             }
         }
         let far = hint.map(|h| h.far).unwrap_or_default();
-        let (found, next) = (self.closest_point_within(p, faces, f64::INFINITY, *hint)?)
-            .ok_or(ProjectionError::NotFinite {
+        let (found, next) = (self.closest_point_within(p, faces, f64::INFINITY, *hint)?).ok_or(
+            ProjectionError::NotFinite {
                 x: p.x,
                 y: p.y,
                 z: p.z,
-            })?;
+            },
+        )?;
         *hint = next.map(|h| FootHint { far, ..h });
         Ok(found)
     }

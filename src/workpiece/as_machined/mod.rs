@@ -294,9 +294,7 @@ impl AsMachined {
     /// (the form moves a face by at most max|h|, stretched by T).
     pub fn seed_reach(&self) -> impl Fn(usize, f64) -> f64 + '_ {
         let stretch = self.stretch();
-        move |i: usize, best: f64| {
-            best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best))
-        }
+        move |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best))
     }
 
     /// Largest factor by which `T` stretches lengths.

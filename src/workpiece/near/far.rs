@@ -85,7 +85,8 @@ impl FaceMemo<'_> {
     fn note_in(slots: &mut [FarLeaf; SLOTS], (face, leaf): (usize, usize), p: Point3, dist: f64) {
         let same = slots.iter().position(|s| s.face == face && s.leaf == leaf);
         let worth = |s: &FarLeaf| s.dist - (p - s.at).norm();
-        let least_useful = || (0..SLOTS).min_by(|&a, &b| worth(&slots[a]).total_cmp(&worth(&slots[b])));
+        let least_useful =
+            || (0..SLOTS).min_by(|&a, &b| worth(&slots[a]).total_cmp(&worth(&slots[b])));
         if let Some(slot) = same.or_else(least_useful).and_then(|k| slots.get_mut(k)) {
             *slot = FarLeaf {
                 face,

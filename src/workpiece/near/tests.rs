@@ -9,9 +9,9 @@ use super::KnownFoot;
 use crate::geometry::projection::project_from;
 use crate::geometry::Projection;
 use crate::math::{Point3, Vec2, Vec3};
-use crate::workpiece::Workpiece;
 use crate::workpiece::as_machined::{AsMachined, AsMachinedSpec};
 use crate::workpiece::examples;
+use crate::workpiece::Workpiece;
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 use std::path::Path;
@@ -48,7 +48,11 @@ fn brute_face(wp: &Workpiece, i: usize, p: Point3) -> Projection {
     let t = grid_params();
     let at = |a: usize, b: usize| Vec2::new(u0 + (u1 - u0) * t[a], v0 + (v1 - v0) * t[b]);
     let d: Vec<Vec<f64>> = (0..t.len())
-        .map(|a| (0..t.len()).map(|b| (s.point(at(a, b).x, at(a, b).y) - p).norm()).collect())
+        .map(|a| {
+            (0..t.len())
+                .map(|b| (s.point(at(a, b).x, at(a, b).y) - p).norm())
+                .collect()
+        })
         .collect();
     let n = t.len() as isize;
     let mut best: Option<Projection> = None;
@@ -57,7 +61,9 @@ fn brute_face(wp: &Workpiece, i: usize, p: Point3) -> Projection {
             let lowest = (-1..=1).all(|da: isize| {
                 (-1..=1).all(|db: isize| {
                     let (x, y) = (a as isize + da, b as isize + db);
-                    !(0..n).contains(&x) || !(0..n).contains(&y) || d[a][b] <= d[x as usize][y as usize]
+                    !(0..n).contains(&x)
+                        || !(0..n).contains(&y)
+                        || d[a][b] <= d[x as usize][y as usize]
                 })
             });
             if !lowest {
@@ -150,14 +156,20 @@ fn blade_walks_find_the_brute_force_distance() {
             for (q, faces) in [all.clone(), vec![0], vec![1]].iter().enumerate() {
                 let (near, next) = wp.closest_point_near(p, faces, hints[q]).unwrap();
                 hints[q] = next;
-                let want = faces.iter().map(|&i| per_face[i].distance).fold(f64::INFINITY, f64::min);
+                let want = faces
+                    .iter()
+                    .map(|&i| per_face[i].distance)
+                    .fold(f64::INFINITY, f64::min);
                 let got = near.projection;
                 assert!(
                     (got.distance - want).abs() <= SAME_MM,
                     "step {k} faces {faces:?} at {place:?}: {} vs {want}",
                     got.distance
                 );
-                assert!(((got.point - p).norm() - want).abs() <= 1e-8, "step {k}: foot");
+                assert!(
+                    ((got.point - p).norm() - want).abs() <= 1e-8,
+                    "step {k}: foot"
+                );
                 checked += 1;
             }
         }
@@ -186,15 +198,25 @@ fn sphere_walks_find_the_analytic_foot() {
             let (near, next) = wp.closest_point_near(p, &all, hint).unwrap();
             hint = next;
             let got = near.projection;
-            assert!((got.signed_distance - (radius - 12.5)).abs() <= SAME_MM, "walk {walk} step {k}");
-            assert!((got.point.coords - dir * 12.5).norm() <= 1e-8, "walk {walk} step {k}: foot");
+            assert!(
+                (got.signed_distance - (radius - 12.5)).abs() <= SAME_MM,
+                "walk {walk} step {k}"
+            );
+            assert!(
+                (got.point.coords - dir * 12.5).norm() <= 1e-8,
+                "walk {walk} step {k}: foot"
+            );
         }
     }
 }
 
 fn random_unit(r: &mut ChaCha8Rng) -> Vec3 {
     loop {
-        let v = Vec3::new(uniform(r, -1.0, 1.0), uniform(r, -1.0, 1.0), uniform(r, -1.0, 1.0));
+        let v = Vec3::new(
+            uniform(r, -1.0, 1.0),
+            uniform(r, -1.0, 1.0),
+            uniform(r, -1.0, 1.0),
+        );
         if (0.1..=1.0).contains(&v.norm()) {
             return v.normalize();
         }
@@ -230,10 +252,17 @@ fn true_deviations_along_blade_walks_match_brute_force() {
             let m = place.point(&wp);
             let (foot, next) = wp.closest_point_near(m, &all, hint).unwrap();
             hint = next;
-            let known = KnownFoot { query: m, foot, hint: next };
+            let known = KnownFoot {
+                query: m,
+                foot,
+                hint: next,
+            };
             let got = am.true_deviation_near(&wp, m, Some(&known)).unwrap();
             let want = brute_true_deviation(&wp, &am, m);
-            assert!((got - want).abs() <= SAME_MM, "spec {j} step {k} at {place:?}: {got} vs {want}");
+            assert!(
+                (got - want).abs() <= SAME_MM,
+                "spec {j} step {k} at {place:?}: {got} vs {want}"
+            );
         }
     }
 }
@@ -247,7 +276,11 @@ fn brute_true_deviation(wp: &Workpiece, am: &AsMachined, m: Point3) -> f64 {
         let ((u0, u1), (v0, v1)) = wp.faces[face].surface.domain();
         let at = |a: usize, b: usize| Vec2::new(u0 + (u1 - u0) * t[a], v0 + (v1 - v0) * t[b]);
         let d: Vec<Vec<f64>> = (0..t.len())
-            .map(|a| (0..t.len()).map(|b| (am.true_point(wp, face, at(a, b)) - m).norm()).collect())
+            .map(|a| {
+                (0..t.len())
+                    .map(|b| (am.true_point(wp, face, at(a, b)) - m).norm())
+                    .collect()
+            })
             .collect();
         let n = t.len() as isize;
         for a in 0..t.len() {
@@ -255,7 +288,9 @@ fn brute_true_deviation(wp: &Workpiece, am: &AsMachined, m: Point3) -> f64 {
                 let lowest = (-1..=1).all(|da: isize| {
                     (-1..=1).all(|db: isize| {
                         let (x, y) = (a as isize + da, b as isize + db);
-                        !(0..n).contains(&x) || !(0..n).contains(&y) || d[a][b] <= d[x as usize][y as usize]
+                        !(0..n).contains(&x)
+                            || !(0..n).contains(&y)
+                            || d[a][b] <= d[x as usize][y as usize]
                     })
                 });
                 if !lowest {

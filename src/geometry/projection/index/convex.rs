@@ -140,27 +140,49 @@ fn rms_length(d: &[Vec3]) -> f64 {
 fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
     let flat = |x: &Vec3| (x.dot(&axes[0]), x.dot(&axes[1]));
     let boxed = |d: &[Vec3]| {
-        d.iter().map(flat).fold([f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY], |b, (x, y)| {
-            [b[0].min(x), b[1].max(x), b[2].min(y), b[3].max(y)]
-        })
+        d.iter().map(flat).fold(
+            [
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ],
+            |b, (x, y)| [b[0].min(x), b[1].max(x), b[2].min(y), b[3].max(y)],
+        )
     };
     let (bu, bv) = (boxed(su), boxed(sv));
     // The range of `a.x b.y - a.y b.x` over `b` in the box `bv`, and of
     // the same over `a` in `bu` for a point `b`.
     let over_v = |(ax, ay): (f64, f64)| {
         let (t1, t2) = ((ax * bv[2]).min(ax * bv[3]), (ax * bv[2]).max(ax * bv[3]));
-        let (s1, s2) = ((-ay * bv[0]).min(-ay * bv[1]), (-ay * bv[0]).max(-ay * bv[1]));
+        let (s1, s2) = (
+            (-ay * bv[0]).min(-ay * bv[1]),
+            (-ay * bv[0]).max(-ay * bv[1]),
+        );
         (t1 + s1, t2 + s2)
     };
     let over_u = |(bx, by): (f64, f64)| {
         let (t1, t2) = ((by * bu[0]).min(by * bu[1]), (by * bu[0]).max(by * bu[1]));
-        let (s1, s2) = ((-bx * bu[2]).min(-bx * bu[3]), (-bx * bu[2]).max(-bx * bu[3]));
+        let (s1, s2) = (
+            (-bx * bu[2]).min(-bx * bu[3]),
+            (-bx * bu[2]).max(-bx * bu[3]),
+        );
         (t1 + s1, t2 + s2)
     };
     let range = |r: &mut dyn Iterator<Item = (f64, f64)>| {
-        r.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| (lo.min(a), hi.max(b)))
+        r.fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), (a, b)| {
+            (lo.min(a), hi.max(b))
+        })
     };
-    let least = |(lo, hi): (f64, f64)| if lo > 0.0 { lo } else if hi < 0.0 { -hi } else { 0.0 };
+    let least = |(lo, hi): (f64, f64)| {
+        if lo > 0.0 {
+            lo
+        } else if hi < 0.0 {
+            -hi
+        } else {
+            0.0
+        }
+    };
     let by_u = least(range(&mut su.iter().map(|a| over_v(flat(a)))));
     let by_v = least(range(&mut sv.iter().map(|b| over_u(flat(b)))));
     let frobenius = (longest2(su) + longest2(sv)).sqrt();
@@ -181,12 +203,16 @@ fn cross_sigma(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> f64 {
 fn spread_bounds(su: &[Vec3], sv: &[Vec3], axes: &[Vec3; 3]) -> (f64, f64) {
     let mean = |d: &[Vec3]| d.iter().sum::<Vec3>() / d.len().max(1) as f64;
     let (a, b) = (mean(su), mean(sv));
-    let spread = |d: &[Vec3], m: Vec3| (d.iter().map(|x| (x - m).norm_squared()).fold(0.0, f64::max)).sqrt();
+    let spread =
+        |d: &[Vec3], m: Vec3| (d.iter().map(|x| (x - m).norm_squared()).fold(0.0, f64::max)).sqrt();
     let e = spread(su, a).hypot(spread(sv, b));
     let flat = |x: Vec3| Vec2::new(x.dot(&axes[0]), x.dot(&axes[1]));
     let flat_spread = |d: &[Vec3], m: Vec3| {
         let fm = flat(m);
-        (d.iter().map(|x| (flat(*x) - fm).norm_squared()).fold(0.0, f64::max)).sqrt()
+        (d.iter()
+            .map(|x| (flat(*x) - fm).norm_squared())
+            .fold(0.0, f64::max))
+        .sqrt()
     };
     let e_flat = flat_spread(su, a).hypot(flat_spread(sv, b));
     let (fa, fb) = (flat(a), flat(b));
@@ -210,22 +236,4 @@ fn singular_values(g11: f64, g12: f64, g22: f64) -> (f64, f64) {
 /// The largest eigenvalue of `[[a, b], [b, c]]`.
 fn largest_eigenvalue(a: f64, b: f64, c: f64) -> f64 {
     0.5 * (a + c) + (0.25 * (a - c).powi(2) + b * b).sqrt()
-}
-
-#[cfg(test)]
-mod dbg {
-    use crate::workpiece::examples;
-    use crate::workpiece::Workpiece;
-    #[test]
-    fn print_certs() {
-        let wp = Workpiece::from_file(&examples::blade(), "b.json".as_ref()).unwrap();
-        for f in &wp.faces {
-            for (i, l) in f.index.leaves.iter().enumerate().filter(|(i, _)| [409usize, 128].contains(i)) {
-                let c = l.convexity();
-                println!("{} leaf {i} {:?} bounds {:?} half {:?}", f.name, c, l.bounds, l.obb.half);
-                let [p, q] = l.patch.degree;
-                for i in 0..=p { for j in 0..=q { let x = l.patch.point(i, j); println!("  cp {i} {j} {:.3} {:.3} {:.3}", x.x, x.y, x.z); } }
-            }
-        }
-    }
 }

@@ -107,7 +107,9 @@ impl ProjectionIndex {
         self.for_leaves_near(p, &mut bound2, |leaf, bound2| {
             let spared = self.holds_known(leaf, p, known, *bound2, &mut leaf_of);
             if !spared {
-                if let Some(found) = self.search_leaf_with(surface, None, leaf, (p, *bound2), memo)? {
+                if let Some(found) =
+                    self.search_leaf_with(surface, None, leaf, (p, *bound2), memo)?
+                {
                     *bound2 = found.dist2;
                     *foot = found;
                     leaf_of = Some(leaf);
