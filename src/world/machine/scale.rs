@@ -29,7 +29,7 @@ impl AxisDynamics {
 fn round_half_away(q: f64) -> f64 {
     const EXACT: f64 = 4_503_599_627_370_496.0; // 2^52
     let a = q.abs();
-    if !(a < EXACT) {
+    if a.is_nan() || a >= EXACT {
         return q.round();
     }
     let n = (a + EXACT) - EXACT;
