@@ -50,14 +50,15 @@ fn split_until_flat(
 ) {
     let obb = obb_of(&patch);
     let flat = is_flat(&obb, opts.leaf_flatness);
-    let turn = if flat { turns(&patch) } else { [0.0; 2] };
-    let turning = turn[0].max(turn[1]) > opts.leaf_max_turn;
+    let min_cos = opts.leaf_max_turn.cos();
+    let turn = if flat { least_cosines(&patch) } else { [1.0; 2] };
+    let turning = turn[0].min(turn[1]) < min_cos;
     if depth >= opts.max_leaf_depth || (flat && !turning) {
         out.push((patch, obb));
         return;
     }
     let along_u = if turning {
-        turn[0] >= turn[1]
+        turn[0] <= turn[1]
     } else {
         u_extent(&patch) >= v_extent(&patch)
     };
@@ -70,23 +71,28 @@ fn split_until_flat(
     split_until_flat(b, depth + 1, opts, out);
 }
 
-/// The largest angles (radians) between the control net's tangents (its
-/// point differences) along u, and along v, within each row or column.
-fn turns(patch: &BezierPatch) -> [f64; 2] {
+/// The least cosines of the angles between the control net's tangents
+/// (its point differences) along u, and along v, and the first tangent of
+/// their row or column (1 where a tangent vanishes).
+fn least_cosines(patch: &BezierPatch) -> [f64; 2] {
     let [p, q] = patch.degree;
-    let angle = |a: Vec3, b: Vec3| match (a.try_normalize(0.0), b.try_normalize(0.0)) {
-        (Some(a), Some(b)) => a.dot(&b).clamp(-1.0, 1.0).acos(),
-        _ => 0.0,
+    let cos = |a: Vec3, b: Vec3| {
+        let norms = (a.norm_squared() * b.norm_squared()).sqrt();
+        if norms > 0.0 {
+            a.dot(&b) / norms
+        } else {
+            1.0
+        }
     };
     let along = |n: usize, m: usize, at: &dyn Fn(usize, usize) -> Point3| {
-        let mut most = 0.0f64;
+        let mut least = 1.0f64;
         for j in 0..=m {
             let first = at(1, j) - at(0, j);
             for i in 2..=n {
-                most = most.max(angle(first, at(i, j) - at(i - 1, j)));
+                least = least.min(cos(first, at(i, j) - at(i - 1, j)));
             }
         }
-        most
+        least
     };
     [
         along(p, q, &|i, j| patch.point(i, j)),
