@@ -14,6 +14,8 @@ mod build;
 mod convex;
 mod grid;
 mod stack;
+#[cfg(test)]
+mod tests;
 mod warm;
 
 use boxes::{crossed, extent, Shadow};

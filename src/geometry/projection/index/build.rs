@@ -51,7 +51,11 @@ fn split_until_flat(
     let obb = obb_of(&patch);
     let flat = is_flat(&obb, opts.leaf_flatness);
     let min_cos = opts.leaf_max_turn.cos();
-    let turn = if flat { least_cosines(&patch) } else { [1.0; 2] };
+    let turn = if flat {
+        least_cosines(&patch)
+    } else {
+        [1.0; 2]
+    };
     let turning = turn[0].min(turn[1]) < min_cos;
     if depth >= opts.max_leaf_depth || (flat && !turning) {
         out.push((patch, obb));
