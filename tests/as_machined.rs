@@ -259,3 +259,58 @@ fn points_off_the_true_normal_project_back_to_their_foot() {
         }
     }
 }
+
+/// Beyond a face's edge the per-cycle search falls back to the cold one,
+/// with its nominal search started from the previous cycle's
+/// (`closest_point_seeded`): along paths 0.5-3 mm past an edge of the
+/// panel (one face) and past the blade's ends (two faces, meeting at its
+/// edges), it gives the cold search's foot and distance at every cycle.
+#[test]
+fn seeded_search_past_an_edge_matches_the_cold_search() {
+    let json = r#"{"form":[{"kind":"bump","center_mm":[30,8,50],"radius_mm":10,"height_mm":0.4},
+        {"kind":"waviness","amplitude_mm":0.05,"wavelength_mm":7,"direction":[1,0,0.3],"phase_deg":10}],
+        "transform":{"rotate_deg":[0.2,0.1,0.3],"scale":1.001}}"#;
+    let mut fallbacks = 0;
+    for (name, face, past_v) in [("panel", 0, false), ("blade", 0, true), ("blade", 1, true)] {
+        let wp = example(name);
+        let am = AsMachined::from_spec(&spec(json), &wp).unwrap();
+        let opts = contact_options(&wp.options);
+        let s = &wp.faces[face].surface;
+        let ((u0, u1), (v0, v1)) = s.domain();
+        // Off the edge u = u0 (panel) or v = v1 (blade), along the other
+        // parameter, at a height over the surface.
+        let beyond = |t: f64| {
+            let (u, v) = if past_v {
+                (u0 + (u1 - u0) * t, v1)
+            } else {
+                (u0, v0 + (v1 - v0) * t)
+            };
+            let d = s.derivs(u, v, 1);
+            let out = if past_v { d.sv() } else { -d.su() };
+            let gap = 0.5 + 2.5 * (7.0 * t).sin().abs();
+            d.point() + out.normalize() * gap + s.normal(u, v) * (0.3 * (5.0 * t).cos())
+        };
+        let first = beyond(0.1);
+        let mut warm = TrueWarm::new(face, am.closest_point(&wp, first).unwrap().uv);
+        let mut seeds = None;
+        let mut t = 0.1;
+        while t < 0.9 {
+            let x = beyond(t);
+            let cold = am.closest_point(&wp, x).unwrap();
+            let seeded = am.closest_point_seeded(&wp, x, &mut seeds).unwrap();
+            let along = am.closest_point_along(&wp, x, &mut warm, &opts).unwrap();
+            fallbacks += usize::from(warm.seeds.is_some());
+            for (what, tp) in [("seeded", seeded), ("contact", along)] {
+                assert!(
+                    (tp.distance - cold.distance).abs() < 1e-10,
+                    "{name} face {face} t {t}: {what} {} vs cold {}",
+                    tp.distance,
+                    cold.distance
+                );
+                assert!((tp.point - cold.point).norm() < 1e-6, "{what} foot at {t}");
+            }
+            t += 0.002;
+        }
+    }
+    assert!(fallbacks > 500, "only {fallbacks} cycles fell back");
+}

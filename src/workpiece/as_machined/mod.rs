@@ -14,7 +14,7 @@ mod validate;
 use crate::geometry::projection::{minimise_with, Bounds, Foot, WarmStart};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
 use crate::math::{Mat3, Point3, Vec2, Vec3};
-use crate::workpiece::Workpiece;
+use crate::workpiece::{FootHint, Workpiece};
 use affine::Affine;
 use form::Form;
 pub use spec::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
@@ -230,8 +230,8 @@ impl AsMachined {
             opts,
         )?;
         if on_boundary(wp, face, foot.uv) {
-            let tp = self.closest_point(wp, x)?;
-            *warm = TrueWarm::new(tp.face, tp.uv);
+            let tp = self.closest_point_seeded(wp, x, &mut warm.seeds)?;
+            *warm = TrueWarm::seeded(tp.face, tp.uv, warm.seeds);
             return Ok(tp);
         }
         Ok(self.finish(wp, x, face, foot))
@@ -245,6 +245,28 @@ impl AsMachined {
         x: Point3,
     ) -> Result<TrueProjection, ProjectionError> {
         self.closest_point_near(wp, x, None).map(|(tp, _)| tp)
+    }
+
+    /// [`Self::closest_point`] with the nominal search started from `seeds`
+    /// (where an earlier query's nominal foot lay, such as the control
+    /// cycle before), which is moved to this query's nominal foot; none:
+    /// the cold search, whose foot seeds the next query. The answer is the
+    /// same (the search trees confirm the nominal foot, and every face
+    /// within the seed reach is searched).
+    pub fn closest_point_seeded(
+        &self,
+        wp: &Workpiece,
+        x: Point3,
+        seeds: &mut Option<FootHint>,
+    ) -> Result<TrueProjection, ProjectionError> {
+        if seeds.is_none() {
+            let tp = self.closest_point(wp, x)?;
+            *seeds = Some(FootHint::at(tp.face, tp.uv));
+            return Ok(tp);
+        }
+        let y = self.inverse_point(x);
+        let foot = wp.closest_point_tracked(y, 0..wp.faces.len(), seeds)?;
+        self.closest_point_tracked(wp, x, Some((y, &foot)), seeds)
     }
 
     /// [`Self::closest_point`] near an earlier query: `near` is a nominal
@@ -404,19 +426,29 @@ impl AsMachined {
 }
 
 /// Where a warm true closest-point search starts: a face and the state of
-/// its Newton iteration.
+/// its Newton iteration, and where the nominal searches of its cold
+/// fallback start ([`AsMachined::closest_point_seeded`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrueWarm {
     face: usize,
     start: WarmStart,
+    /// The nominal foot of the last cold search, if any.
+    pub seeds: Option<FootHint>,
 }
 
 impl TrueWarm {
-    /// A start at nominal parameters `uv` of `face`.
+    /// A start at nominal parameters `uv` of `face` (with no seeds).
     pub fn new(face: usize, uv: Vec2) -> TrueWarm {
+        Self::seeded(face, uv, None)
+    }
+
+    /// A start at nominal parameters `uv` of `face` whose cold fallback
+    /// starts its nominal searches from `seeds`.
+    pub fn seeded(face: usize, uv: Vec2, seeds: Option<FootHint>) -> TrueWarm {
         TrueWarm {
             face,
             start: WarmStart::new(uv),
+            seeds,
         }
     }
 }
