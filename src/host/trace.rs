@@ -24,17 +24,19 @@ pub struct TraceRow {
     pub phase: Phase,
 }
 
-/// A [`Cmm`] that records every cycle of the machine it wraps.
-pub struct TracingCmm<'a> {
-    inner: &'a mut dyn Cmm,
+/// A [`Cmm`] that records every cycle of the machine it wraps (of a type
+/// known at compile time, or `dyn Cmm`: the simulator's step then inlines
+/// into this one, without a second virtual call and copy of the readings).
+pub struct TracingCmm<'a, C: Cmm + ?Sized> {
+    inner: &'a mut C,
     rows: Vec<TraceRow>,
     enabled: bool,
     phase: Phase,
 }
 
-impl<'a> TracingCmm<'a> {
+impl<'a, C: Cmm + ?Sized> TracingCmm<'a, C> {
     /// Wraps `inner`; records only when `enabled`.
-    pub fn new(inner: &'a mut dyn Cmm, enabled: bool) -> TracingCmm<'a> {
+    pub fn new(inner: &'a mut C, enabled: bool) -> TracingCmm<'a, C> {
         TracingCmm {
             inner,
             rows: Vec::new(),
@@ -49,7 +51,7 @@ impl<'a> TracingCmm<'a> {
     }
 }
 
-impl Cmm for TracingCmm<'_> {
+impl<C: Cmm + ?Sized> Cmm for TracingCmm<'_, C> {
     fn cycle_s(&self) -> f64 {
         self.inner.cycle_s()
     }
