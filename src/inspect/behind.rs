@@ -14,8 +14,9 @@
 //! measuring ends, the measuring thread helps evaluate what is left.
 //! Without a second thread (it cannot be started) the measuring thread
 //! evaluates everything at the end.
+use std::borrow::Cow;
 use std::collections::{BTreeMap, VecDeque};
-use std::sync::{Condvar, Mutex, MutexGuard};
+use std::sync::{Barrier, Condvar, Mutex, MutexGuard, OnceLock};
 
 use super::evaluate::point_reports;
 use super::LivePoints;
@@ -29,19 +30,46 @@ use crate::workpiece::as_machined::AsMachined;
 /// chunk's first search costs little.
 pub const CHUNK_POINTS: usize = 32;
 
+/// The program whose points the evaluation evaluates, set once the
+/// measuring knows it (an alignment moves its placement), before the
+/// first points are handed over.
+pub(super) type ProgramSlot<'p> = OnceLock<Cow<'p, Program>>;
+
 /// Runs `measure` (which hands over points with [`Queue::submit`] and
 /// the [`LivePoints`] streams) while evaluating them behind it; returns
 /// `measure`'s result and the point reports of every stream.
+#[cfg(test)]
 pub(super) fn measure_and_evaluate<T>(
     program: &Program,
     truth: &AsMachined,
     measure: impl FnOnce(&Queue) -> T,
 ) -> (T, Streams) {
-    let queue = Queue::new(program, truth);
+    let slot = ProgramSlot::from(Cow::Borrowed(program));
+    evaluate_behind(&slot, truth, measure)
+}
+
+/// [`measure_and_evaluate`] for the program that `measure` sets in `slot`
+/// before it hands over points. The evaluation thread is running before
+/// `measure` is called, so a clock `measure` starts leaves out the
+/// thread's start. Points handed over while `slot` is empty get no
+/// reports.
+pub(super) fn evaluate_behind<'p, T>(
+    slot: &ProgramSlot<'p>,
+    truth: &AsMachined,
+    measure: impl FnOnce(&Queue) -> T,
+) -> (T, Streams) {
+    let queue = Queue::new(slot, truth);
+    let started = Barrier::new(2);
     let out = std::thread::scope(|s| {
         let worker = std::thread::Builder::new()
             .name("cmm-evaluate".into())
-            .spawn_scoped(s, || queue.work());
+            .spawn_scoped(s, || {
+                started.wait();
+                queue.work();
+            });
+        if worker.is_ok() {
+            started.wait();
+        }
         // Closed even if `measure` panics, so the worker cannot wait for
         // jobs forever while the scope waits for the worker.
         let closing = CloseOnDrop(&queue);
@@ -70,17 +98,17 @@ impl Streams {
 }
 
 /// Closes the queue when dropped.
-struct CloseOnDrop<'q, 'a>(&'q Queue<'a>);
+struct CloseOnDrop<'q, 'a, 'p>(&'q Queue<'a, 'p>);
 
-impl Drop for CloseOnDrop<'_, '_> {
+impl Drop for CloseOnDrop<'_, '_, '_> {
     fn drop(&mut self) {
         self.0.close();
     }
 }
 
 /// Evaluation jobs and their results, shared by the two threads.
-pub(super) struct Queue<'a> {
-    program: &'a Program,
+pub(super) struct Queue<'a, 'p> {
+    program: &'a ProgramSlot<'p>,
     truth: &'a AsMachined,
     state: Mutex<State>,
     wake: Condvar,
@@ -105,8 +133,8 @@ struct Job {
     points: Vec<Measured>,
 }
 
-impl<'a> Queue<'a> {
-    fn new(program: &'a Program, truth: &'a AsMachined) -> Queue<'a> {
+impl<'a, 'p> Queue<'a, 'p> {
+    fn new(program: &'a ProgramSlot<'p>, truth: &'a AsMachined) -> Queue<'a, 'p> {
         Queue {
             program,
             truth,
@@ -134,7 +162,9 @@ impl<'a> Queue<'a> {
     /// Evaluates jobs until the queue is closed and empty.
     fn work(&self) {
         while let Some(job) = self.next_job() {
-            let reports = point_reports(self.program, self.truth, &job.faces, &job.points);
+            let reports = self.program.get().map_or(Vec::new(), |program| {
+                point_reports(program, self.truth, &job.faces, &job.points)
+            });
             self.lock().done.push((job.stream, job.chunk, reports));
         }
     }
@@ -175,7 +205,7 @@ impl<'a> Queue<'a> {
     }
 }
 
-impl LivePoints for Queue<'_> {
+impl LivePoints for Queue<'_, '_> {
     fn open(&self, faces: &[usize]) -> usize {
         let mut state = self.lock();
         state.faces.push(faces.to_vec());
@@ -183,6 +213,11 @@ impl LivePoints for Queue<'_> {
     }
 
     fn push(&self, stream: usize, chunk: usize, points: Vec<Measured>) {
+        // Without a program there is nothing to evaluate against (and
+        // whether a job would find one later depends on timing).
+        if self.program.get().is_none() {
+            return;
+        }
         let mut state = self.lock();
         let faces = state.faces.get(stream).cloned().unwrap_or_default();
         state.jobs.push_back(Job {
@@ -206,6 +241,7 @@ impl LivePoints for Queue<'_> {
 mod tests {
     use super::*;
     use crate::math::{Point3, Vec3};
+    use crate::program::Pose;
     use std::path::Path;
 
     fn blade_z60() -> Program {
@@ -298,6 +334,42 @@ mod tests {
                 assert!((r.deviation_mm - want.deviation_mm).abs() < 1e-10);
                 assert!((r.true_deviation_mm - want.true_deviation_mm).abs() < 1e-10);
             }
+        }
+    }
+
+    /// The program evaluated is the one the measuring sets in the slot
+    /// (as an alignment does, with a moved placement), not one known at
+    /// the start: the reports are those of the moved program, each equal
+    /// to its point evaluated alone against it; points handed over
+    /// before it is set get no reports.
+    #[test]
+    fn points_are_evaluated_against_the_program_set_while_measuring() {
+        let nominal = blade_z60();
+        let truth = nominal.as_machined.clone().without_roughness();
+        let moved = Program {
+            placement: Pose {
+                translation: nominal.placement.translation + Vec3::new(0.3, -0.2, 0.1),
+                ..nominal.placement
+            },
+            ..nominal.clone()
+        };
+        let faces: Vec<usize> = (0..nominal.workpiece.faces.len()).collect();
+        let points = measured_points(&moved, 40);
+        let slot = ProgramSlot::new();
+        let (ids, mut streams) = evaluate_behind(&slot, &truth, |queue| {
+            let early = queue.submit(&faces, &points[..3]);
+            let _ = slot.set(Cow::Borrowed(&moved));
+            [early, queue.submit(&faces, &points)]
+        });
+        assert!(streams.concat(&[ids[0]]).is_empty(), "before the program");
+        let got = streams.concat(&[ids[1]]);
+        let want = point_reports(&moved, &truth, &faces, &points);
+        assert_eq!(got.len(), points.len());
+        for (m, (r, w)) in points.iter().zip(got.iter().zip(&want)) {
+            let part = moved.placement.to_part(m.point);
+            assert!((Point3::from(r.measured) - part).norm() < 1e-12);
+            assert!((r.deviation_mm - w.deviation_mm).abs() < 1e-10);
+            assert!((r.deviation_mm.abs()) < 0.05, "{}", r.deviation_mm);
         }
     }
 }

@@ -4,7 +4,7 @@ use std::sync::OnceLock;
 use std::time::Instant;
 
 use super::align::{align, AlignOptions};
-use super::behind::measure_and_evaluate;
+use super::behind::{evaluate_behind, ProgramSlot, Queue};
 use super::clearance::{ClearanceOptions, PartClearance};
 use super::feature::{feature_report, measure_feature, MeasuredFeature, Run};
 use super::prepared::Prepared;
@@ -20,6 +20,7 @@ use crate::program::Program;
 use crate::report::{
     AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict, REPORT_FORMAT,
 };
+use crate::workpiece::as_machined::AsMachined;
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
 use crate::world::machine::{MachineModel, MachineProfile};
 use crate::world::probe::TrueProbe;
@@ -103,45 +104,170 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
 }
 
 /// [`run_program`] that can also record a motion trace of every cycle.
+///
+/// `wall_time_s` is the time the inspection itself takes: loading,
+/// planning the first scans and starting the evaluation thread come
+/// before its clock, like the program and the workpiece; the measuring
+/// and the evaluation of every point are inside it.
 pub fn run_program_traced(
     program: &Program,
     opts: &RunOptions,
     trace: bool,
 ) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
-    // Inputs are loaded before the clock starts, like the program and the
-    // workpiece: `wall_time_s` is the time the inspection itself takes.
-    let machine = default_machine();
-    let calibration = probe_calibration(program, opts)?;
-    let profile = if opts.ideal {
-        MachineProfile::default().ideal()
-    } else {
-        MachineProfile::default()
+    let profile = machine_profile(opts);
+    let setup = Setup::new(program, opts, &profile)?;
+    let machine = (default_machine(), profile);
+    let slot = ProgramSlot::new();
+    let (measuring, mut streams) = evaluate_behind(&slot, &setup.truth, |queue| {
+        measure_program(program, opts, (&setup, machine), (&slot, queue), trace)
+    });
+    let m = measuring?;
+    let program: &Program = slot.get().map_or(program, |p| p);
+    let features: Vec<FeatureReport> = (program.features.iter().zip(m.measured))
+        .map(|(f, (mf, s))| feature_report(f, mf, streams.concat(&s)))
+        .collect();
+    let report = Report {
+        format: REPORT_FORMAT,
+        program: program.name.clone(),
+        seed: opts.seed,
+        status: overall(&features),
+        machine_time_s: m.machine_time_s,
+        wall_time_s: m.wall.elapsed().as_secs_f64(),
+        part_to_machine: part_to_machine(program),
+        alignment: m.alignment,
+        ideal: opts.ideal,
+        probe: ProbeUsed {
+            source: (setup.calibration.as_ref())
+                .map_or("nominal".into(), |c| c.source.display().to_string()),
+            tip_radius_mm: setup.host_probe.tip_radius_mm,
+            probe_vector_mm: setup.host_probe.probe_vector.into(),
+        },
+        features,
     };
-    let host_probe = calibration.as_ref().map_or(
-        HostProbe::nominal(probe_vector(program), program.probe.tip_radius_mm),
-        |c| c.probe,
-    );
-    // Planning, like loading, comes before the clock: the first scan of
-    // every section curve in the program's placement.
-    let prepared = if opts.prepare_scans {
-        Prepared::for_program(
-            program,
-            host_probe.tip_radius_mm,
-            base_speed(&opts.modes),
-            profile.control_cycle_s,
-        )
-    } else {
-        Prepared::default()
-    };
+    Ok((report, m.learned, m.rows))
+}
+
+/// What a run sets up before its clock starts.
+struct Setup {
+    calibration: Option<ProbeCalibration>,
+    host_probe: HostProbe,
+    /// The first scan of every section curve in the program's placement.
+    prepared: Prepared,
+    /// The true part (without roughness on an ideal machine).
+    truth: AsMachined,
+}
+
+impl Setup {
+    fn new(
+        program: &Program,
+        opts: &RunOptions,
+        profile: &MachineProfile,
+    ) -> Result<Setup, RunError> {
+        let calibration = probe_calibration(program, opts)?;
+        let host_probe = calibration.as_ref().map_or(
+            HostProbe::nominal(probe_vector(program), program.probe.tip_radius_mm),
+            |c| c.probe,
+        );
+        let prepared = if opts.prepare_scans {
+            let speed = base_speed(&opts.modes);
+            let (r, cycle) = (host_probe.tip_radius_mm, profile.control_cycle_s);
+            Prepared::for_program(program, r, speed, cycle)
+        } else {
+            Prepared::default()
+        };
+        let truth = if opts.ideal {
+            program.as_machined.clone().without_roughness()
+        } else {
+            program.as_machined.clone()
+        };
+        Ok(Setup {
+            calibration,
+            host_probe,
+            prepared,
+            truth,
+        })
+    }
+}
+
+/// What the measuring gives (the points' reports come from the queue).
+struct Measuring {
+    /// When the clock started.
+    wall: Instant,
+    measured: Vec<(MeasuredFeature, Vec<usize>)>,
+    alignment: Option<AlignmentReport>,
+    machine_time_s: f64,
+    rows: Vec<TraceRow>,
+    learned: LearnedSet,
+}
+
+/// Starts the clock and the simulated machine, aligns the part (setting
+/// the program evaluated in `slot`) and measures every feature, handing
+/// the points over to `queue`.
+fn measure_program<'p>(
+    program: &'p Program,
+    opts: &RunOptions,
+    (setup, machine): (&Setup, (MachineModel, MachineProfile)),
+    (slot, queue): (&ProgramSlot<'p>, &Queue),
+    trace: bool,
+) -> Result<Measuring, RunError> {
     let wall = Instant::now();
-    let truth = if opts.ideal {
-        program.as_machined.clone().without_roughness()
-    } else {
-        program.as_machined.clone()
+    let mut sim = start_machine(program, opts, setup, machine)?;
+    let mut traced = TracingCmm::new(&mut sim, trace);
+    let host_probe = setup.host_probe;
+    let modes = ModeOptions {
+        clearance_z_mm: Some(start_position(program).1),
+        ..opts.modes
     };
+    let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
+        Ok(a) => a,
+        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
+    };
+    let program: &Program = slot.get_or_init(|| aligned);
+    let free = PartClearance {
+        workpiece: &program.workpiece,
+        pose: program.placement,
+        stylus: -host_probe.probe_vector,
+        tip_radius_mm: host_probe.tip_radius_mm,
+        opts: opts.clearance,
+    };
+    let run = Run {
+        program,
+        probe: host_probe,
+        modes: &modes,
+        opts,
+        free: &free,
+        live: Some(queue),
+        prepared: &setup.prepared,
+    };
+    let mut learned = Vec::new();
+    let measured = (program.features.iter().enumerate())
+        .map(|(i, f)| {
+            let m = measure_feature(&run, i, f, &mut traced, &mut learned);
+            let streams = m.hand_over(queue);
+            (m, streams)
+        })
+        .collect();
+    Ok(Measuring {
+        wall,
+        measured,
+        alignment,
+        machine_time_s: traced.readings().time_s,
+        rows: traced.into_rows(),
+        learned,
+    })
+}
+
+/// The simulated machine with the true part in the program's placement,
+/// the probe above the part.
+fn start_machine<'a>(
+    program: &'a Program,
+    opts: &RunOptions,
+    setup: &'a Setup,
+    (machine, profile): (MachineModel, MachineProfile),
+) -> Result<SimulatedCmm<'a>, RunError> {
     let part = TruePart {
         workpiece: &program.workpiece,
-        as_machined: &truth,
+        as_machined: &setup.truth,
         pose: program.placement,
     };
     let probe_vector = probe_vector(program);
@@ -151,8 +277,8 @@ pub fn run_program_traced(
     } else {
         TrueProbe::realistic(probe_vector, r)
     };
-    let (start, top) = start_position(program);
-    let mut sim = SimulatedCmm::new(
+    let start = start_position(program).0;
+    SimulatedCmm::new(
         part,
         machine,
         profile,
@@ -163,75 +289,17 @@ pub fn run_program_traced(
     .map_err(|source| RunError::Machine {
         program: program.name.clone(),
         source,
-    })?;
-    let modes = ModeOptions {
-        clearance_z_mm: Some(top),
-        ..opts.modes
-    };
-    let free = PartClearance {
-        workpiece: &program.workpiece,
-        pose: program.placement,
-        stylus: -host_probe.probe_vector,
-        tip_radius_mm: host_probe.tip_radius_mm,
-        opts: opts.clearance,
-    };
-    let mut learned_out = Vec::new();
-    let mut traced = TracingCmm::new(&mut sim, trace);
-    let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
-        Ok(a) => a,
-        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
-    };
-    let program = &aligned;
-    let free = PartClearance {
-        pose: program.placement,
-        ..free
-    };
-    // Points are evaluated behind the measuring: a scan's while it runs,
-    // the rest after their feature.
-    let (measured, mut streams) = measure_and_evaluate(program, &truth, |queue| {
-        let run = Run {
-            program,
-            probe: host_probe,
-            modes: &modes,
-            opts,
-            free: &free,
-            live: Some(queue),
-            prepared: &prepared,
-        };
-        let measured: Vec<(MeasuredFeature, Vec<usize>)> = (program.features.iter().enumerate())
-            .map(|(i, f)| {
-                let m = measure_feature(&run, i, f, &mut traced, &mut learned_out);
-                let streams = m.hand_over(queue);
-                (m, streams)
-            })
-            .collect();
-        measured
-    });
-    let features: Vec<FeatureReport> = (program.features.iter().zip(measured))
-        .map(|(f, (m, s))| feature_report(f, m, streams.concat(&s)))
-        .collect();
-    let machine_time_s = traced.readings().time_s;
-    let rows = traced.into_rows();
-    let report = Report {
-        format: REPORT_FORMAT,
-        program: program.name.clone(),
-        seed: opts.seed,
-        status: overall(&features),
-        machine_time_s,
-        wall_time_s: wall.elapsed().as_secs_f64(),
-        part_to_machine: part_to_machine(program),
-        alignment,
-        ideal: opts.ideal,
-        probe: ProbeUsed {
-            source: calibration
-                .as_ref()
-                .map_or("nominal".into(), |c| c.source.display().to_string()),
-            tip_radius_mm: host_probe.tip_radius_mm,
-            probe_vector_mm: host_probe.probe_vector.into(),
-        },
-        features,
-    };
-    Ok((report, learned_out, rows))
+    })
+}
+
+/// The embedded default profile, every error and all noise off with
+/// `ideal`.
+fn machine_profile(opts: &RunOptions) -> MachineProfile {
+    if opts.ideal {
+        MachineProfile::default().ideal()
+    } else {
+        MachineProfile::default()
+    }
 }
 
 /// The embedded default bridge CMM, parsed once per process (a batch
