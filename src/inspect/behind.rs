@@ -17,6 +17,7 @@
 use std::borrow::Cow;
 use std::collections::{BTreeMap, VecDeque};
 use std::sync::{Barrier, Condvar, Mutex, MutexGuard, OnceLock};
+use std::time::Instant;
 
 use super::evaluate::point_reports;
 use super::LivePoints;
@@ -45,19 +46,21 @@ pub(super) fn measure_and_evaluate<T>(
     measure: impl FnOnce(&Queue) -> T,
 ) -> (T, Streams) {
     let slot = ProgramSlot::from(Cow::Borrowed(program));
-    evaluate_behind(&slot, truth, measure)
+    let (out, streams, _) = evaluate_behind(&slot, truth, measure);
+    (out, streams)
 }
 
 /// [`measure_and_evaluate`] for the program that `measure` sets in `slot`
 /// before it hands over points. The evaluation thread is running before
 /// `measure` is called, so a clock `measure` starts leaves out the
 /// thread's start. Points handed over while `slot` is empty get no
-/// reports.
+/// reports. Also returns when the last report was in, before the
+/// evaluation thread is joined (its exit is no part of the evaluation).
 pub(super) fn evaluate_behind<'p, T>(
     slot: &ProgramSlot<'p>,
     truth: &AsMachined,
     measure: impl FnOnce(&Queue) -> T,
-) -> (T, Streams) {
+) -> (T, Streams, Instant) {
     let queue = Queue::new(slot, truth);
     let started = Barrier::new(2);
     let out = std::thread::scope(|s| {
@@ -76,12 +79,13 @@ pub(super) fn evaluate_behind<'p, T>(
         let out = measure(&queue);
         drop(closing);
         queue.work();
+        let done_at = queue.all_done();
         if let Ok(Err(panic)) = worker.map(|w| w.join()) {
             std::panic::resume_unwind(panic);
         }
-        out
+        (out, done_at)
     });
-    (out, queue.into_streams())
+    (out.0, queue.into_streams(), out.1)
 }
 
 /// The point reports of each kept stream, by stream id.
@@ -122,7 +126,26 @@ struct State {
     /// Streams whose points are not wanted.
     discarded: Vec<usize>,
     done: Vec<(usize, usize, Vec<PointReport>)>,
+    /// Jobs taken and not yet done.
+    busy: usize,
     closed: bool,
+}
+
+/// A job being evaluated: counted in [`State::busy`] until dropped (also
+/// when the evaluation panics, so that [`Queue::all_done`] cannot wait
+/// for it forever).
+struct Busy<'q, 'a, 'p>(&'q Queue<'a, 'p>);
+
+impl Drop for Busy<'_, '_, '_> {
+    fn drop(&mut self) {
+        let mut state = self.0.lock();
+        state.busy = state.busy.saturating_sub(1);
+        let idle = state.closed && state.busy == 0;
+        drop(state);
+        if idle {
+            self.0.wake.notify_all();
+        }
+    }
 }
 
 /// One chunk of one stream.
@@ -162,6 +185,7 @@ impl<'a, 'p> Queue<'a, 'p> {
     /// Evaluates jobs until the queue is closed and empty.
     fn work(&self) {
         while let Some(job) = self.next_job() {
+            let _busy = Busy(self);
             let reports = self.program.get().map_or(Vec::new(), |program| {
                 point_reports(program, self.truth, &job.faces, &job.points)
             });
@@ -174,6 +198,7 @@ impl<'a, 'p> Queue<'a, 'p> {
         let mut state = self.lock();
         loop {
             if let Some(job) = state.jobs.pop_front() {
+                state.busy += 1;
                 return Some(job);
             }
             if state.closed {
@@ -181,6 +206,16 @@ impl<'a, 'p> Queue<'a, 'p> {
             }
             state = self.wake.wait(state).unwrap_or_else(|p| p.into_inner());
         }
+    }
+
+    /// Waits until no job is being evaluated (once the queue is closed
+    /// and empty, every report is then in); returns when.
+    fn all_done(&self) -> Instant {
+        let mut state = self.lock();
+        while state.busy > 0 {
+            state = self.wake.wait(state).unwrap_or_else(|p| p.into_inner());
+        }
+        Instant::now()
     }
 
     /// The state; a thread that panicked while holding the lock leaves it
@@ -356,7 +391,7 @@ mod tests {
         let faces: Vec<usize> = (0..nominal.workpiece.faces.len()).collect();
         let points = measured_points(&moved, 40);
         let slot = ProgramSlot::new();
-        let (ids, mut streams) = evaluate_behind(&slot, &truth, |queue| {
+        let (ids, mut streams, _) = evaluate_behind(&slot, &truth, |queue| {
             let early = queue.submit(&faces, &points[..3]);
             let _ = slot.set(Cow::Borrowed(&moved));
             [early, queue.submit(&faces, &points)]

@@ -108,7 +108,9 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
 /// `wall_time_s` is the time the inspection itself takes: loading,
 /// planning the first scans and starting the evaluation thread come
 /// before its clock, like the program and the workpiece; the measuring
-/// and the evaluation of every point are inside it.
+/// and the evaluation of every point are inside it (the clock stops when
+/// the last point's report is in, before the evaluation thread exits and
+/// the feature reports are put together).
 pub fn run_program_traced(
     program: &Program,
     opts: &RunOptions,
@@ -118,7 +120,7 @@ pub fn run_program_traced(
     let setup = Setup::new(program, opts, &profile)?;
     let machine = (default_machine(), profile);
     let slot = ProgramSlot::new();
-    let (measuring, mut streams) = evaluate_behind(&slot, &setup.truth, |queue| {
+    let (measuring, mut streams, evaluated) = evaluate_behind(&slot, &setup.truth, |queue| {
         measure_program(program, opts, (&setup, machine), (&slot, queue), trace)
     });
     let m = measuring?;
@@ -132,7 +134,7 @@ pub fn run_program_traced(
         seed: opts.seed,
         status: overall(&features),
         machine_time_s: m.machine_time_s,
-        wall_time_s: m.wall.elapsed().as_secs_f64(),
+        wall_time_s: evaluated.duration_since(m.wall).as_secs_f64(),
         part_to_machine: part_to_machine(program),
         alignment: m.alignment,
         ideal: opts.ideal,
