@@ -138,6 +138,14 @@ impl Workpiece {
         if floor > within {
             return Ok(None);
         }
+        // The leaves' boxes bound the face's distance without a Newton
+        // iteration, often far beyond `within` (the other side of a thin
+        // part), which spares the searches of the nearby queries too.
+        let boxes = f.index.box_distance(p);
+        if boxes > within {
+            far.note_face(i, p, boxes);
+            return Ok(None);
+        }
         let bound2 = within * within * (1.0 + BOUND_SLACK);
         let found = f.search((p, bound2), None, true, &mut far.of_face(i))?;
         // Nothing found: every point is farther than `within` (by about
