@@ -157,6 +157,29 @@ impl Workpiece {
         Ok(found)
     }
 
+    /// The leaf whose boxes come nearest to `p` over the faces `order`
+    /// (sorted by their lower bounds), as a hint without a foot.
+    fn box_nearest_leaf(&self, p: Point3, order: &[(f64, usize)]) -> Option<FootHint> {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for &(lb, i) in order {
+            if best.is_some_and(|b| lb >= b.0) {
+                break;
+            }
+            let Some(f) = self.faces.get(i) else {
+                continue;
+            };
+            if let (d, Some(leaf)) = f.index.box_nearest_leaf(p) {
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, i, leaf));
+                }
+            }
+        }
+        let (_, face, leaf) = best?;
+        let mut hint = FootHint::at(face, crate::math::Vec2::zeros());
+        hint.leaf = Some(leaf);
+        Some(hint)
+    }
+
     /// The closest point over `faces` among the points closer than
     /// `sqrt(bound2)` (`None` when there is none), searching the leaf of
     /// `hint` first, with the hint of its foot.
@@ -173,6 +196,9 @@ impl Workpiece {
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let hint = hint.filter(|h| order.iter().any(|o| o.1 == h.face));
+        // Without a hint the leaf whose boxes come nearest is searched
+        // first: its foot bounds the rest tightly (mostly).
+        let hint = hint.or_else(|| self.box_nearest_leaf(p, &order));
         let mut best: Option<(usize, Option<usize>, Foot)> = None;
         let mut best_d2 = bound2;
         if let Some((face, leaf)) = hint.and_then(|h| Some((h.face, h.leaf?))) {
