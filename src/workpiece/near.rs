@@ -138,6 +138,14 @@ impl Workpiece {
         if floor > within {
             return Ok(None);
         }
+        // The leaves' boxes bound the face's distance without a Newton
+        // iteration, often far beyond `within` (the other side of a thin
+        // part), which spares the searches of the nearby queries too.
+        let boxes = f.index.box_distance(p);
+        if boxes > within {
+            far.note_face(i, p, boxes);
+            return Ok(None);
+        }
         let bound2 = within * within * (1.0 + BOUND_SLACK);
         let found = f.search((p, bound2), None, true, &mut far.of_face(i))?;
         // Nothing found: every point is farther than `within` (by about
@@ -147,6 +155,29 @@ impl Workpiece {
         });
         far.note_face(i, p, least);
         Ok(found)
+    }
+
+    /// The leaf whose boxes come nearest to `p` over the faces `order`
+    /// (sorted by their lower bounds), as a hint without a foot.
+    fn box_nearest_leaf(&self, p: Point3, order: &[(f64, usize)]) -> Option<FootHint> {
+        let mut best: Option<(f64, usize, usize)> = None;
+        for &(lb, i) in order {
+            if best.is_some_and(|b| lb >= b.0) {
+                break;
+            }
+            let Some(f) = self.faces.get(i) else {
+                continue;
+            };
+            if let (d, Some(leaf)) = f.index.box_nearest_leaf(p) {
+                if best.is_none_or(|b| d < b.0) {
+                    best = Some((d, i, leaf));
+                }
+            }
+        }
+        let (_, face, leaf) = best?;
+        let mut hint = FootHint::at(face, crate::math::Vec2::zeros());
+        hint.leaf = Some(leaf);
+        Some(hint)
     }
 
     /// The closest point over `faces` among the points closer than
@@ -165,6 +196,9 @@ impl Workpiece {
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let hint = hint.filter(|h| order.iter().any(|o| o.1 == h.face));
+        // Without a hint the leaf whose boxes come nearest is searched
+        // first: its foot bounds the rest tightly (mostly).
+        let hint = hint.or_else(|| self.box_nearest_leaf(p, &order));
         let mut best: Option<(usize, Option<usize>, Foot)> = None;
         let mut best_d2 = bound2;
         if let Some((face, leaf)) = hint.and_then(|h| Some((h.face, h.leaf?))) {

@@ -133,6 +133,13 @@ impl ProjectionIndex {
         (best.0.sqrt(), best.1)
     }
 
+    /// The leaf (its index) whose boxes come nearest to `p`, with
+    /// [`Self::box_distance`]; `None` for an empty hierarchy.
+    pub(crate) fn box_nearest_leaf(&self, p: Point3) -> (f64, Option<usize>) {
+        let (d, node) = self.box_distance_near(p, None);
+        (d, node.and_then(|i| self.nodes.get(i)?.kind.ok()))
+    }
+
     /// A leaf (its node, as [`Self::box_distance_near`] returns it, for the
     /// next query's `hint`) whose boxes may come within `reach` (mm) of the
     /// convex hull of `hull`, a shape with the face normals `normals` and

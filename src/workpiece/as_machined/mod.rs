@@ -413,11 +413,18 @@ impl AsMachined {
         known: Option<(Point3, &crate::workpiece::FaceProjection)>,
         hint: &mut Option<crate::workpiece::FootHint>,
     ) -> Result<f64, ProjectionError> {
+        // With a transform `T` the true point's nominal parameters are
+        // those of a point moved by `T`; the true point lies near `m`, so
+        // its nominal foot lies near that of `m` (`known`, when it is that
+        // of `m`), found with `hint`.
+        let moved = !self.affine.is_identity() && known.is_some_and(|k| k.0 == m);
+        let earlier = (*hint).filter(|_| moved);
         let tp = self.closest_point_tracked(wp, m, known, hint)?;
         // The nominal foot of the true point, started from the nominal
-        // parameters of that point (its foot when `T` is the identity).
+        // parameters of that point (its foot when `T` is the identity),
+        // or with a transform from the nominal foot of `m`.
         match hint.as_mut() {
-            Some(h) => h.restart_at(tp.face, tp.uv),
+            Some(h) => h.restart_near(tp.face, tp.uv, earlier.as_ref()),
             None => *hint = Some(crate::workpiece::FootHint::at(tp.face, tp.uv)),
         }
         let found = wp.closest_point_tracked(tp.point, 0..wp.faces.len(), hint)?;

@@ -69,6 +69,20 @@ impl FootHint {
         (self.face, self.leaf, self.has_jet) = (face, None, false);
         self.foot.uv = uv;
     }
+
+    /// [`Self::restart_at`], but from the foot of `earlier` (with its
+    /// derivatives and leaf) when it lies on face `face` too: the foot of
+    /// a point near the one sought (such as the nominal foot of a measured
+    /// point, for its true point), so that Newton's first step from there
+    /// needs no evaluation. Keeps what the queries learnt of far leaves.
+    pub fn restart_near(&mut self, face: usize, uv: Vec2, earlier: Option<&FootHint>) {
+        match earlier.filter(|e| e.face == face && e.has_jet) {
+            Some(e) => {
+                (self.face, self.leaf, self.foot, self.has_jet) = (face, e.leaf, e.foot, true)
+            }
+            None => self.restart_at(face, uv),
+        }
+    }
 }
 
 impl Face {

@@ -59,18 +59,17 @@ impl Workpiece {
             return self.cold_feet_within_reach(y, reach, seed);
         };
         // The global foot's distance is the least: each face is searched
-        // within its reach of it, in face order.
-        let mut far = hint.map(|h| h.far).unwrap_or_default();
+        // within its reach of it, in face order (learning in the hint's
+        // memo of far leaves in place, when there is a hint).
+        let mut own = FarLeaves::default();
+        let far = hint.as_mut().map_or(&mut own, |h| &mut h.far);
         let best = n.projection.distance;
         for i in 0..self.faces.len() {
             if i == n.face {
                 seed(i, n.projection.uv)?;
-            } else if let Some(uv) = self.foot_within(y, i, reach(i, best), &mut far)? {
+            } else if let Some(uv) = self.foot_within(y, i, reach(i, best), far)? {
                 seed(i, uv)?;
             }
-        }
-        if let Some(h) = hint.as_mut() {
-            h.far = far;
         }
         Ok(())
     }

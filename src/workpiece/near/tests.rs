@@ -177,6 +177,31 @@ fn blade_walks_find_the_brute_force_distance() {
     assert_eq!(checked, 3 * 60 * 3);
 }
 
+/// Queries without a hint (the first of a chunk of measured points):
+/// random points up to 3 mm off either side of the blade, over all faces
+/// and over each face alone, find the brute-force distance.
+#[test]
+fn blade_queries_without_a_hint_find_the_brute_force_distance() {
+    let wp = load(&examples::blade());
+    let all: Vec<usize> = (0..wp.faces.len()).collect();
+    let mut r = ChaCha8Rng::seed_from_u64(74);
+    for k in 0..60 {
+        let place = Place::random(&mut r, wp.faces.len(), 3.0);
+        let p = place.point(&wp);
+        let per_face: Vec<Projection> = all.iter().map(|&i| brute_face(&wp, i, p)).collect();
+        for faces in [all.clone(), vec![0], vec![1]] {
+            let (got, hint) = wp.closest_point_near(p, &faces, None).unwrap();
+            let want = (faces.iter().map(|&i| per_face[i].distance)).fold(f64::INFINITY, f64::min);
+            assert!(
+                (got.projection.distance - want).abs() <= SAME_MM,
+                "case {k} faces {faces:?} at {place:?}: {} vs {want}",
+                got.projection.distance
+            );
+            assert!(hint.is_some_and(|h| h.face == got.face), "case {k}: hint");
+        }
+    }
+}
+
 /// The d25 sphere at the origin: the closest point of `p` is `12.5 p /
 /// |p|`, at `| |p| - 12.5 |`, signed positive outside. Walks along great
 /// circles through the poles and across the seam, inside and outside.

@@ -21,7 +21,20 @@
 //! `J^T J + (S - p) . D^2 S >= sigma^2 - d (1 + 2 m / sigma) kappa`. When
 //! that is positive the squared distance is strictly convex there, so `f`,
 //! a local minimum, is its least value on the disc, and no point of the
-//! leaf outside it comes within `d`. Rational leaves get no certificate.
+//! leaf outside it comes within `d`.
+//!
+//! A rational leaf `S = c + R / W` (`R` the homogeneous control points
+//! about the box centre `c`, `W` the weight polynomial, both Bezier) has
+//! `J = (R' - (S - c) W') / W`. Along a segment the mean of `R' / W` is
+//! `C A` with `C`, the mean of `1 / W`, in `[1 / Wmax, 1 / Wmin]` (the
+//! extreme weights) and `A` a weighted mean of `R'`, so in the hulls of
+//! its coefficients' differences; the rest moves `J w` by at most
+//! `h g / Wmin`, `h` the box's half diagonal (`|S - c| <= h`) and `g` a
+//! bound of `|W' w|` from the weights' differences. So `sigma` and `m` are
+//! those of `R` over `Wmax` and `Wmin`, less and plus that drift. From
+//! `W (S - c) = R` twice differentiated,
+//! `D^2 S [w, w] = (D^2 R [w, w] - D^2 W [w, w] (S - c) - 2 (W' w)(J w)) / W`,
+//! bounded with the hulls of the second differences, `h`, `g` and `m`.
 use super::Obb;
 use crate::geometry::nurbs::bezier::BezierPatch;
 use crate::math::{Vec2, Vec3};
@@ -53,8 +66,11 @@ impl Convexity {
     pub(super) fn of(patch: &BezierPatch, obb: &Obb) -> Convexity {
         let [p, q] = patch.degree;
         let w0 = patch.pw.first().map_or(f64::NAN, |c| c.w);
-        if p == 0 || q == 0 || patch.pw.iter().any(|c| c.w != w0) {
+        if p == 0 || q == 0 || patch.pw.len() != (p + 1) * (q + 1) {
             return Convexity::NONE;
+        }
+        if patch.pw.iter().any(|c| c.w != w0) {
+            return Convexity::rational(patch, obb);
         }
         let pts: Vec<Vec3> = patch.pw.iter().map(|c| c.xyz() / c.w).collect();
         let at = |i: usize, j: usize| pts.get(i * (q + 1) + j).copied().unwrap_or_default();
@@ -110,12 +126,136 @@ impl Convexity {
         }
     }
 
+    /// [`Self::of`] for a rational leaf (see the module's notes).
+    fn rational(patch: &BezierPatch, obb: &Obb) -> Convexity {
+        let [p, q] = patch.degree;
+        let c = obb.center.coords;
+        let r: Vec<Vec3> = (patch.pw.iter())
+            .map(|h| Vec3::new(h.x, h.y, h.z) - c * h.w)
+            .collect();
+        let w: Vec<f64> = patch.pw.iter().map(|h| h.w).collect();
+        let w_min = w.iter().copied().fold(f64::INFINITY, f64::min);
+        let w_max = w.iter().copied().fold(0.0, f64::max);
+        if !(w_min > 0.0 && w_max.is_finite()) {
+            return Convexity::NONE;
+        }
+        let (mut su, mut sv) = first_differences(&r, [p, q]);
+        let (ku, kv) = (1.0 / rms_length(&su), 1.0 / rms_length(&sv));
+        if !(ku.is_finite() && kv.is_finite()) {
+            return Convexity::NONE;
+        }
+        su.iter_mut().for_each(|x| *x *= ku);
+        sv.iter_mut().for_each(|x| *x *= kv);
+        let (spread_sigma, spread_m) = spread_bounds(&su, &sv, &obb.axes);
+        let frobenius = (longest2(&su) + longest2(&sv)).sqrt();
+        let sigma_r = spread_sigma.max(cross_sigma(&su, &sv, &obb.axes));
+        let m_r = spread_m.min(frobenius);
+        let dw = Differences::of(&w, [p, q], |x: &f64| x.abs());
+        let dr = Differences::of(&r, [p, q], |x: &Vec3| x.norm());
+        let g = (dw.first[0] * ku).hypot(dw.first[1] * kv);
+        let half = Vec3::new(obb.half[0], obb.half[1], obb.half[2]).norm();
+        let drift = half * g / w_min;
+        let sigma = sigma_r / w_max - drift;
+        let m = m_r / w_min + drift;
+        let kappa =
+            (dr.second_bound(ku, kv) + dw.second_bound(ku, kv) * half + 2.0 * g * m) / w_min;
+        if !(sigma > 0.0 && m.is_finite() && kappa.is_finite()) {
+            return Convexity::NONE;
+        }
+        Convexity { sigma, m, kappa }
+    }
+
     /// Whether no point of the leaf comes closer to a point than `d`, the
     /// distance of a local minimum of the distance found on the leaf.
     pub(super) fn excludes_closer(&self, d: f64) -> bool {
         let s = self.sigma;
         s > 0.0 && s * s > d * (1.0 + 2.0 * self.m / s) * self.kappa * (1.0 + MARGIN)
     }
+}
+
+/// Bounds of the derivatives of a Bezier polynomial on its unit square,
+/// from the hulls of its coefficients' differences: `first` of `|f_u|`
+/// and `|f_v|`, `second` of `|f_uu|`, `|f_uv|`, `|f_vv|`.
+struct Differences {
+    first: [f64; 2],
+    second: [f64; 3],
+}
+
+impl Differences {
+    /// The bounds for the coefficients `f` (row-major, degrees `[p, q]`)
+    /// with the norm `norm`.
+    fn of<T>(f: &[T], [p, q]: [usize; 2], norm: impl Fn(&T) -> f64) -> Differences
+    where
+        T: Copy + std::ops::Sub<Output = T> + std::ops::Add<Output = T>,
+    {
+        let at = |i: usize, j: usize| coefficient(f, [p, q], i, j);
+        let mut d = Differences {
+            first: [0.0; 2],
+            second: [0.0; 3],
+        };
+        let keep = |slot: &mut f64, x: Option<T>| {
+            if let Some(x) = x {
+                *slot = slot.max(norm(&x));
+            }
+        };
+        for i in 0..=p {
+            for j in 0..=q {
+                let (a, b, c) = (at(i, j), at(i + 1, j), at(i, j + 1));
+                let sub = |x: Option<T>, y: Option<T>| Some(x? - y?);
+                keep(&mut d.first[0], sub(b, a));
+                keep(&mut d.first[1], sub(c, a));
+                // f_{i+2,j} - 2 f_{i+1,j} + f_{i,j}, and so on.
+                let second = |x: Option<T>, y: Option<T>, z: Option<T>| Some(x? + z? - y? - y?);
+                keep(&mut d.second[0], second(at(i + 2, j), b, a));
+                keep(&mut d.second[2], second(at(i, j + 2), c, a));
+                keep(&mut d.second[1], sub(sub(at(i + 1, j + 1), b), sub(c, a)));
+            }
+        }
+        let (pf, qf) = (p as f64, q as f64);
+        d.first = [d.first[0] * pf, d.first[1] * qf];
+        d.second = [
+            d.second[0] * pf * (pf - 1.0),
+            d.second[1] * pf * qf,
+            d.second[2] * qf * (qf - 1.0),
+        ];
+        d
+    }
+
+    /// A bound of `|f'' [w, w]|` for unit `w` in the parameters scaled by
+    /// `ku` and `kv`.
+    fn second_bound(&self, ku: f64, kv: f64) -> f64 {
+        let [uu, uv, vv] = self.second;
+        largest_eigenvalue(uu * ku * ku, uv * ku * kv, vv * kv * kv)
+    }
+}
+
+/// The coefficients of the first derivatives of the Bezier polynomial
+/// with the coefficients `f` (row-major, degrees `[p, q]`): along u, and
+/// along v.
+fn first_differences(f: &[Vec3], [p, q]: [usize; 2]) -> (Vec<Vec3>, Vec<Vec3>) {
+    let at = |i: usize, j: usize| coefficient(f, [p, q], i, j);
+    let (pf, qf) = (p as f64, q as f64);
+    let mut su = Vec::with_capacity(p * (q + 1));
+    let mut sv = Vec::with_capacity((p + 1) * q);
+    for i in 0..=p {
+        for j in 0..=q {
+            if let (Some(a), Some(b)) = (at(i, j), at(i + 1, j)) {
+                su.push((b - a) * pf);
+            }
+            if let (Some(a), Some(c)) = (at(i, j), at(i, j + 1)) {
+                sv.push((c - a) * qf);
+            }
+        }
+    }
+    (su, sv)
+}
+
+/// Coefficient `(i, j)` of a Bezier polynomial with the coefficients `f`
+/// (row-major, degrees `[p, q]`); `None` outside.
+fn coefficient<T: Copy>(f: &[T], [p, q]: [usize; 2], i: usize, j: usize) -> Option<T> {
+    (i <= p && j <= q)
+        .then(|| f.get(i * (q + 1) + j).copied())
+        .flatten()
 }
 
 /// The largest squared length of the vectors `d` (zero when there are

@@ -14,6 +14,8 @@ pub(super) struct Grid {
     inv_cell: f64,
     /// Cells per axis (all zero for a surface without leaves).
     dims: [usize; 3],
+    /// The same as numbers.
+    dims_f: [f64; 3],
     /// Where each cell's leaves start in `items` (x fastest); one more
     /// entry than cells.
     starts: Vec<usize>,
@@ -42,6 +44,7 @@ impl Grid {
             origin: Point3::origin(),
             inv_cell: 1.0,
             dims: [0; 3],
+            dims_f: [0.0; 3],
             starts: vec![0],
             items: Vec::new(),
             first: Vec::new(),
@@ -61,12 +64,13 @@ impl Grid {
         let dims = loop {
             let dims = [0, 1, 2].map(|k| (extent[k] / cell).floor() as usize + 1);
             let count = dims.iter().try_fold(1usize, |n, &d| n.checked_mul(d));
-            if count.is_some_and(|n| n <= opts.grid_max_cells.max(1)) {
+            if count.is_some_and(|n| n <= opts.grid_max_cells.clamp(1, u32::MAX as usize)) {
                 break dims;
             }
             cell *= 1.25;
         };
         (grid.origin, grid.inv_cell, grid.dims) = (root.min, 1.0 / cell, dims);
+        grid.dims_f = dims.map(|d| d as f64);
         grid.fill(boxes);
         grid
     }
@@ -133,19 +137,18 @@ impl Grid {
         for k in 0..3 {
             let a = (p[k] - r - self.origin[k]) * self.inv_cell;
             let b = (p[k] + r - self.origin[k]) * self.inv_cell;
-            if b < 0.0 || a >= self.dims[k] as f64 {
+            let cells = self.dims_f[k];
+            if b < 0.0 || a >= cells {
                 return Cells::Miss;
             }
-            // One conversion: the cube is mostly narrower than a cell.
-            let c = cell_index(0.5 * (a + b), self.dims[k]);
-            let (lo_k, hi_k) = (c as f64, (c + 1) as f64);
-            (lo[k], hi[k]) = match (a >= lo_k, b < hi_k) {
-                (true, true) => (c, c),
-                (true, false) => (c, cell_index(b, self.dims[k])),
-                (false, true) => (cell_index(a, self.dims[k]), c),
-                (false, false) => (cell_index(a, self.dims[k]), cell_index(b, self.dims[k])),
-            };
-            count = count.saturating_mul(hi[k] - lo[k] + 1);
+            // Now 0 <= floor of each clamped end < cells <= u32::MAX, so
+            // truncation through u32 (cheaper than through usize) is the
+            // floor, as `cell_index` has it.
+            (lo[k], hi[k]) = (
+                a.max(0.0) as u32 as usize,
+                b.min(cells - 1.0) as u32 as usize,
+            );
+            count = count.saturating_mul(hi[k].saturating_sub(lo[k]) + 1);
         }
         if count > self.query_cells {
             return Cells::Many;
