@@ -108,9 +108,9 @@ pub fn run_program(program: &Program, opts: &RunOptions) -> Result<(Report, Lear
 /// `wall_time_s` is the time the inspection itself takes: loading,
 /// planning the first scans and starting the evaluation thread come
 /// before its clock, like the program and the workpiece; the measuring
-/// and the evaluation of every point are inside it (the clock stops when
-/// the last point's report is in, before the evaluation thread exits and
-/// the feature reports are put together).
+/// and the evaluation of every point are inside it, and so are the
+/// features' fits and verdicts; the wait for the evaluation thread to
+/// exit, after the last point's report is in, is not.
 pub fn run_program_traced(
     program: &Program,
     opts: &RunOptions,
@@ -124,17 +124,20 @@ pub fn run_program_traced(
         measure_program(program, opts, (&setup, machine), (&slot, queue), trace)
     });
     let m = measuring?;
+    // The features' fits and verdicts are part of the inspection too.
+    let assembling = Instant::now();
     let program: &Program = slot.get().map_or(program, |p| p);
     let features: Vec<FeatureReport> = (program.features.iter().zip(m.measured))
         .map(|(f, (mf, s))| feature_report(f, mf, streams.concat(&s)))
         .collect();
+    let wall = evaluated.duration_since(m.wall) + assembling.elapsed();
     let report = Report {
         format: REPORT_FORMAT,
         program: program.name.clone(),
         seed: opts.seed,
         status: overall(&features),
         machine_time_s: m.machine_time_s,
-        wall_time_s: evaluated.duration_since(m.wall).as_secs_f64(),
+        wall_time_s: wall.as_secs_f64(),
         part_to_machine: part_to_machine(program),
         alignment: m.alignment,
         ideal: opts.ideal,
