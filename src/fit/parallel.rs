@@ -2,13 +2,20 @@
 //! fixed size and partial results come back in chunk order, so sums do not
 //! depend on the number of threads (results are reproducible everywhere).
 
+use std::sync::OnceLock;
+
 /// Items per chunk.
 const CHUNK: usize = 1 << 14;
 /// Below this many items everything runs on the calling thread.
 const PARALLEL_MIN: usize = 1 << 16;
 
+/// Worker threads for large sets, asked once per process:
+/// `available_parallelism` reads the affinity mask and the cgroup quota
+/// files (several system calls, tens of microseconds), far more than a
+/// small fit's reduction takes.
 fn threads() -> usize {
-    std::thread::available_parallelism().map_or(1, |n| n.get().min(16))
+    static THREADS: OnceLock<usize> = OnceLock::new();
+    *THREADS.get_or_init(|| std::thread::available_parallelism().map_or(1, |n| n.get().min(16)))
 }
 
 /// `f` applied to consecutive chunks of `items`, results in chunk order.
@@ -19,10 +26,10 @@ where
     F: Fn(&[T]) -> R + Sync,
 {
     let chunks: Vec<&[T]> = items.chunks(CHUNK).collect();
-    let workers = threads();
-    if items.len() < PARALLEL_MIN || workers < 2 {
+    if items.len() < PARALLEL_MIN || threads() < 2 {
         return chunks.into_iter().map(&f).collect();
     }
+    let workers = threads();
     let per = chunks.len().div_ceil(workers).max(1);
     let f = &f;
     std::thread::scope(|s| {
