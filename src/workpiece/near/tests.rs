@@ -54,28 +54,32 @@ fn brute_face(wp: &Workpiece, i: usize, p: Point3) -> Projection {
                 .collect()
         })
         .collect();
-    let n = t.len() as isize;
     let mut best: Option<Projection> = None;
-    for a in 0..t.len() {
-        for b in 0..t.len() {
-            let lowest = (-1..=1).all(|da: isize| {
-                (-1..=1).all(|db: isize| {
-                    let (x, y) = (a as isize + da, b as isize + db);
-                    !(0..n).contains(&x)
-                        || !(0..n).contains(&y)
-                        || d[a][b] <= d[x as usize][y as usize]
-                })
-            });
-            if !lowest {
-                continue;
-            }
-            let pr = project_from(s, p, at(a, b), &wp.options).unwrap();
-            if best.is_none_or(|b| pr.distance < b.distance) {
-                best = Some(pr);
-            }
+    for (a, b) in grid_minima(&d) {
+        let pr = project_from(s, p, at(a, b), &wp.options).unwrap();
+        if best.is_none_or(|b| pr.distance < b.distance) {
+            best = Some(pr);
         }
     }
     best.unwrap()
+}
+
+/// The grid nodes `(a, b)` whose distance in `d` is no larger than any of
+/// their (up to 8) neighbours': the starts of the Newton polish.
+fn grid_minima(d: &[Vec<f64>]) -> Vec<(usize, usize)> {
+    let n = d.len() as isize;
+    let lowest = |a: usize, b: usize| {
+        (-1..=1).all(|da: isize| {
+            (-1..=1).all(|db: isize| {
+                let (x, y) = (a as isize + da, b as isize + db);
+                !(0..n).contains(&x) || !(0..n).contains(&y) || d[a][b] <= d[x as usize][y as usize]
+            })
+        })
+    };
+    (0..d.len())
+        .flat_map(|a| (0..d.len()).map(move |b| (a, b)))
+        .filter(|&(a, b)| lowest(a, b))
+        .collect()
 }
 
 /// The brute-force closest point over `faces`, with its face.
@@ -307,24 +311,10 @@ fn brute_true_deviation(wp: &Workpiece, am: &AsMachined, m: Point3) -> f64 {
                     .collect()
             })
             .collect();
-        let n = t.len() as isize;
-        for a in 0..t.len() {
-            for b in 0..t.len() {
-                let lowest = (-1..=1).all(|da: isize| {
-                    (-1..=1).all(|db: isize| {
-                        let (x, y) = (a as isize + da, b as isize + db);
-                        !(0..n).contains(&x)
-                            || !(0..n).contains(&y)
-                            || d[a][b] <= d[x as usize][y as usize]
-                    })
-                });
-                if !lowest {
-                    continue;
-                }
-                let tp = am.closest_point_from(wp, m, face, at(a, b)).unwrap();
-                if best.is_none_or(|b| tp.distance < b.0) {
-                    best = Some((tp.distance, tp.point));
-                }
+        for (a, b) in grid_minima(&d) {
+            let tp = am.closest_point_from(wp, m, face, at(a, b)).unwrap();
+            if best.is_none_or(|b| tp.distance < b.0) {
+                best = Some((tp.distance, tp.point));
             }
         }
     }

@@ -102,6 +102,15 @@ struct Certified {
     far_certified: usize,
 }
 
+impl Certified {
+    /// At least 80 % of the near feet's leaves certified, and some far.
+    fn assert_most_near_certified(&self) {
+        let (c, n) = (self.near_certified, self.near);
+        assert!(c * 10 >= n * 8, "{c} of {n} near points certified");
+        assert!(self.far_certified > 0, "no far point certified");
+    }
+}
+
 /// Random points on both sides of the faces of `wp`, up to 0.1 mm off and
 /// up to 30 mm off (where a leaf can hold more than one local minimum),
 /// and Newton on the whole face from a random point of a random leaf:
@@ -155,16 +164,7 @@ fn a_certified_leaf_has_no_closer_point() {
     for (file, seed) in [(examples::blade(), 11), (examples::panel(), 12)] {
         check_certificates(&load(&file), seed, 600, &mut counts);
     }
-    let Certified {
-        near_certified,
-        near,
-        far_certified,
-    } = counts;
-    assert!(
-        near_certified * 10 >= near * 8,
-        "{near_certified} of {near} near points certified"
-    );
-    assert!(far_certified > 0, "no far point certified");
+    counts.assert_most_near_certified();
 }
 
 /// The same for rational leaves (a sphere, small and large, and a bore,
@@ -187,14 +187,5 @@ fn a_certified_rational_leaf_has_no_closer_point() {
         assert!(rational, "seed {seed}: no rational leaf");
         check_certificates(&wp, seed, 600, &mut counts);
     }
-    let Certified {
-        near_certified,
-        near,
-        far_certified,
-    } = counts;
-    assert!(
-        near_certified * 10 >= near * 8,
-        "{near_certified} of {near} near points certified"
-    );
-    assert!(far_certified > 0, "no far point certified");
+    counts.assert_most_near_certified();
 }
