@@ -182,14 +182,7 @@ impl WarmStart {
     /// A start at parameters `uv` with no derivative table yet.
     pub fn new(uv: Vec2) -> WarmStart {
         WarmStart {
-            foot: Foot {
-                uv,
-                d: Jet2 {
-                    d: [Vec3::zeros(); 6],
-                },
-                dist2: f64::INFINITY,
-                iterations: 0,
-            },
+            foot: Foot::unevaluated(uv),
             has_table: false,
         }
     }

@@ -42,6 +42,19 @@ pub struct Foot {
 }
 
 impl Foot {
+    /// A start at parameters `uv`, not evaluated yet (no derivatives,
+    /// infinite distance).
+    pub fn unevaluated(uv: Vec2) -> Foot {
+        Foot {
+            uv,
+            d: Jet2 {
+                d: [Vec3::zeros(); 6],
+            },
+            dist2: f64::INFINITY,
+            iterations: 0,
+        }
+    }
+
     /// Finishes the foot into a projection with the outward normal.
     pub fn into_projection(self, surface: &NurbsSurface, p: Point3) -> Projection {
         self.projection(surface, p)
@@ -94,14 +107,7 @@ pub(crate) fn minimise_with<F: Fn(Vec2, &mut Jet2)>(
     bounds: &Bounds,
     opts: &ProjectionOptions,
 ) -> Result<Foot, ProjectionError> {
-    let mut foot = Foot {
-        uv: start,
-        d: Jet2 {
-            d: [Vec3::zeros(); 6],
-        },
-        dist2: f64::INFINITY,
-        iterations: 0,
-    };
+    let mut foot = Foot::unevaluated(start);
     evaluate_at(&eval, p, &mut foot, bounds.clamp(start), 0);
     newton_from(&eval, p, &mut foot, None, bounds, opts)?;
     Ok(foot)

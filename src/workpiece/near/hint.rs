@@ -3,7 +3,7 @@
 use super::far::FarLeaves;
 use crate::geometry::projection::{minimise_cached, minimise_with, Bounds, Foot};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions};
-use crate::math::{Point3, Vec2, Vec3};
+use crate::math::{Point3, Vec2};
 use crate::workpiece::{Face, FaceProjection};
 
 /// A nominal foot already found: the global closest point over all faces
@@ -39,14 +39,7 @@ impl FootHint {
         FootHint {
             face,
             leaf: None,
-            foot: Foot {
-                uv,
-                d: Jet2 {
-                    d: [Vec3::zeros(); 6],
-                },
-                dist2: f64::INFINITY,
-                iterations: 0,
-            },
+            foot: Foot::unevaluated(uv),
             has_jet: false,
             far: FarLeaves::default(),
         }
