@@ -1,4 +1,4 @@
-//! Issue 4 benchmark: a batch of 10 parts of the blade program with a
+//! Benchmark: a batch of 10 parts of the blade program with a
 //! repeating deviation (`part-programs/blade-batch.json`: both blade
 //! sections, a uniform 2.5 mm overcut, +-10 % and +-0.02 mm from part to
 //! part), total machine time of error-correcting scanning with learned
@@ -7,12 +7,12 @@
 //! anything: `cargo bench --bench batch`.
 use std::path::Path;
 
-use cmm::host::machine::Phase;
+use cmm::app::batch::{plan_parts, run_batch, PartResult};
+use cmm::app::{load, run_program_traced, RunOptions, SimulatedPart};
+use cmm::host::inspect::learned::CorrectionsFile;
+use cmm::host::observe::Phase;
 use cmm::host::trace::time_by_phase;
-use cmm::inspect::batch::{plan_parts, run_batch, PartResult};
-use cmm::inspect::learned::CorrectionsFile;
-use cmm::inspect::{run_program_traced, RunOptions};
-use cmm::program::{load, Feature, Mode, Program};
+use cmm::program::{Feature, Mode};
 
 /// Parts in the batch.
 const PARTS: usize = 10;
@@ -21,15 +21,15 @@ const SEED: u64 = 1;
 /// Threads.
 const JOBS: usize = 2;
 
-fn program() -> Program {
+fn program() -> SimulatedPart {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs/blade-batch.json");
     load(&path).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The same program with every section scanned autonomously.
-fn autonomous(p: &Program) -> Program {
+fn autonomous(p: &SimulatedPart) -> SimulatedPart {
     let mut out = p.clone();
-    for f in &mut out.features {
+    for f in &mut out.program.features {
         if let Feature::Section { settings, .. } = f {
             settings.mode = Mode::Autonomous;
         }
@@ -38,7 +38,7 @@ fn autonomous(p: &Program) -> Program {
 }
 
 /// Runs the batch; returns per-part machine times and the corrections.
-fn batch(p: &Program, known: &CorrectionsFile) -> (Vec<f64>, CorrectionsFile) {
+fn batch(p: &SimulatedPart, known: &CorrectionsFile) -> (Vec<f64>, CorrectionsFile) {
     let parts = plan_parts(1, PARTS, SEED, (1, 1));
     let base = RunOptions::default();
     let (results, learned) = run_batch(std::slice::from_ref(p), &parts, &base, known, JOBS, &|| {});
@@ -54,9 +54,9 @@ fn part_time(r: &PartResult) -> f64 {
 }
 
 /// Machine time per phase of one part (variant 0), s.
-fn breakdown(p: &Program, known: &CorrectionsFile) -> String {
+fn breakdown(p: &SimulatedPart, known: &CorrectionsFile) -> String {
     let opts = RunOptions {
-        learned: known.for_program(&p.name),
+        learned: known.for_program(&p.program.name),
         ..RunOptions::default()
     };
     let (report, _, rows) = run_program_traced(p, &opts, true).unwrap_or_else(|e| panic!("{e}"));
@@ -76,7 +76,10 @@ fn main() {
     let (aut, _) = batch(&auto, &CorrectionsFile::empty());
     let sum = |v: &[f64]| v.iter().sum::<f64>();
     let (t_cold, t_warm, t_auto) = (sum(&cold), sum(&warm), sum(&aut));
-    println!("{PARTS} parts of {} (seed {SEED}), machine time:", p.name);
+    println!(
+        "{PARTS} parts of {} (seed {SEED}), machine time:",
+        p.program.name
+    );
     println!("  autonomous only:                          {t_auto:7.1} s");
     println!(
         "  error-correcting, first part learns:      {t_cold:7.1} s  ({:.2}x less; first part {:.1} s)",

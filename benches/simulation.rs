@@ -1,23 +1,24 @@
 //! Simulator speed: control cycles per second during active scanning of
-//! the blade (issue 3 target: >= 2 million per second on one core), and a
+//! the blade (target: >= 2 million per second on one core), and a
 //! whole error-correcting part with learned corrections.
 //!
 //! `cargo bench --bench simulation`
 use std::hint::black_box;
 use std::path::Path;
 
-use cmm::host::machine::Cmm;
+use cmm::app::{load, run_program, RunOptions, SimulatedPart};
 use cmm::host::modes::{design_value_scan, HostProbe, ModeOptions, ScanPlan, ScanTargets};
+use cmm::host::observe::Unobserved;
 use cmm::host::path::{BallPath, PathOptions, SegmentSpeeds, SpeedOptions, SpeedPlan};
-use cmm::inspect::{run_program, RunOptions};
+use cmm::machine::{MachineModel, MachineProfile};
 use cmm::math::{Point3, Vec3};
-use cmm::program::{load, Feature, Program};
+use cmm::program::{Feature, Program};
+use cmm::seam::Cmm;
 use cmm::world::cmm::{SimulatedCmm, TruePart};
-use cmm::world::machine::{MachineModel, MachineProfile};
 use cmm::world::probe::TrueProbe;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
-fn program(name: &str) -> Program {
+fn program(name: &str) -> SimulatedPart {
     let path = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("part-programs")
         .join(name);
@@ -66,10 +67,11 @@ fn path_and_plan(p: &Program) -> (BallPath, SpeedPlan) {
 
 /// One active scan of the section from 5.3 mm off its start; returns the
 /// number of control cycles simulated (approach included).
-fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &ScanPlan) -> u64 {
+fn scan_once(sp: &SimulatedPart, model: &MachineModel, path: &BallPath, plan: &ScanPlan) -> u64 {
+    let p = &sp.program;
     let part = TruePart {
         workpiece: &p.workpiece,
-        as_machined: &p.as_machined,
+        as_machined: &sp.as_machined,
         pose: p.placement,
     };
     let pv = Vec3::new(0.0, 0.0, -p.probe.stylus_length_mm);
@@ -91,13 +93,14 @@ fn scan_once(p: &Program, model: &MachineModel, path: &BallPath, plan: &ScanPlan
         pitch_mm: 0.5,
         trajectory_tolerance_mm: 1.5,
     };
-    design_value_scan(&mut sim, host, path, plan, targets, &ModeOptions::default());
+    let modes = ModeOptions::default();
+    design_value_scan(&mut Unobserved(&mut sim), host, path, plan, targets, &modes);
     (sim.readings().time_s / sim.cycle_s()).round() as u64
 }
 
 fn bench(c: &mut Criterion) {
     let p = program("blade-z60.json");
-    let (path, plan) = path_and_plan(&p);
+    let (path, plan) = path_and_plan(&p.program);
     let plan = ScanPlan::Active(plan.speeds().clone());
     let model = MachineModel::default_bridge();
     let cycles = scan_once(&p, &model, &path, &plan);
@@ -130,12 +133,12 @@ criterion_group! {
 criterion_main!(benches);
 
 /// What a run of blade-z60 spends besides the per-cycle loop: re-planning
-/// the z60 section's speeds, and the whole run (issue 3's ratio is its
-/// machine time over this wall time).
+/// the z60 section's speeds, and the whole run (the real-time ratio is
+/// its machine time over this wall time).
 fn overhead(c: &mut Criterion) {
     let p = program("blade-z60.json");
-    let (path, plan) = path_and_plan(&p);
-    let Some(Feature::Section { settings, .. }) = p.features.first() else {
+    let (path, plan) = path_and_plan(&p.program);
+    let Some(Feature::Section { settings, .. }) = p.program.features.first() else {
         panic!("no section")
     };
     let opts = SpeedOptions {

@@ -17,19 +17,21 @@
 //!
 //! Units: `f64` millimetres everywhere (see [`math`]).
 
+pub mod app;
 pub mod cad;
-pub mod calibrate;
 pub mod cli;
 pub mod evaluate;
 pub mod fit;
+pub mod formats;
 pub mod geometry;
 pub mod host;
-pub mod inspect;
 pub mod jsonfile;
+pub mod machine;
 pub mod math;
 pub mod output;
 pub mod pointfile;
 pub mod program;
 pub mod report;
+pub mod seam;
 pub mod workpiece;
 pub mod world;

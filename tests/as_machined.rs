@@ -2,7 +2,7 @@
 mod common;
 
 use cmm::math::{Point3, Vec2, Vec3};
-use cmm::workpiece::as_machined::{AsMachined, AsMachinedSpec, TrueWarm};
+use cmm::world::as_machined::{AsMachined, AsMachinedSpec, TrueWarm};
 use cmm::world::cmm::contact_options;
 use common::*;
 

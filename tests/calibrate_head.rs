@@ -6,16 +6,15 @@
 use std::path::PathBuf;
 use std::process::{Command, Output};
 
-use cmm::calibrate::orientation::{OrientationOptions, PointPattern};
-use cmm::calibrate::simulate::SimulatedSetup;
-use cmm::calibrate::simulate_head::{calibrate_head_simulated, HeadSetup};
-use cmm::calibrate::CalibrationOptions;
+use cmm::app::calibrate::simulate::SimulatedSetup;
+use cmm::app::calibrate::simulate_head::{calibrate_head_simulated, HeadSetup};
+use cmm::host::calibrate::orientation::{OrientationOptions, PointPattern};
+use cmm::host::calibrate::CalibrationOptions;
 use cmm::host::compensation::{ErrorMap, InverseError, InverseOptions};
 use cmm::host::head::HeadModel;
+use cmm::machine::{ErrorPolynomial, GeometricErrors, MachineModel, MachineProfile};
 use cmm::math::{Point3, Vec3};
-use cmm::world::machine::{
-    ErrorPolynomial, GeometricErrors, HeadErrors, MachineModel, MachineProfile,
-};
+use cmm::world::dynamics::HeadErrors;
 use serde_json::Value;
 
 /// Per-orientation probe vector target, mm (0.5 um).
@@ -428,13 +427,13 @@ fn cli_writes_every_orientation_with_its_truth() {
     assert_eq!(list[1]["points"], 4);
     assert!((vec3(&truth[1]["probe_vector_mm"]) - Vec3::new(0.0, 70.0, -80.0)).norm() < 1e-9);
     // The file reads back (the truth is skipped unread).
-    cmm::calibrate::file::ProbeCalibration::read(&out).unwrap();
+    cmm::host::calibrate::file::ProbeCalibration::read(&out).unwrap();
 }
 
 #[test]
 fn the_simulated_head_refuses_bad_orientations_through_the_seam() {
-    use cmm::calibrate::simulate::{sphere_pose, sphere_world};
-    use cmm::host::machine::{Cmm, HeadCommandError};
+    use cmm::app::calibrate::simulate::{sphere_pose, sphere_world};
+    use cmm::seam::{Cmm, HeadCommandError};
     use cmm::world::cmm::{SimulatedCmm, TruePart};
     use cmm::world::probe::TrueProbe;
     let opts = CalibrationOptions::default();

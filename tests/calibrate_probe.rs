@@ -1,9 +1,9 @@
 //! Probe calibration on the simulated reference sphere: the recovered probe
 //! vector and tip radius against the simulator's truth, and the probing and
 //! scanning errors before and after.
-use cmm::calibrate::simulate::{calibrate_simulated, SimulatedSetup};
-use cmm::calibrate::CalibrationOptions;
-use cmm::world::machine::{MachineModel, MachineProfile};
+use cmm::app::calibrate::simulate::{calibrate_simulated, SimulatedSetup};
+use cmm::host::calibrate::CalibrationOptions;
+use cmm::machine::{MachineModel, MachineProfile};
 
 /// Target for the probe vector, mm (0.5 um).
 const VECTOR_TOL_MM: f64 = 5e-4;
@@ -55,7 +55,7 @@ fn ideal_probe_needs_no_correction() {
 
 #[test]
 fn iso_pattern_has_25_points_on_the_upper_hemisphere() {
-    let dirs = cmm::calibrate::pattern::iso_25_directions();
+    let dirs = cmm::host::calibrate::pattern::iso_25_directions();
     assert_eq!(dirs.len(), 25);
     assert!(dirs
         .iter()

@@ -163,7 +163,7 @@ fn simulation_truth_is_accepted_and_ignored() {
         "sphere_center_mm":[0,0,0],"probing_error_mm":0,
         "simulation_truth":{"anything":[1,2,3],"probe_vector_mm":"not read"}}"#;
     std::fs::write(&file, text).unwrap();
-    let cal = cmm::calibrate::file::ProbeCalibration::read(&file).unwrap();
+    let cal = cmm::host::calibrate::file::ProbeCalibration::read(&file).unwrap();
     assert_eq!(cal.probe.tip_radius_mm, 1.5);
 }
 

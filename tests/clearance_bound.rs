@@ -5,8 +5,8 @@
 //! than the required distance somewhere. Random moves around the blade.
 mod common;
 
+use cmm::host::inspect::clearance::{ClearanceOptions, PartClearance};
 use cmm::host::modes::FreeSpace;
-use cmm::inspect::clearance::{ClearanceOptions, PartClearance};
 use cmm::math::{Mat3, Point3, Vec3};
 use cmm::program::Pose;
 use cmm::workpiece::Workpiece;

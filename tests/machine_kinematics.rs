@@ -1,7 +1,7 @@
 //! Forward kinematics of URDF machines against hand-computed poses.
+use cmm::machine::builtin::BRIDGE_AB_HEAD_URDF;
+use cmm::machine::{AxisKind, MachineError, MachineModel};
 use cmm::math::{Mat3, Vec3};
-use cmm::world::machine::builtin::BRIDGE_AB_HEAD_URDF;
-use cmm::world::machine::{AxisKind, MachineError, MachineModel};
 
 /// Agreement of poses computed two ways, mm (and dimensionless for rotations).
 const TOL: f64 = 1e-9;

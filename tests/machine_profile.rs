@@ -1,9 +1,7 @@
 //! Machine profile JSON: defaults, JSON-path errors, `ideal()`, and the
 //! geometric error at the stylus tip against hand computations (seed 003).
+use cmm::machine::{ErrorPolynomial, GeometricErrors, MachineProfile, ProfileError, Stacking};
 use cmm::math::Vec3;
-use cmm::world::machine::{
-    ErrorPolynomial, GeometricErrors, MachineProfile, ProfileError, Stacking,
-};
 
 const FILE: &str = "machine-profile.json";
 /// Agreement of hand-computed and modelled tip displacements, mm.

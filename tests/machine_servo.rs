@@ -1,7 +1,8 @@
 //! Servo loop: limits every cycle, analytic first-order response, travel
 //! limits, seeded scale readings.
-use cmm::world::machine::builtin::BRIDGE_AB_HEAD_URDF;
-use cmm::world::machine::{MachineModel, MachineProfile, Servo, ServoError};
+use cmm::machine::builtin::BRIDGE_AB_HEAD_URDF;
+use cmm::machine::{MachineModel, MachineProfile};
+use cmm::world::dynamics::{Servo, ServoError};
 use rand::rngs::ChaCha8Rng;
 use rand::{RngExt, SeedableRng};
 

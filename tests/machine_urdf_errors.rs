@@ -1,6 +1,6 @@
 //! URDF validation: every broken description is rejected with the file,
 //! the joint (or link) and the reason.
-use cmm::world::machine::{MachineError, MachineModel};
+use cmm::machine::{MachineError, MachineModel};
 
 const FILE: &str = "broken-machine.urdf";
 

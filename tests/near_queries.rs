@@ -12,8 +12,8 @@
 mod common;
 
 use cmm::math::{Point3, Vec3};
-use cmm::workpiece::as_machined::{AsMachined, AsMachinedSpec};
 use cmm::workpiece::{FaceProjection, KnownFoot, Workpiece};
+use cmm::world::as_machined::{AsMachined, AsMachinedSpec};
 use common::*;
 
 /// Largest difference allowed between a search from a nearby foot and

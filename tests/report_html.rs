@@ -60,7 +60,7 @@ fn html_is_deterministic_and_ignores_wall_time() {
 #[test]
 fn html_draws_touch_points_against_the_point_index() {
     let mut report = report();
-    report.features[0].kind = "touch_points";
+    report.features[0].kind = cmm::report::FeatureKind::TouchPoints;
     let html = report_html(&report);
     assert!(html.contains("point index"));
     assert!(html.contains("class=\"nominal-pt\""));

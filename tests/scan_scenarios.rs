@@ -3,8 +3,8 @@
 //! corrections (issues 3 and 4).
 mod common;
 
-use cmm::inspect::{run_program, RunOptions};
-use cmm::program::load;
+use cmm::app::{load, run_program, RunOptions};
+use cmm::formats::serde_name;
 use cmm::report::{CorrectionReport, Report, Verdict};
 use serde_json::{json, Value};
 
@@ -45,13 +45,7 @@ fn outcomes(r: &Report, k: usize) -> Vec<String> {
     r.features[k]
         .attempts
         .iter()
-        .map(|a| {
-            format!(
-                "{}:{}",
-                a.mode,
-                serde_json::to_string(&a.outcome).unwrap().trim_matches('"')
-            )
-        })
+        .map(|a| format!("{}:{}", serde_name(&a.mode), serde_name(&a.outcome)))
         .collect()
 }
 

@@ -5,11 +5,11 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
-use crate::calibrate::file::{to_file, to_json};
-use crate::calibrate::probe_file::{read_probe_file, NominalProbe};
-use crate::calibrate::simulate::{calibrate_simulated, ProbeTruth, SimulatedSetup};
-use crate::calibrate::{Calibration, CalibrationOptions};
-use crate::world::machine::{MachineModel, MachineProfile};
+use crate::app::calibrate::simulate::{calibrate_simulated, ProbeTruth, SimulatedSetup};
+use crate::host::calibrate::file::{to_file, to_json};
+use crate::host::calibrate::probe_file::{read_probe_file, NominalProbe};
+use crate::host::calibrate::{Calibration, CalibrationOptions};
+use crate::machine::{MachineModel, MachineProfile};
 
 /// Arguments of `cmm calibrate-probe`.
 #[derive(Debug, clap::Args)]

@@ -2,12 +2,12 @@
 //! probe-head orientation (seed 003).
 use super::calibrate::{print_summary, CalibrateArgs};
 use super::{CliError, Status};
-use crate::calibrate::file::to_json_with_truth;
-use crate::calibrate::file_head::{head_file, head_truth};
-use crate::calibrate::orientation::{HeadCalibration, OrientationOptions};
-use crate::calibrate::simulate::{ProbeTruth, SimulatedSetup};
-use crate::calibrate::simulate_head::{calibrate_head_simulated, HeadSetup, OrientationTruth};
-use crate::calibrate::CalibrationOptions;
+use crate::app::calibrate::simulate::{ProbeTruth, SimulatedSetup};
+use crate::app::calibrate::simulate_head::{calibrate_head_simulated, HeadSetup, OrientationTruth};
+use crate::host::calibrate::file::to_json_with_truth;
+use crate::host::calibrate::file_head::{head_file, head_truth};
+use crate::host::calibrate::orientation::{HeadCalibration, OrientationOptions};
+use crate::host::calibrate::CalibrationOptions;
 
 /// Parses `--head-angles`: entries separated by `;`, angles (deg) by `,`.
 /// The message names the entry (1-based) and why it is bad.

@@ -94,25 +94,25 @@ pub enum CliError {
     Projection(#[from] crate::geometry::ProjectionError),
     /// A corrections file is invalid.
     #[error(transparent)]
-    Corrections(#[from] crate::inspect::learned::CorrectionsError),
+    Corrections(#[from] crate::host::inspect::learned::CorrectionsError),
     /// A run could not start.
     #[error(transparent)]
-    Run(#[from] crate::inspect::RunError),
+    Run(#[from] crate::app::RunError),
     /// The probe calibration failed (or its machine could not be set up).
     #[error(transparent)]
-    Calibrate(#[from] crate::calibrate::simulate::SimulatedCalError),
+    Calibrate(#[from] crate::app::calibrate::simulate::SimulatedCalError),
     /// A probe description file (`calibrate-probe --probe`) is invalid.
     #[error(transparent)]
-    ProbeFile(#[from] crate::calibrate::probe_file::ProbeFileError),
+    ProbeFile(#[from] crate::host::calibrate::probe_file::ProbeFileError),
     /// A probe calibration file is invalid.
     #[error(transparent)]
-    ProbeCal(#[from] crate::calibrate::file::ProbeCalError),
+    ProbeCal(#[from] crate::host::calibrate::file::ProbeCalError),
     /// A machine description is invalid.
     #[error(transparent)]
-    Machine(#[from] crate::world::machine::MachineError),
+    Machine(#[from] crate::machine::MachineError),
     /// A machine profile is invalid.
     #[error(transparent)]
-    Profile(#[from] crate::world::machine::ProfileError),
+    Profile(#[from] crate::machine::ProfileError),
     /// An output file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),

@@ -4,12 +4,12 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
-use crate::calibrate::file::ProbeCalibration;
+use crate::app::batch::{plan_parts, run_batch, Part, PartResult};
+use crate::app::{load, probe_calibration, run_program_traced, RunOptions, SimulatedPart};
+use crate::formats::serde_name;
+use crate::host::calibrate::file::ProbeCalibration;
+use crate::host::inspect::learned::CorrectionsFile;
 use crate::host::trace::trace_csv;
-use crate::inspect::batch::{plan_parts, run_batch, Part, PartResult};
-use crate::inspect::learned::CorrectionsFile;
-use crate::inspect::{probe_calibration, run_program_traced, RunOptions};
-use crate::program::{load, Program};
 use crate::report::{Report, Verdict};
 
 /// Arguments of `cmm scan`.
@@ -103,8 +103,8 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
             .transpose()?,
         ..RunOptions::default()
     };
-    for program in &programs {
-        probe_calibration(program, &base)?;
+    for part in &programs {
+        probe_calibration(&part.program, &base)?;
     }
     if args.trace.is_some() && parts.len() != 1 {
         return Err(CliError::Usage(
@@ -161,17 +161,20 @@ fn progress_bar(args: &ScanArgs, parts: usize) -> indicatif::ProgressBar {
 }
 
 /// Replaces every program's as-machined part by the one in `file`.
-fn override_as_machined(programs: &mut [Program], file: &std::path::Path) -> Result<(), CliError> {
+fn override_as_machined(
+    programs: &mut [SimulatedPart],
+    file: &std::path::Path,
+) -> Result<(), CliError> {
     let text =
         std::fs::read_to_string(file).map_err(|source| crate::program::ProgramError::Io {
             file: file.to_path_buf(),
             source,
         })?;
-    let spec: crate::workpiece::as_machined::AsMachinedSpec =
+    let spec: crate::formats::as_machined::AsMachinedSpec =
         crate::jsonfile::parse_json(&text, file).map_err(crate::program::ProgramError::from)?;
-    for program in programs.iter_mut() {
-        program.as_machined =
-            crate::workpiece::as_machined::AsMachined::from_spec(&spec, &program.workpiece)
+    for part in programs.iter_mut() {
+        part.as_machined =
+            crate::world::as_machined::AsMachined::from_spec(&spec, &part.program.workpiece)
                 .map_err(|e| crate::program::ProgramError::Invalid {
                     file: file.to_path_buf(),
                     json_path: format!("$.{}", e.json_path),
@@ -182,7 +185,7 @@ fn override_as_machined(programs: &mut [Program], file: &std::path::Path) -> Res
 }
 
 fn traced_run(
-    program: &Program,
+    program: &SimulatedPart,
     part: &Part,
     base: &RunOptions,
     known: &CorrectionsFile,
@@ -190,7 +193,7 @@ fn traced_run(
 ) -> Result<(Vec<PartResult>, CorrectionsFile), CliError> {
     let opts = RunOptions {
         seed: part.seed,
-        learned: known.for_program(&program.name),
+        learned: known.for_program(&program.program.name),
         ..base.clone()
     };
     let (report, learned, rows) = run_program_traced(program, &opts, true)?;
@@ -200,13 +203,13 @@ fn traced_run(
     Ok((vec![Ok((report, learned))], updated))
 }
 
-fn part_dir(args: &ScanArgs, part: &Part, programs: &[Program]) -> String {
+fn part_dir(args: &ScanArgs, part: &Part, programs: &[SimulatedPart]) -> String {
     let stem = args
         .programs
         .get(part.program)
         .and_then(|f| f.file_stem())
         .map(|s| s.to_string_lossy().into_owned())
-        .or_else(|| programs.get(part.program).map(|p| p.name.clone()))
+        .or_else(|| programs.get(part.program).map(|p| p.program.name.clone()))
         .unwrap_or_default();
     format!("{:02}-{stem}-v{:03}", part.program, part.variant)
 }
@@ -215,7 +218,7 @@ fn batch_rows(
     args: &ScanArgs,
     parts: &[Part],
     results: &[PartResult],
-    programs: &[Program],
+    programs: &[SimulatedPart],
 ) -> Vec<(String, Option<Report>, String)> {
     parts
         .iter()
@@ -248,35 +251,19 @@ fn print_report(r: &Report) {
         let attempts: Vec<String> = f
             .attempts
             .iter()
-            .map(|a| format!("{}:{}", a.mode, outcome_name(a.outcome)))
+            .map(|a| format!("{}:{}", serde_name(&a.mode), serde_name(&a.outcome)))
             .collect();
         println!(
             "{:<20} {:<24} {:>10} {:>7} {:>9.4} {:>9.4}  {}",
             r.program,
             f.name,
-            verdict_name(f.status),
+            serde_name(&f.status),
             f.points.len(),
             f.deviation_mm.min,
             f.deviation_mm.max,
             attempts.join(" -> ")
         );
     }
-}
-
-/// The JSON name of an outcome.
-pub(super) fn outcome_name(o: crate::host::modes::Outcome) -> String {
-    serde_json::to_string(&o)
-        .unwrap_or_default()
-        .trim_matches('"')
-        .to_string()
-}
-
-/// The JSON name of a verdict.
-pub(super) fn verdict_name(v: Verdict) -> String {
-    serde_json::to_string(&v)
-        .unwrap_or_default()
-        .trim_matches('"')
-        .to_string()
 }
 
 fn status(results: &[PartResult]) -> Status {

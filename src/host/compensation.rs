@@ -22,8 +22,8 @@
 //! of the error terms, 1e-5). [`ErrorMap::recompensate`] uses it as the seed
 //! does: positions corrected with an old probe vector are turned into the
 //! positions the new probe vector gives, without measuring again.
+use crate::machine::GeometricErrors;
 use crate::math::{Point3, Vec3};
-use crate::world::machine::GeometricErrors;
 
 /// Limits of the iterative inverse correction.
 #[derive(Debug, Clone, Copy, PartialEq)]

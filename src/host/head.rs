@@ -7,8 +7,8 @@
 //! `P(angles) = M(angles) * s`. The host knows only this nominal model;
 //! the true head (world side) differs by assembly errors, which is why every
 //! orientation is checked on the reference sphere.
+use crate::machine::MachineModel;
 use crate::math::{Iso3, Vec3};
-use crate::world::machine::MachineModel;
 
 /// Why a head model or an orientation was rejected.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -76,7 +76,7 @@ pub struct Orientation {
     /// Angles as given, deg, in the order of [`HeadModel::axis_names`].
     pub angles_deg: Vec<f64>,
     /// Angles of the head axes in the machine's chain order, rad (what
-    /// [`crate::host::machine::Cmm::index_head`] takes).
+    /// [`crate::seam::Cmm::index_head`] takes).
     pub chain_angles_rad: Vec<f64>,
     q: Vec<f64>,
 }

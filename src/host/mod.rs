@@ -17,10 +17,12 @@
 //! - [`head`]: the nominal probe-head model (URDF) giving a probe vector per
 //!   head orientation.
 
+pub mod calibrate;
 pub mod compensation;
 pub mod head;
-pub mod machine;
+pub mod inspect;
 pub mod modes;
+pub mod observe;
 pub mod path;
 pub mod probe_correction;
 pub mod trace;

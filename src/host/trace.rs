@@ -2,8 +2,9 @@
 //! positions, commanded and actual velocity, deflection reading and, during
 //! active scanning, the trajectory error. Recorded at the seam, so it shows
 //! exactly what the measuring software commanded and saw.
-use super::machine::{Cmm, Phase, Readings};
+use super::observe::{Observe, Phase};
 use crate::math::{Point3, Vec3};
+use crate::seam::{Cmm, HeadCommandError, Readings};
 
 /// One control cycle.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -79,6 +80,16 @@ impl<C: Cmm + ?Sized> Cmm for TracingCmm<'_, C> {
         now
     }
 
+    fn head_axes(&self) -> usize {
+        self.inner.head_axes()
+    }
+
+    fn index_head(&mut self, angles_rad: &[f64]) -> Result<Vec<f64>, HeadCommandError> {
+        self.inner.index_head(angles_rad)
+    }
+}
+
+impl<C: Cmm + ?Sized> Observe for TracingCmm<'_, C> {
     fn note_trajectory_error(&mut self, dl: f64) {
         if let Some(last) = self.rows.last_mut() {
             last.dl = dl;
@@ -87,7 +98,6 @@ impl<C: Cmm + ?Sized> Cmm for TracingCmm<'_, C> {
 
     fn note_phase(&mut self, phase: Phase) {
         self.phase = phase;
-        self.inner.note_phase(phase);
     }
 }
 

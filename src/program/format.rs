@@ -3,7 +3,7 @@
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
-use crate::workpiece::as_machined::AsMachinedSpec;
+use crate::formats::as_machined::AsMachinedSpec;
 
 /// The format tag every part program carries.
 pub const PROGRAM_FORMAT: &str = "cmm-program/1";

@@ -12,11 +12,10 @@ pub use format::{
     AlignmentSpec, Defaults, FeatureSpec, FitElement, FitSpec, Mode, PlaneSpec, ProgramFile,
     PROGRAM_FORMAT,
 };
-pub use resolve::load;
+pub use resolve::{load, read};
 
 use crate::geometry::{Plane, SectionCurve};
 use crate::math::{Mat3, Point3, Vec2, Vec3};
-use crate::workpiece::as_machined::AsMachined;
 use crate::workpiece::{Workpiece, WorkpieceError};
 
 /// Why a part program is invalid.
@@ -173,8 +172,6 @@ pub struct Program {
     pub placement: Pose,
     /// Probe geometry.
     pub probe: ProbeSetup,
-    /// The simulated true part (world side only).
-    pub as_machined: AsMachined,
     /// Features in program order.
     pub features: Vec<Feature>,
     /// Alignment points (projected onto the design data), if any.

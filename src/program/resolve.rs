@@ -3,10 +3,10 @@ use std::path::{Path, PathBuf};
 
 use super::format::{FeatureSpec, ProgramFile, PROGRAM_FORMAT};
 use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, ScanSettings};
+use crate::formats::as_machined::AsMachinedSpec;
 use crate::geometry::section::section_faces;
 use crate::geometry::{Plane, SectionOptions};
 use crate::math::{rotation_xyz_deg, Point3, Vec3};
-use crate::workpiece::as_machined::AsMachined;
 use crate::workpiece::Workpiece;
 
 /// Machine travel used to check that the part can be reached, mm
@@ -65,14 +65,24 @@ impl Ctx<'_> {
     }
 }
 
-/// Reads and validates a part program and everything it refers to.
+/// Reads and validates a part program and everything it refers to: the
+/// measuring side's view.
 pub fn load(file: &Path) -> Result<Program, ProgramError> {
+    read(file).map(|(program, _)| program)
+}
+
+/// [`load`], and apart from the program the simulated scenario it names
+/// (the `as_machined` block, as written; the nominal part when absent).
+/// Only the application layer that builds a simulated world reads the
+/// scenario.
+pub fn read(file: &Path) -> Result<(Program, AsMachinedSpec), ProgramError> {
     let text = std::fs::read_to_string(file).map_err(|source| ProgramError::Io {
         file: file.to_path_buf(),
         source,
     })?;
     let spec = parse(&text, file)?;
-    resolve(&spec, file, &Travel::default())
+    let program = resolve(&spec, file, &Travel::default())?;
+    Ok((program, spec.as_machined.unwrap_or_default()))
 }
 
 fn parse(text: &str, file: &Path) -> Result<ProgramFile, ProgramError> {
@@ -86,11 +96,6 @@ pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Progr
     let workpiece = load_workpiece(&cx, spec)?;
     let placement = placement(&cx, spec)?;
     let probe = probe(&cx, spec)?;
-    let as_machined = match &spec.as_machined {
-        Some(a) => AsMachined::from_spec(a, &workpiece)
-            .map_err(|e| cx.err(format!("$.as_machined.{}", e.json_path), e.reason))?,
-        None => AsMachined::nominal(),
-    };
     let features = spec
         .features
         .iter()
@@ -108,7 +113,6 @@ pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Progr
         workpiece,
         placement,
         probe,
-        as_machined,
         features,
     };
     check_reach(&cx, &program, travel)?;

@@ -171,7 +171,7 @@ fn summary_row(index: usize, f: &FeatureReport) -> String {
     let outside = outside_count(f);
     let cells = [
         td("name", &link),
-        td("text", &escape(f.kind)),
+        td("text", &escape(&json_name(&f.kind))),
         td(&status, &status),
         td("", &f.points.len().to_string()),
         stat_cell(f, s.min, s.min < t.lower),

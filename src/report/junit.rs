@@ -149,7 +149,11 @@ fn failure(feature: &FeatureReport) -> String {
 /// `<error>`: how the last attempt ended, and the notes.
 fn error(feature: &FeatureReport) -> String {
     let last = match feature.attempts.last() {
-        Some(a) => format!("last attempt {} ended {}", a.mode, json_name(&a.outcome)),
+        Some(a) => format!(
+            "last attempt {} ended {}",
+            json_name(&a.mode),
+            json_name(&a.outcome)
+        ),
         None => "no attempt was made".to_string(),
     };
     let mut message = format!("incomplete: {last}");

@@ -53,11 +53,7 @@ pub fn fixed(value: f64, decimals: usize) -> String {
 /// The snake_case name a serialisable unit enum has in JSON
 /// (e.g. an attempt outcome `"lost_contact"`).
 pub fn json_name<T: serde::Serialize>(value: &T) -> String {
-    match serde_json::to_value(value) {
-        Ok(serde_json::Value::String(name)) => name,
-        Ok(other) => other.to_string(),
-        Err(_) => "?".to_string(),
-    }
+    crate::formats::serde_name(value)
 }
 
 #[cfg(test)]

@@ -62,7 +62,7 @@ fn positions(feature: &FeatureReport) -> (Vec<f64>, &'static str) {
         previous = Some(point.measured);
     }
     let usable = total.is_finite() && total > 0.0;
-    if feature.kind == "touch_points" || !usable {
+    if feature.kind == crate::report::FeatureKind::TouchPoints || !usable {
         let index = (0..feature.points.len()).map(|i| i as f64).collect();
         return (index, "point index");
     }
@@ -137,7 +137,7 @@ fn draw_points(svg: &mut Svg, frame: &Frame, xs: &[f64], feature: &FeatureReport
             )
         })
         .collect();
-    if feature.kind != "touch_points" {
+    if feature.kind != crate::report::FeatureKind::TouchPoints {
         let trace: Vec<(f64, f64)> = shown.iter().map(|s| s.0).collect();
         svg.polyline(&trace, "trace");
     }
@@ -236,7 +236,7 @@ fn attempt_label(row: usize, attempt: &AttemptReport) -> String {
     format!(
         "#{} {}: {}, {} s, {} points",
         row + 1,
-        attempt.mode,
+        json_name(&attempt.mode),
         json_name(&attempt.outcome),
         fixed(attempt.machine_time_s, TIME_DECIMALS),
         attempt.points

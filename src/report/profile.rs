@@ -207,7 +207,10 @@ pub fn profile_plot(feature: &FeatureReport) -> String {
     let amp = amplification(feature, &points, &view);
     let layers = Layers::new(feature, &points, &view, amp);
     let mut svg = Svg::new(PLOT_WIDTH, layers.fit.height, &title);
-    layers.draw(&mut svg, feature.kind != "touch_points");
+    layers.draw(
+        &mut svg,
+        feature.kind != crate::report::FeatureKind::TouchPoints,
+    );
     draw_captions(&mut svg, &view, amp, &layers.fit);
     svg.finish()
 }

@@ -2,7 +2,6 @@
 //! from `cmm-workpiece/1` files (DESIGN.md 6.1), and the global closest-point
 //! query over all faces.
 
-pub mod as_machined;
 pub mod examples;
 pub mod format;
 mod near;

@@ -9,17 +9,16 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
-use super::machine::{
-    GeometricErrors, LinearAxes, MachineModel, MachineProfile, Servo, ServoError,
-};
+use super::dynamics::{Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
 use crate::geometry::{ProjectionError, ProjectionOptions};
-use crate::host::machine::{Cmm, HeadCommandError, MachineStatus, Readings};
+use crate::machine::{GeometricErrors, LinearAxes, MachineModel, MachineProfile};
 use crate::math::{Iso3, Point3, Vec2, Vec3};
 use crate::program::Pose;
-use crate::workpiece::as_machined::{AsMachined, TrueProjection, TrueWarm};
+use crate::seam::{Cmm, HeadCommandError, MachineStatus, Readings};
 use crate::workpiece::Workpiece;
+use crate::world::as_machined::{AsMachined, TrueProjection, TrueWarm};
 use nalgebra::UnitQuaternion;
 
 /// Contact is evaluated only when the ball may be this close to the part

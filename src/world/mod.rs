@@ -12,7 +12,8 @@
 //! `rand::rngs::Xoshiro256PlusPlus`), so
 //! the same inputs and seed give identical results.
 
+pub mod as_machined;
 pub mod cmm;
-pub mod machine;
+pub mod dynamics;
 pub mod noise;
 pub mod probe;

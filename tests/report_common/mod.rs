@@ -13,7 +13,7 @@ pub const TOL: f64 = 0.05;
 /// Name of the failing feature (needs CSV quoting and XML escaping).
 pub const FAIL_NAME: &str = "edge \"A\", <B&C>";
 
-fn attempt(mode: &'static str, outcome: Outcome, time: f64, points: usize) -> AttemptReport {
+fn attempt(mode: AttemptMode, outcome: Outcome, time: f64, points: usize) -> AttemptReport {
     AttemptReport {
         mode,
         outcome,
@@ -38,7 +38,7 @@ fn feature(name: &str, status: Verdict, points: Vec<PointReport>) -> FeatureRepo
     FeatureReport {
         fit: None,
         name: name.to_string(),
-        kind: "section_scan",
+        kind: FeatureKind::SectionScan,
         status,
         attempts: vec![],
         corrections: vec![],
@@ -69,8 +69,8 @@ fn ring() -> FeatureReport {
         .collect();
     let mut f = feature("ring", Verdict::Pass, points);
     f.attempts = vec![
-        attempt("active", Outcome::TrajectoryError, 2.5, 20),
-        attempt("active", Outcome::Completed, 7.25, 72),
+        attempt(AttemptMode::Active, Outcome::TrajectoryError, 2.5, 20),
+        attempt(AttemptMode::Active, Outcome::Completed, 7.25, 72),
     ];
     f.corrections = vec![CorrectionReport::Geometric {
         model: "translation".into(),
@@ -95,7 +95,7 @@ fn edge() -> FeatureReport {
         })
         .collect();
     let mut f = feature(FAIL_NAME, Verdict::Fail, points);
-    f.attempts = vec![attempt("passive", Outcome::Completed, 4.125, 40)];
+    f.attempts = vec![attempt(AttemptMode::Passive, Outcome::Completed, 4.125, 40)];
     f
 }
 
@@ -103,8 +103,8 @@ fn edge() -> FeatureReport {
 fn pocket() -> FeatureReport {
     let mut f = feature("pocket", Verdict::Incomplete, vec![]);
     f.attempts = vec![
-        attempt("active", Outcome::LostContact, 1.5, 0),
-        attempt("autonomous", Outcome::Aborted, 3.0, 0),
+        attempt(AttemptMode::Active, Outcome::LostContact, 1.5, 0),
+        attempt(AttemptMode::Autonomous, Outcome::Aborted, 3.0, 0),
     ];
     f.corrections = vec![CorrectionReport::Autonomous { points: 0 }];
     f.notes = vec!["stylus lost contact at the pocket edge".into()];

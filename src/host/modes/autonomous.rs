@@ -4,7 +4,7 @@
 //! section end for an open one.
 use super::touch::finish;
 use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::{Cmm, Phase};
+use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 
 /// Where and how an autonomous scan runs (machine coordinates).
@@ -30,7 +30,7 @@ pub struct AutonomousTask {
 
 /// Runs an autonomous scan.
 pub fn autonomous_scan(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     probe: HostProbe,
     task: &AutonomousTask,
     opts: &ModeOptions,
@@ -50,7 +50,7 @@ pub fn autonomous_start(probe: HostProbe, task: &AutonomousTask, opts: &ModeOpti
 }
 
 fn touch_down(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     task: &AutonomousTask,
     opts: &ModeOptions,
@@ -71,7 +71,7 @@ fn touch_down(
 const PLANE_GAIN: f64 = 30.0;
 
 fn follow(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     task: &AutonomousTask,
     opts: &ModeOptions,
@@ -105,7 +105,7 @@ fn follow(
         if lost >= opts.lost_contact_cycles {
             return Err(Outcome::LostContact);
         }
-        tr.sample(cmm, task.pitch_mm);
+        tr.sample(task.pitch_mm);
         if finished(task, tr, start, travelled, dir) {
             return Ok(());
         }

@@ -3,7 +3,7 @@
 //! part, instead of the detour over the clearance height.
 use super::motion::{free_stylus, travel};
 use super::{HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::{Cmm, Phase};
+use crate::host::observe::{Machine, Phase};
 use crate::math::Point3;
 
 /// Free space around the part, as the measuring software knows it.
@@ -19,7 +19,7 @@ pub trait FreeSpace {
 /// did. When it is not, the probe is left free of the part, for the
 /// measuring mode's own repositioning.
 pub fn direct_move(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     probe: HostProbe,
     target: Point3,
     free: &dyn FreeSpace,

@@ -7,9 +7,10 @@
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
 use super::{HostProbe, Measured, ModeOptions, Outcome};
-use crate::host::machine::{Cmm, MachineStatus, Phase, Readings};
+use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
+use crate::seam::{Cmm, MachineStatus, Readings};
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
 /// points taken at a pitch.
@@ -66,7 +67,7 @@ impl Tracker {
     }
 
     /// Steps the machine and returns an outcome if it halted.
-    pub fn step(&mut self, cmm: &mut dyn Cmm, v: Vec3) -> Option<Outcome> {
+    pub fn step(&mut self, cmm: &mut dyn Machine, v: Vec3) -> Option<Outcome> {
         self.now = cmm.step(v);
         self.command = v;
         match self.now.status {
@@ -77,8 +78,8 @@ impl Tracker {
     }
 
     /// Records the current point when it is at least `pitch` from the
-    /// last, and notes it on the machine ([`Cmm::note_point`]).
-    pub fn sample(&mut self, cmm: &mut dyn Cmm, pitch: f64) {
+    /// last.
+    pub fn sample(&mut self, pitch: f64) {
         let Some(m) = self.measured() else { return };
         if self
             .last_point
@@ -86,7 +87,6 @@ impl Tracker {
         {
             self.points.push(m);
             self.last_point = Some(m.point);
-            cmm.note_point(&m);
         }
     }
 
@@ -119,7 +119,7 @@ const REPOSITION_OUTSIDE_MM: f64 = 15.0;
 /// Moves the undeflected ball centre to `target` in a straight line at up
 /// to `speed`, stopping at rest within [`ModeOptions::arrive_tol_mm`].
 pub fn move_to(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     target: Point3,
     speed: f64,
@@ -133,7 +133,7 @@ pub fn move_to(
 /// (corner speeds limited, braking only where needed), ending at rest on
 /// the last.
 pub fn move_through(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     waypoints: &[Point3],
     speed: f64,
@@ -151,7 +151,7 @@ pub fn move_through(
 /// (straight when no clearance height is set or the target is near), all
 /// in one blended move.
 pub fn reposition(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     target: Point3,
     approach: Vec3,
@@ -195,7 +195,7 @@ fn detour(here: Point3, target: Point3, approach: Vec3, opts: &ModeOptions) -> V
 
 /// Backs the stylus off the part along its deflection until it is free,
 /// then by the standoff at positioning speed.
-pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
+pub fn recover(cmm: &mut dyn Machine, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
     match free_stylus(cmm, tr, opts)? {
         Some(away) => move_to(cmm, tr, away, opts.rapid_speed_mm_s, opts),
         None => Ok(()),
@@ -206,7 +206,7 @@ pub fn recover(cmm: &mut dyn Cmm, tr: &mut Tracker, opts: &ModeOptions) -> Resul
 /// it is free; returns the point one standoff further out (`None` when it
 /// was free already).
 pub(super) fn free_stylus(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     opts: &ModeOptions,
 ) -> Result<Option<Point3>, Outcome> {
@@ -232,7 +232,7 @@ pub(super) fn free_stylus(
 /// within the arrival tolerance when 0; otherwise still moving along the
 /// last leg). Starts from the velocity last commanded through `tr`.
 pub(super) fn travel(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     waypoints: &[Point3],
     speed: f64,

@@ -5,7 +5,7 @@
 //! trajectory error `dL` leaves its tolerance).
 use super::touch::finish;
 use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::{Cmm, Phase};
+use crate::host::observe::{Machine, Phase};
 use crate::host::path::{
     BallPath, PathLocation, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan,
 };
@@ -63,7 +63,7 @@ impl ScanPlan {
 /// Scans along `path` (machine coordinates, already offset by `r - Ep`),
 /// passive or active as planned.
 pub fn design_value_scan(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     probe: HostProbe,
     path: &BallPath,
     plan: &ScanPlan,
@@ -88,7 +88,7 @@ pub fn design_value_scan(
 /// Rapid to a standoff above the path start, then approach along the path
 /// normal: to the planned start (passive) or to the wanted deflection (active).
 fn approach(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     path: &BallPath,
     kind: ScanKind,
@@ -147,7 +147,7 @@ fn contact_check(
 }
 
 fn passive(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     path: &BallPath,
     plan: &SpeedPlan,
@@ -169,7 +169,7 @@ fn passive(
             return Err(o);
         }
         contact_check(tr, &mut lost, opts.over_deflection_mm, &strict)?;
-        tr.sample(cmm, t.pitch_mm);
+        tr.sample(t.pitch_mm);
     }
     Ok(())
 }
@@ -205,7 +205,7 @@ fn segment_at(segs: &[SegmentSpeed], s: f64, from: usize) -> usize {
 const CREEP_MM_S: f64 = 2.0;
 
 fn active(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     path: &BallPath,
     speeds: &[SegmentSpeed],
@@ -249,7 +249,7 @@ fn active(
             return Err(o);
         }
         contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
-        tr.sample(cmm, t.pitch_mm);
+        tr.sample(t.pitch_mm);
     }
     Err(Outcome::Aborted)
 }

@@ -2,13 +2,13 @@
 //! deflection reaches the trigger, record, retract.
 use super::motion::travel;
 use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
-use crate::host::machine::{Cmm, Phase};
+use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 
 /// Measures one point near `nominal` (machine coordinates) with outward
 /// normal `normal`. Contact is searched up to `search_mm` past the nominal.
 pub fn touch_point(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     probe: HostProbe,
     nominal: Point3,
     normal: Vec3,
@@ -35,7 +35,7 @@ pub fn touch_start(probe: HostProbe, nominal: Point3, normal: Vec3, opts: &ModeO
 
 /// Moves along `-normal` until the deflection reaches the trigger.
 fn approach(
-    cmm: &mut dyn Cmm,
+    cmm: &mut dyn Machine,
     tr: &mut Tracker,
     normal: Vec3,
     reach: f64,

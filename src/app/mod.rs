@@ -1,0 +1,61 @@
+//! The application layer: the only code that builds a simulated world and
+//! wires it to the measuring software (the host) through the
+//! [`crate::seam::Cmm`] seam — for a scan, a batch of parts, a probe
+//! calibration and a motion trace.
+//!
+//! Loading a part program for simulation ([`load`]) gives the measuring
+//! side's view ([`Program`]) and, apart from it, the simulated scenario
+//! (the as-machined part). The host only ever receives the first.
+
+pub mod batch;
+pub mod calibrate;
+mod run;
+
+use std::path::Path;
+use std::time::Instant;
+
+pub use run::{probe_calibration, run_program, run_program_traced, RunError, RunOptions};
+
+use crate::formats::as_machined::AsMachinedSpec;
+use crate::program::{Program, ProgramError};
+use crate::world::as_machined::AsMachined;
+
+/// A part program loaded for simulation: the measuring side's view and the
+/// simulated scenario, kept apart.
+#[derive(Debug, Clone)]
+pub struct SimulatedPart {
+    /// What the measuring side sees.
+    pub program: Program,
+    /// The true part the world measures (never given to the host).
+    pub as_machined: AsMachined,
+    /// How long loading the program and its design data took, s (counted
+    /// in each of its reports' `wall_time_s`).
+    pub load_s: f64,
+}
+
+/// Reads and validates a part program and the scenario it names; every
+/// error names the file, the JSON path and the reason.
+pub fn load(file: &Path) -> Result<SimulatedPart, ProgramError> {
+    let started = Instant::now();
+    let (program, spec) = crate::program::read(file)?;
+    let as_machined = scenario(&program, &spec, file)?;
+    Ok(SimulatedPart {
+        program,
+        as_machined,
+        load_s: started.elapsed().as_secs_f64(),
+    })
+}
+
+/// The simulated true part of `program` from its `as_machined` block
+/// (`file` names the program in messages).
+pub fn scenario(
+    program: &Program,
+    spec: &AsMachinedSpec,
+    file: &Path,
+) -> Result<AsMachined, ProgramError> {
+    AsMachined::from_spec(spec, &program.workpiece).map_err(|e| ProgramError::Invalid {
+        file: file.to_path_buf(),
+        json_path: format!("$.as_machined.{}", e.json_path),
+        reason: e.reason,
+    })
+}

@@ -1,0 +1,421 @@
+//! Running a whole program on the simulated CMM: the world (the true part
+//! at the program's placement, the machine, the true probe) is built here
+//! and handed to the host as a [`crate::seam::Cmm`]; after the measuring,
+//! the points are evaluated against the design and, in one separate step
+//! ([`crate::evaluate::truth`]), against the truth.
+use std::borrow::Cow;
+use std::sync::OnceLock;
+use std::time::Instant;
+
+use super::SimulatedPart;
+use crate::evaluate::feature::feature_report;
+use crate::evaluate::nominal::point_reports;
+use crate::evaluate::truth::{fill_true_deviations, Frames};
+use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
+use crate::host::inspect::align::{align, AlignOptions};
+use crate::host::inspect::clearance::{ClearanceOptions, PartClearance};
+use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
+use crate::host::inspect::supervisor::SupervisorOptions;
+use crate::host::inspect::LearnedSet;
+use crate::host::modes::{FreeSpace, HostProbe, ModeOptions, Outcome};
+use crate::host::observe::Machine;
+use crate::host::trace::{TraceRow, TracingCmm};
+use crate::machine::{MachineModel, MachineProfile};
+use crate::math::{Point3, Vec3};
+use crate::program::Program;
+use crate::report::{
+    AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict, REPORT_FORMAT,
+};
+use crate::seam::Cmm;
+use crate::world::as_machined::AsMachined;
+use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
+use crate::world::probe::TrueProbe;
+
+/// How to run.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunOptions {
+    /// Seed of every random draw.
+    pub seed: u64,
+    /// Switch off every simulated error and all noise.
+    pub ideal: bool,
+    /// Mode gains and thresholds.
+    pub modes: ModeOptions,
+    /// Supervisor limits.
+    pub supervisor: SupervisorOptions,
+    /// Corrections learned on earlier parts, by feature name and curve index.
+    pub learned: LearnedSet,
+    /// Probe calibration to use (`--probe-cal`); overrides the program's
+    /// `probe.calibration`. Nominal probe values when neither is given.
+    pub probe_calibration: Option<ProbeCalibration>,
+    /// Move straight between measurements when the line is clear of the
+    /// part (else always over the clearance height).
+    pub direct_moves: bool,
+    /// Margins of the direct-move check.
+    pub clearance: ClearanceOptions,
+}
+
+impl Default for RunOptions {
+    fn default() -> Self {
+        RunOptions {
+            seed: 1,
+            ideal: false,
+            modes: ModeOptions::default(),
+            supervisor: SupervisorOptions::default(),
+            learned: Vec::new(),
+            probe_calibration: None,
+            direct_moves: true,
+            clearance: ClearanceOptions::default(),
+        }
+    }
+}
+
+/// Why a run could not start.
+#[derive(Debug, thiserror::Error)]
+pub enum RunError {
+    /// A batch part names a program that does not exist.
+    #[error("batch part refers to program {index}, which does not exist")]
+    NoProgram {
+        /// The index.
+        index: usize,
+    },
+    /// The program's probe calibration file is invalid.
+    #[error("{program}: {source}")]
+    ProbeCal {
+        /// Program name.
+        program: String,
+        /// The reason.
+        source: ProbeCalError,
+    },
+    /// The simulator could not be set up.
+    #[error("{program}: cannot start the simulated machine: {source}")]
+    Machine {
+        /// Program name.
+        program: String,
+        /// The reason.
+        source: SimError,
+    },
+}
+
+/// Clearance above the part's highest point for moves, mm.
+const CLEARANCE_MM: f64 = 10.0;
+
+/// Runs every feature and evaluates the points; also returns what was
+/// learned per (feature, curve).
+pub fn run_program(
+    part: &SimulatedPart,
+    opts: &RunOptions,
+) -> Result<(Report, LearnedSet), RunError> {
+    run_program_traced(part, opts, false).map(|(r, l, _)| (r, l))
+}
+
+/// [`run_program`] that can also record a motion trace of every cycle.
+///
+/// `wall_time_s` covers the part's whole run: loading its program (as
+/// measured by [`load`]), setting up, measuring, evaluating and fitting,
+/// until the report is complete.
+pub fn run_program_traced(
+    part: &SimulatedPart,
+    opts: &RunOptions,
+    trace: bool,
+) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
+    run_variant(part, &part.as_machined, opts, trace)
+}
+
+/// [`run_program_traced`] of `part`'s program on the true part `truth`
+/// (one of a batch's variants).
+pub(super) fn run_variant(
+    part: &SimulatedPart,
+    truth: &AsMachined,
+    opts: &RunOptions,
+    trace: bool,
+) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
+    let started = Instant::now();
+    let program = &part.program;
+    let profile = machine_profile(opts);
+    let setup = Setup::new(program, truth, opts)?;
+    let m = measure_program(program, opts, (&setup, (default_machine(), profile)), trace)?;
+    let aligned = m.program.as_ref();
+    let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
+        .map(|(f, mf)| {
+            let points = (mf.results.iter())
+                .flat_map(|r| {
+                    point_reports(&aligned.workpiece, &aligned.placement, &mf.faces, &r.points)
+                })
+                .collect();
+            feature_report(f, mf, points)
+        })
+        .collect();
+    let frames = Frames {
+        reported: aligned.placement,
+        world: program.placement,
+    };
+    fill_true_deviations(&mut features, &program.workpiece, &setup.truth, frames);
+    let report = Report {
+        format: REPORT_FORMAT,
+        program: program.name.clone(),
+        seed: opts.seed,
+        status: overall(&features),
+        machine_time_s: m.machine_time_s,
+        wall_time_s: part.load_s + started.elapsed().as_secs_f64(),
+        part_to_machine: part_to_machine(aligned),
+        alignment: m.alignment,
+        ideal: opts.ideal,
+        probe: ProbeUsed {
+            source: (setup.calibration.as_ref())
+                .map_or("nominal".into(), |c| c.source.display().to_string()),
+            tip_radius_mm: setup.host_probe.tip_radius_mm,
+            probe_vector_mm: setup.host_probe.probe_vector.into(),
+        },
+        features,
+    };
+    Ok((report, m.learned, m.rows))
+}
+
+/// What a run sets up before measuring.
+struct Setup {
+    calibration: Option<ProbeCalibration>,
+    host_probe: HostProbe,
+    /// The true part (without roughness on an ideal machine).
+    truth: AsMachined,
+}
+
+impl Setup {
+    fn new(program: &Program, truth: &AsMachined, opts: &RunOptions) -> Result<Setup, RunError> {
+        let calibration = probe_calibration(program, opts)?;
+        let host_probe = calibration.as_ref().map_or(
+            HostProbe::nominal(probe_vector(program), program.probe.tip_radius_mm),
+            |c| c.probe,
+        );
+        let truth = if opts.ideal {
+            truth.clone().without_roughness()
+        } else {
+            truth.clone()
+        };
+        Ok(Setup {
+            calibration,
+            host_probe,
+            truth,
+        })
+    }
+}
+
+/// What the measuring gives.
+struct Measuring<'p> {
+    /// The program as measured (its placement the alignment's result).
+    program: Cow<'p, Program>,
+    measured: Vec<MeasuredFeature>,
+    alignment: Option<AlignmentReport>,
+    machine_time_s: f64,
+    rows: Vec<TraceRow>,
+    learned: LearnedSet,
+}
+
+/// Starts the simulated machine, aligns the part and measures every
+/// feature.
+fn measure_program<'p>(
+    program: &'p Program,
+    opts: &RunOptions,
+    (setup, machine): (&Setup, (MachineModel, MachineProfile)),
+    trace: bool,
+) -> Result<Measuring<'p>, RunError> {
+    let mut sim = start_machine(program, opts, setup, machine)?;
+    let mut traced = TracingCmm::new(&mut sim, trace);
+    let host_probe = setup.host_probe;
+    let modes = ModeOptions {
+        clearance_z_mm: Some(start_position(program).1),
+        ..opts.modes
+    };
+    let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
+        Ok(a) => a,
+        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
+    };
+    let free = PartClearance {
+        workpiece: &aligned.workpiece,
+        pose: aligned.placement,
+        stylus: -host_probe.probe_vector,
+        tip_radius_mm: host_probe.tip_radius_mm,
+        opts: opts.clearance,
+    };
+    let run = Run {
+        program: &aligned,
+        probe: host_probe,
+        modes: &modes,
+        supervisor: opts.supervisor,
+        learned: &opts.learned,
+        free: opts.direct_moves.then_some(&free as &dyn FreeSpace),
+    };
+    let mut learned = Vec::new();
+    let measured = aligned
+        .features
+        .iter()
+        .map(|f| measure_feature(&run, f, &mut traced, &mut learned))
+        .collect();
+    let machine_time_s = traced.readings().time_s;
+    let rows = traced.into_rows();
+    Ok(Measuring {
+        program: aligned,
+        measured,
+        alignment,
+        machine_time_s,
+        rows,
+        learned,
+    })
+}
+
+/// The simulated machine with the true part in the program's placement,
+/// the probe above the part.
+fn start_machine<'a>(
+    program: &'a Program,
+    opts: &RunOptions,
+    setup: &'a Setup,
+    (machine, profile): (MachineModel, MachineProfile),
+) -> Result<SimulatedCmm<'a>, RunError> {
+    let part = TruePart {
+        workpiece: &program.workpiece,
+        as_machined: &setup.truth,
+        pose: program.placement,
+    };
+    let probe_vector = probe_vector(program);
+    let r = program.probe.tip_radius_mm;
+    let true_probe = if opts.ideal {
+        TrueProbe::ideal(probe_vector, r)
+    } else {
+        TrueProbe::realistic(probe_vector, r)
+    };
+    let start = start_position(program).0;
+    SimulatedCmm::new(
+        part,
+        machine,
+        profile,
+        true_probe,
+        opts.seed,
+        start - probe_vector,
+    )
+    .map_err(|source| RunError::Machine {
+        program: program.name.clone(),
+        source,
+    })
+}
+
+/// The embedded default profile, every error and all noise off with
+/// `ideal`.
+fn machine_profile(opts: &RunOptions) -> MachineProfile {
+    if opts.ideal {
+        MachineProfile::default().ideal()
+    } else {
+        MachineProfile::default()
+    }
+}
+
+/// The embedded default bridge CMM, parsed once per process (a batch
+/// runs many parts on it).
+fn default_machine() -> MachineModel {
+    static MODEL: OnceLock<MachineModel> = OnceLock::new();
+    MODEL.get_or_init(MachineModel::default_bridge).clone()
+}
+
+/// The calibration of `--probe-cal`, else the program's, else none.
+pub fn probe_calibration(
+    program: &Program,
+    opts: &RunOptions,
+) -> Result<Option<ProbeCalibration>, RunError> {
+    if let Some(c) = &opts.probe_calibration {
+        return Ok(Some(c.clone()));
+    }
+    program
+        .probe
+        .calibration
+        .as_deref()
+        .map(ProbeCalibration::read)
+        .transpose()
+        .map_err(|source| RunError::ProbeCal {
+            program: program.name.clone(),
+            source,
+        })
+}
+
+/// Ball-centre start above the middle of the part and the clearance height.
+fn start_position(program: &Program) -> (Point3, f64) {
+    let pts: Vec<Point3> = program
+        .workpiece
+        .faces
+        .iter()
+        .flat_map(|f| {
+            f.surface
+                .homogeneous_points()
+                .iter()
+                .map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w))
+        })
+        .map(|p| program.placement.to_machine(p))
+        .collect();
+    let n = pts.len().max(1) as f64;
+    let centre = pts.iter().fold(Vec3::zeros(), |a, p| a + p.coords) / n;
+    let top = pts.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max)
+        + program.probe.tip_radius_mm
+        + CLEARANCE_MM;
+    (Point3::new(centre.x, centre.y, top), top)
+}
+
+/// The program with its placement replaced by the best-fit alignment (when
+/// it has alignment points; else the program itself, not a copy).
+fn aligned_program<'p>(
+    program: &'p Program,
+    cmm: &mut dyn Machine,
+    probe: HostProbe,
+    modes: &ModeOptions,
+) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), Outcome> {
+    let Some(points) = &program.alignment else {
+        return Ok((Cow::Borrowed(program), None));
+    };
+    let (pose, report) = align(
+        cmm,
+        probe,
+        &program.workpiece,
+        &program.placement,
+        points,
+        modes,
+        &AlignOptions::default(),
+    )?;
+    Ok((
+        Cow::Owned(Program {
+            placement: pose,
+            ..program.clone()
+        }),
+        Some(report),
+    ))
+}
+
+/// A failed alignment: reported, and the nominal placement kept.
+fn failed_alignment(_outcome: Outcome) -> AlignmentReport {
+    AlignmentReport {
+        points: 0,
+        rms_mm: f64::NAN,
+        max_mm: f64::NAN,
+        iterations: 0,
+        machine_time_s: 0.0,
+    }
+}
+
+fn part_to_machine(program: &Program) -> PartToMachine {
+    let r = program.placement.rotation;
+    PartToMachine {
+        rotation: [0, 1, 2].map(|i| [r[(i, 0)], r[(i, 1)], r[(i, 2)]]),
+        translation_mm: program.placement.translation.into(),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn overall(features: &[FeatureReport]) -> Verdict {
+    if features.iter().any(|f| f.status == Verdict::Incomplete) {
+        Verdict::Incomplete
+    } else if features.iter().any(|f| f.status == Verdict::Fail) {
+        Verdict::Fail
+    } else {
+        Verdict::Pass
+    }
+}
+
+/// The stylus vector of the program's probe (straight down), mm.
+fn probe_vector(program: &Program) -> Vec3 {
+    Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm)
+}

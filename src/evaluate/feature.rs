@@ -1,0 +1,71 @@
+//! A feature's report from its measurement and its evaluated points:
+//! statistics, the tolerance verdict and the fitted element.
+use super::fitted::fit_feature;
+use super::model::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
+use crate::host::inspect::feature::MeasuredFeature;
+use crate::program::Feature;
+
+/// The feature's report from its measurement and its evaluated points
+/// (with the fitted element, which can fail a feature in tolerance).
+pub fn feature_report(
+    feature: &Feature,
+    measured: MeasuredFeature,
+    points: Vec<PointReport>,
+) -> FeatureReport {
+    let mut report = deviation_report(feature.name(), measured, points);
+    if let Some(spec) = feature.fit() {
+        report.fit = fit_feature(spec, &report.points);
+        if report.status == Verdict::Pass
+            && report
+                .fit
+                .as_ref()
+                .is_some_and(|f| f.status != Verdict::Pass)
+        {
+            report.status = Verdict::Fail;
+        }
+    }
+    report
+}
+
+fn deviation_report(
+    name: &str,
+    measured: MeasuredFeature,
+    points: Vec<PointReport>,
+) -> FeatureReport {
+    let MeasuredFeature {
+        results,
+        tolerance: (lower, upper),
+        kind,
+        ..
+    } = measured;
+    let complete = results.iter().all(|r| r.complete);
+    let in_tol = points
+        .iter()
+        .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);
+    let status = match (complete, in_tol) {
+        (false, _) => Verdict::Incomplete,
+        (true, true) => Verdict::Pass,
+        (true, false) => Verdict::Fail,
+    };
+    FeatureReport {
+        name: name.to_string(),
+        kind,
+        status,
+        attempts: results
+            .iter()
+            .flat_map(|r| r.attempts.iter().cloned())
+            .collect(),
+        corrections: results
+            .iter()
+            .flat_map(|r| r.corrections.iter().cloned())
+            .collect(),
+        deviation_mm: Stats::of(points.iter().map(|p| p.deviation_mm)),
+        tolerance_mm: Tolerance { lower, upper },
+        notes: results
+            .iter()
+            .flat_map(|r| r.notes.iter().cloned())
+            .collect(),
+        points,
+        fit: None,
+    }
+}

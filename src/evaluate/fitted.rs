@@ -1,0 +1,149 @@
+//! Fitted features: a geometric element fitted (least squares) to the
+//! measured points and, for the nominal, the same fit of the nominal points;
+//! size, form and position are checked against the feature's tolerances.
+use serde::Serialize;
+
+use super::model::{PointReport, Verdict};
+use crate::fit::{fit, Element, ElementKind, FitOptions, Method};
+use crate::math::{Point3, Vec3};
+use crate::program::{FitElement, FitSpec};
+
+/// The essentials of a fitted element, part coordinates.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ElementSummary {
+    /// Centre (circle, sphere), axis point (cylinder) or plane point.
+    pub center: [f64; 3],
+    /// Normal (circle, plane) or axis direction (cylinder); zeros for a sphere.
+    pub direction: [f64; 3],
+    /// Diameter, mm (0 for a plane).
+    pub diameter_mm: f64,
+    /// Form error: range of the residuals, mm.
+    pub form_mm: f64,
+}
+
+/// Result of a fitted feature (`features[].fit` in report.json).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FitResult {
+    /// `circle`, `plane`, `sphere` or `cylinder`.
+    pub element: &'static str,
+    /// Fit of the measured points.
+    pub measured: ElementSummary,
+    /// Fit of the nominal points.
+    pub nominal: ElementSummary,
+    /// Measured minus nominal diameter, mm.
+    pub size_deviation_mm: f64,
+    /// Distance of the measured centre / axis / plane from the nominal, mm.
+    pub position_deviation_mm: f64,
+    /// Pass or fail against the fit tolerances.
+    pub status: Verdict,
+    /// Why the fit could not be made, if it could not.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
+}
+
+fn kind(e: FitElement) -> (ElementKind, &'static str) {
+    match e {
+        FitElement::Circle => (ElementKind::Circle, "circle"),
+        FitElement::Plane => (ElementKind::Plane, "plane"),
+        FitElement::Sphere => (ElementKind::Sphere, "sphere"),
+        FitElement::Cylinder => (ElementKind::Cylinder, "cylinder"),
+    }
+}
+
+/// Fits and checks; `None` when there are no points.
+pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> {
+    let measured: Vec<Point3> = points.iter().map(|p| Point3::from(p.measured)).collect();
+    let nominal: Vec<Point3> = points.iter().map(|p| Point3::from(p.nominal)).collect();
+    if measured.is_empty() {
+        return None;
+    }
+    let (k, name) = kind(spec.element);
+    let opts = FitOptions::default();
+    let both = fit(k, Method::Lsq, &measured, &opts)
+        .and_then(|m| Ok((m, fit(k, Method::Lsq, &nominal, &opts)?)));
+    Some(match both {
+        Ok((m, n)) => compare(
+            spec,
+            name,
+            summary(&m.element, m.form_mm),
+            summary(&n.element, n.form_mm),
+            &m.element,
+        ),
+        Err(e) => FitResult {
+            element: name,
+            measured: empty(),
+            nominal: empty(),
+            size_deviation_mm: 0.0,
+            position_deviation_mm: 0.0,
+            status: Verdict::Fail,
+            error: Some(e.to_string()),
+        },
+    })
+}
+
+fn empty() -> ElementSummary {
+    ElementSummary {
+        center: [0.0; 3],
+        direction: [0.0; 3],
+        diameter_mm: 0.0,
+        form_mm: 0.0,
+    }
+}
+
+fn summary(e: &Element, form_mm: f64) -> ElementSummary {
+    let (c, d, dia) = match e {
+        Element::Circle(c) => (c.center, c.normal, 2.0 * c.radius),
+        Element::Sphere(s) => (s.center, Vec3::zeros(), 2.0 * s.radius),
+        Element::Cylinder(c) => (c.axis_point, c.axis_direction, 2.0 * c.radius),
+        Element::Plane(p) => (p.point, p.normal, 0.0),
+        _ => (Point3::origin(), Vec3::zeros(), 0.0),
+    };
+    ElementSummary {
+        center: c.into(),
+        direction: d.into(),
+        diameter_mm: dia,
+        form_mm,
+    }
+}
+
+/// Position deviation: centre distance, the nominal axis point's distance
+/// from the measured axis, or the nominal plane point's from the measured plane.
+fn position(e: &Element, nominal: &ElementSummary) -> f64 {
+    let c = Point3::from(nominal.center);
+    match e {
+        Element::Cylinder(m) => {
+            let r = c - m.axis_point;
+            (r - m.axis_direction * r.dot(&m.axis_direction)).norm()
+        }
+        Element::Plane(m) => (c - m.point).dot(&m.normal).abs(),
+        other => (c - Point3::from(summary(other, 0.0).center)).norm(),
+    }
+}
+
+fn compare(
+    spec: &FitSpec,
+    name: &'static str,
+    m: ElementSummary,
+    n: ElementSummary,
+    me: &Element,
+) -> FitResult {
+    let size = m.diameter_mm - n.diameter_mm;
+    let pos = position(me, &n);
+    let size_ok = spec.size_mm.is_none_or(|[lo, hi]| size >= lo && size <= hi);
+    let form_ok = spec.form_mm.is_none_or(|f| m.form_mm <= f);
+    let pos_ok = spec.position_mm.is_none_or(|p| pos <= p);
+    let status = if size_ok && form_ok && pos_ok {
+        Verdict::Pass
+    } else {
+        Verdict::Fail
+    };
+    FitResult {
+        element: name,
+        measured: m,
+        nominal: n,
+        size_deviation_mm: size,
+        position_deviation_mm: pos,
+        status,
+        error: None,
+    }
+}

@@ -1,0 +1,145 @@
+//! Best-fit alignment: touch the program's alignment points at their
+//! nominal positions, then find the rigid part-to-machine pose that puts the
+//! measured points onto the design surfaces (Gauss-Newton on point-to-plane
+//! distances, closest points re-found every iteration).
+use nalgebra::{DMatrix, DVector, Rotation3};
+
+use super::record::AlignmentReport;
+use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
+use crate::host::observe::Machine;
+use crate::math::{Mat3, Point3, Vec3};
+use crate::program::{NominalPoint, Pose};
+use crate::workpiece::Workpiece;
+
+/// Limits of the best fit.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlignOptions {
+    /// Iterations of the point-to-surface best fit.
+    pub max_iterations: usize,
+    /// The fit stops when an update moves no point more than this, mm.
+    pub step_tol_mm: f64,
+    /// How far past the nominal a touch searches for contact, mm.
+    pub search_mm: f64,
+}
+
+impl Default for AlignOptions {
+    fn default() -> Self {
+        AlignOptions {
+            max_iterations: 30,
+            step_tol_mm: 1e-9,
+            search_mm: 6.0,
+        }
+    }
+}
+
+/// Touches the alignment points and returns the fitted pose and a summary;
+/// `None` when a touch failed (the nominal placement is kept).
+pub fn align(
+    cmm: &mut dyn Machine,
+    probe: HostProbe,
+    wp: &Workpiece,
+    nominal: &Pose,
+    points: &[NominalPoint],
+    modes: &ModeOptions,
+    opts: &AlignOptions,
+) -> Result<(Pose, AlignmentReport), Outcome> {
+    let t0 = cmm.readings().time_s;
+    let mut measured = Vec::with_capacity(points.len());
+    for p in points {
+        let (m, n) = (
+            nominal.to_machine(p.point),
+            nominal.dir_to_machine(p.normal),
+        );
+        let a = touch_point(cmm, probe, m, n, opts.search_mm, modes);
+        match (a.outcome, a.points.first()) {
+            (Outcome::Completed, Some(hit)) => measured.push(hit.point),
+            (o, _) => {
+                return Err(if o == Outcome::Completed {
+                    Outcome::Aborted
+                } else {
+                    o
+                })
+            }
+        }
+    }
+    let (pose, iterations) = best_fit(wp, nominal, &measured, opts);
+    let residuals: Vec<f64> = measured
+        .iter()
+        .filter_map(|&m| residual(wp, &pose, m))
+        .collect();
+    let n = residuals.len().max(1) as f64;
+    let report = AlignmentReport {
+        points: measured.len(),
+        rms_mm: (residuals.iter().map(|r| r * r).sum::<f64>() / n).sqrt(),
+        max_mm: residuals.iter().fold(0.0, |a: f64, r| a.max(r.abs())),
+        iterations,
+        machine_time_s: cmm.readings().time_s - t0,
+    };
+    Ok((pose, report))
+}
+
+/// Signed distance of a measured machine point from the design surfaces
+/// under `pose`.
+fn residual(wp: &Workpiece, pose: &Pose, m: Point3) -> Option<f64> {
+    Some(
+        wp.closest_point(pose.to_part(m))
+            .ok()?
+            .projection
+            .signed_distance,
+    )
+}
+
+/// Gauss-Newton on six parameters (small rotation and translation of the
+/// part coordinates of the measured points).
+fn best_fit(
+    wp: &Workpiece,
+    start: &Pose,
+    measured: &[Point3],
+    opts: &AlignOptions,
+) -> (Pose, usize) {
+    // Inverse pose x = a m + b (machine to part).
+    let mut a: Mat3 = start.rotation.transpose();
+    let mut b: Vec3 = -(a * start.translation);
+    for it in 1..=opts.max_iterations {
+        let rows: Vec<(Vec3, Vec3, f64)> = measured
+            .iter()
+            .filter_map(|m| {
+                let x = Point3::from(a * m.coords + b);
+                let pr = wp.closest_point(x).ok()?.projection;
+                Some((x.coords, pr.normal, (x - pr.point).dot(&pr.normal)))
+            })
+            .collect();
+        let jac = DMatrix::from_fn(rows.len(), 6, |i, j| {
+            let (x, n, _) = rows[i];
+            if j < 3 {
+                x.cross(&n)[j]
+            } else {
+                n[j - 3]
+            }
+        });
+        let r = DVector::from_fn(rows.len(), |i, _| -rows[i].2);
+        let Ok(step) = jac.svd(true, true).solve(&r, 1e-12) else {
+            return (pose_of(a, b), it);
+        };
+        let rot = Rotation3::new(Vec3::new(step[0], step[1], step[2])).into_inner();
+        let delta = Vec3::new(step[3], step[4], step[5]);
+        a = rot * a;
+        b = rot * b + delta;
+        let moved = rows
+            .iter()
+            .map(|(x, _, _)| (rot * x + delta - x).norm())
+            .fold(0.0, f64::max);
+        if moved <= opts.step_tol_mm {
+            return (pose_of(a, b), it);
+        }
+    }
+    (pose_of(a, b), opts.max_iterations)
+}
+
+fn pose_of(a: Mat3, b: Vec3) -> Pose {
+    let rotation = a.transpose();
+    Pose {
+        rotation,
+        translation: -(rotation * b),
+    }
+}

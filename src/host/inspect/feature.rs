@@ -1,0 +1,136 @@
+//! One feature of a program measured on the machine, with the
+//! supervisor's corrections and fallbacks.
+use super::correction::DesignPoint;
+use super::record::{AttemptMode, FeatureKind};
+use super::supervisor::{scan_curve, SupervisorOptions};
+use super::{Ctx, CurveResult, LearnedSet};
+use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
+use crate::host::observe::Machine;
+use crate::program::{Feature, Program};
+
+/// What a feature's measurement needs besides the machine.
+pub struct Run<'r> {
+    /// The program (in its aligned placement).
+    pub program: &'r Program,
+    /// The probe as the host knows it.
+    pub probe: HostProbe,
+    /// Mode gains and thresholds.
+    pub modes: &'r ModeOptions,
+    /// Supervisor limits.
+    pub supervisor: SupervisorOptions,
+    /// Corrections learned on earlier parts.
+    pub learned: &'r LearnedSet,
+    /// Free space for direct moves (`None`: always over the clearance
+    /// height).
+    pub free: Option<&'r dyn FreeSpace>,
+}
+
+/// A feature as measured, before its points are evaluated.
+pub struct MeasuredFeature {
+    /// Each section curve's result (one for touch points).
+    pub results: Vec<CurveResult>,
+    /// The nominal faces the feature's points are evaluated against.
+    pub faces: Vec<usize>,
+    /// Tolerance band (lower, upper), mm.
+    pub tolerance: (f64, f64),
+    /// Section scan or touch points.
+    pub kind: FeatureKind,
+}
+
+/// Measures one feature on the machine (with the supervisor's
+/// corrections and fallbacks), recording what it learned.
+pub fn measure_feature(
+    run: &Run<'_>,
+    feature: &Feature,
+    cmm: &mut dyn Machine,
+    learned_out: &mut LearnedSet,
+) -> MeasuredFeature {
+    let Run {
+        program,
+        probe,
+        modes,
+        supervisor,
+        learned: known,
+        free,
+    } = *run;
+    let (results, faces, tolerance, kind) = match feature {
+        Feature::Section {
+            name,
+            plane,
+            faces,
+            curves,
+            settings,
+            tolerance,
+            ..
+        } => {
+            let results: Vec<CurveResult> = curves
+                .iter()
+                .enumerate()
+                .map(|(k, c)| {
+                    let design: Vec<DesignPoint> = c
+                        .points
+                        .iter()
+                        .map(|p| DesignPoint {
+                            point: p.point,
+                            normal: p.normal,
+                        })
+                        .collect();
+                    let key = (name.clone(), k);
+                    let learned = known
+                        .iter()
+                        .find(|(kk, _)| *kk == key)
+                        .map(|(_, l)| l.clone());
+                    let mut ctx = Ctx {
+                        cmm: &mut *cmm,
+                        probe,
+                        pose: program.placement,
+                        plane_normal: plane.normal(),
+                        settings: *settings,
+                        modes: *modes,
+                        supervisor,
+                        learned,
+                        free,
+                    };
+                    let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
+                    if let Some(l) = &res.learned {
+                        learned_out.push((key, l.clone()));
+                    }
+                    res
+                })
+                .collect();
+            (results, faces.clone(), *tolerance, FeatureKind::SectionScan)
+        }
+        Feature::Touch {
+            points, tolerance, ..
+        } => {
+            let mut res = CurveResult {
+                complete: true,
+                ..CurveResult::default()
+            };
+            for p in points {
+                let (m, n) = (
+                    program.placement.to_machine(p.point),
+                    program.placement.dir_to_machine(p.normal),
+                );
+                let a = touch_point(cmm, probe, m, n, 6.0, modes);
+                let ok = a.outcome == Outcome::Completed;
+                let pts = a.points.clone();
+                res.record(AttemptMode::Points, a);
+                res.complete &= ok;
+                res.points.extend(pts);
+            }
+            (
+                vec![res],
+                (0..program.workpiece.faces.len()).collect(),
+                *tolerance,
+                FeatureKind::TouchPoints,
+            )
+        }
+    };
+    MeasuredFeature {
+        results,
+        faces,
+        tolerance,
+        kind,
+    }
+}

@@ -1,0 +1,89 @@
+//! What the measuring records of each feature: its attempts, the
+//! corrections made between them, and the alignment.
+use serde::Serialize;
+
+use crate::host::modes::Outcome;
+
+/// What kind of feature was measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FeatureKind {
+    /// A section scan.
+    SectionScan,
+    /// Touch points.
+    TouchPoints,
+}
+
+/// How an attempt measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum AttemptMode {
+    /// Active design-value scanning.
+    Active,
+    /// Passive design-value scanning.
+    Passive,
+    /// Autonomous scanning.
+    Autonomous,
+    /// Touch points.
+    Points,
+}
+
+impl AttemptMode {
+    /// Whether the attempt is a scan (its points are a curve's points).
+    pub fn is_scan(self) -> bool {
+        self != AttemptMode::Points
+    }
+}
+
+/// One measuring attempt of a feature.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AttemptReport {
+    /// How the attempt measured.
+    pub mode: AttemptMode,
+    /// `completed`, `trajectory_error`, `lost_contact`, `over_deflection`,
+    /// `axis_limit` or `aborted`.
+    pub outcome: Outcome,
+    /// Machine time of the attempt, s.
+    pub machine_time_s: f64,
+    /// Points measured in it.
+    pub points: usize,
+    /// Largest |trajectory error| seen, mm.
+    pub max_trajectory_error_mm: f64,
+}
+
+/// A correction of the feature's design data between attempts.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+#[serde(tag = "kind", rename_all = "snake_case")]
+pub enum CorrectionReport {
+    /// A simple model fitted to touch points.
+    Geometric {
+        /// `translation`, `rotation`, `uniform_scale`, ... (simplest that fits).
+        model: String,
+        /// Largest residual of the touch points after the correction, mm.
+        max_residual_mm: f64,
+        /// Touch points used.
+        points: usize,
+        /// Where it came from: `fitted` now or `learned` from earlier parts.
+        source: &'static str,
+    },
+    /// The section's design data replaced by an autonomous scan.
+    Autonomous {
+        /// Surface points the new design data was built from.
+        points: usize,
+    },
+}
+
+/// Result of the best-fit alignment.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct AlignmentReport {
+    /// Touch points used.
+    pub points: usize,
+    /// RMS distance of the touch points from the design data after the fit, mm.
+    pub rms_mm: f64,
+    /// Largest such distance, mm.
+    pub max_mm: f64,
+    /// Gauss-Newton iterations.
+    pub iterations: usize,
+    /// Machine time of the alignment, s.
+    pub machine_time_s: f64,
+}

@@ -1,0 +1,371 @@
+//! Error-correcting design-value scanning (seed 000) of one section curve:
+//! active scanning; on a trajectory error a geometric correction from touch
+//! points (flag 0) or an autonomous correction (flag 1, or when no simple
+//! model fits); a bounded number of autonomous corrections.
+use super::correction::{fit_correction, DesignPoint};
+use super::prepared::{scan_speed, PreparedScan, ScanInputs};
+use super::record::{AttemptMode, CorrectionReport};
+use super::{Ctx, CurveResult};
+use crate::host::modes::{
+    autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
+    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, ModeOptions, Outcome,
+    ScanKind, ScanTargets, Tracker,
+};
+use crate::host::path::SpeedOptions;
+use crate::math::Point3;
+use crate::program::Mode;
+
+/// Limits and thresholds of the correcting supervisor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SupervisorOptions {
+    /// A geometric correction is accepted when every touch point lies within
+    /// this distance of the corrected design data, mm.
+    pub geometric_threshold_mm: f64,
+    /// Autonomous corrections allowed per curve before giving up.
+    pub max_autonomous: usize,
+    /// Touch points per geometric correction (spread by arc length).
+    pub touch_points: usize,
+    /// How far past the nominal a touch point searches for contact, mm.
+    pub touch_search_mm: f64,
+}
+
+impl Default for SupervisorOptions {
+    fn default() -> Self {
+        SupervisorOptions {
+            geometric_threshold_mm: 0.25,
+            max_autonomous: 2,
+            touch_points: 16,
+            touch_search_mm: 6.0,
+        }
+    }
+}
+
+/// Whether an outcome is a trajectory error the corrections address.
+fn correctable(o: Outcome) -> bool {
+    matches!(
+        o,
+        Outcome::TrajectoryError | Outcome::LostContact | Outcome::OverDeflection
+    )
+}
+
+/// Measures one section curve in the given mode.
+pub fn scan_curve(
+    ctx: &mut Ctx,
+    design: Vec<DesignPoint>,
+    closed: bool,
+    mode: Mode,
+) -> CurveResult {
+    let mut res = CurveResult::default();
+    match mode {
+        Mode::Active | Mode::Passive => {
+            let kind = if mode == Mode::Active {
+                ScanKind::Active
+            } else {
+                ScanKind::Passive
+            };
+            design_attempt(ctx, &design, closed, kind, &mut res);
+        }
+        Mode::Autonomous => {
+            autonomous_attempt(ctx, &design, closed, &mut res);
+        }
+        Mode::Auto => correcting(ctx, design, closed, ScanKind::Active, &mut res),
+        Mode::AutoPassive => correcting(ctx, design, closed, ScanKind::Passive, &mut res),
+    }
+    res
+}
+
+fn correcting(
+    ctx: &mut Ctx,
+    mut design: Vec<DesignPoint>,
+    closed: bool,
+    kind: ScanKind,
+    res: &mut CurveResult,
+) {
+    let mut flag = 0;
+    let mut autonomous = 0;
+    if let Some(learned) = ctx.learned.clone() {
+        design = learned.apply(&design);
+        res.corrections.push(learned.report());
+    }
+    loop {
+        let outcome = design_attempt(ctx, &design, closed, kind, res);
+        if outcome == Outcome::Completed || !correctable(outcome) {
+            return;
+        }
+        if flag == 0 {
+            if let Some(corrected) = geometric(ctx, &design, res) {
+                design = corrected;
+                flag = 1;
+                continue;
+            }
+        }
+        if autonomous >= ctx.supervisor.max_autonomous {
+            res.notes
+                .push(format!("gave up after {autonomous} autonomous corrections"));
+            return;
+        }
+        autonomous += 1;
+        match autonomous_design(ctx, &design, closed, res) {
+            Some(new_design) => design = new_design,
+            None => return,
+        }
+        flag = 0;
+    }
+}
+
+fn design_attempt(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    kind: ScanKind,
+    res: &mut CurveResult,
+) -> Outcome {
+    let speed = scan_speed(
+        base_speed(&ctx.modes),
+        ctx.settings.speed_mm_s,
+        ctx.cmm.cycle_s(),
+    );
+    let offset = ctx.probe.tip_radius_mm - ctx.settings.deflection_mm;
+    let inputs = ScanInputs::new(design, &ctx.pose, closed, offset, speed, kind);
+    let scan = match PreparedScan::new(inputs) {
+        Ok(p) => p,
+        Err(failure) => {
+            res.notes.push(failure.note().into());
+            return Outcome::Aborted;
+        }
+    };
+    let (path, plan) = (&scan.path, &scan.plan);
+    let targets = ScanTargets {
+        deflection_mm: ctx.settings.deflection_mm,
+        pitch_mm: ctx.settings.pitch_mm,
+        trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
+    };
+    let t0 = ctx.cmm.readings().time_s;
+    position(ctx, scan_start(path, targets.deflection_mm, &ctx.modes));
+    let mut attempt = design_value_scan(ctx.cmm, ctx.probe, path, plan, targets, &ctx.modes);
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
+    let mode = if kind == ScanKind::Active {
+        AttemptMode::Active
+    } else {
+        AttemptMode::Passive
+    };
+    res.record(mode, attempt)
+}
+
+/// Goes straight to a probing start point (ball centre) when the line is
+/// clear of the part; otherwise the measuring mode repositions over the
+/// clearance height by itself, which also handles any failure here.
+fn position(ctx: &mut Ctx, start: Point3) {
+    if let Some(free) = ctx.free {
+        let _ = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes);
+    }
+}
+
+/// Indices of `n` design points spread evenly by arc length.
+fn spread(design: &[DesignPoint], n: usize) -> Vec<usize> {
+    let mut acc = vec![0.0];
+    for w in design.windows(2) {
+        let last = acc.last().copied().unwrap_or(0.0);
+        acc.push(last + (w[1].point - w[0].point).norm());
+    }
+    let total = acc.last().copied().unwrap_or(0.0);
+    let mut out: Vec<usize> = (0..n)
+        .map(|k| {
+            let target = total * (k as f64 + 0.5) / n as f64;
+            acc.partition_point(|&a| a < target)
+                .min(design.len().saturating_sub(1))
+        })
+        .collect();
+    out.dedup();
+    out
+}
+
+fn geometric(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    res: &mut CurveResult,
+) -> Option<Vec<DesignPoint>> {
+    let picks = spread(design, ctx.supervisor.touch_points);
+    let t0 = ctx.cmm.readings().time_s;
+    let mut touched = Vec::new();
+    let mut measured = Vec::new();
+    let mut attempt = Attempt {
+        outcome: Outcome::Completed,
+        points: Vec::new(),
+        machine_time_s: 0.0,
+        max_trajectory_error_mm: 0.0,
+    };
+    for (k, &i) in picks.iter().enumerate() {
+        let d = design[i];
+        let (p, n) = (
+            ctx.pose.to_machine(d.point),
+            ctx.pose.dir_to_machine(d.normal),
+        );
+        match k.checked_sub(1).and_then(|j| picks.get(j)) {
+            Some(&prev) => travel_outside(ctx, design, prev, i),
+            None => position(ctx, touch_start(ctx.probe, p, n, &ctx.modes)),
+        }
+        let a = touch_point(
+            ctx.cmm,
+            ctx.probe,
+            p,
+            n,
+            ctx.supervisor.touch_search_mm,
+            &ctx.modes,
+        );
+        attempt.machine_time_s += a.machine_time_s;
+        if let (Outcome::Completed, Some(m)) = (a.outcome, a.points.first()) {
+            touched.push(d);
+            measured.push(ctx.pose.to_part(m.point));
+            attempt.points.push(*m);
+        } else if a.outcome == Outcome::AxisLimit {
+            attempt.outcome = a.outcome;
+        }
+    }
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
+    res.record(AttemptMode::Points, attempt);
+    let fit = fit_correction(
+        &touched,
+        &measured,
+        ctx.plane_normal,
+        ctx.supervisor.geometric_threshold_mm,
+    );
+    let Some(c) = fit else {
+        res.notes.push(format!(
+            "no simple correction fits the {} touch points",
+            touched.len()
+        ));
+        return None;
+    };
+    res.corrections.push(CorrectionReport::Geometric {
+        model: c.model.name().into(),
+        max_residual_mm: c.max_residual_mm,
+        points: c.points,
+        source: "fitted",
+    });
+    res.learned = Some(super::Learned::Geometric(c.clone()));
+    Some(design.iter().map(|d| c.apply(d)).collect())
+}
+
+/// Spacing of waypoints when travelling around a section, mm.
+const TRAVEL_STEP_MM: f64 = 6.0;
+
+/// From the standoff position of design point `from` to that of `to`,
+/// following the design data offset outward by the ball radius plus the
+/// standoff (no detour over the part). Failures are left to the next
+/// touch point, which repositions by itself.
+fn travel_outside(ctx: &mut Ctx, design: &[DesignPoint], from: usize, to: usize) {
+    let clear = ctx.probe.tip_radius_mm + ctx.modes.standoff_mm;
+    let mut waypoints = Vec::new();
+    let mut since = 0.0;
+    for w in design.get(from..=to).unwrap_or(&[]).windows(2) {
+        since += (w[1].point - w[0].point).norm();
+        if since >= TRAVEL_STEP_MM {
+            waypoints.push(ctx.pose.to_machine(w[1].point + w[1].normal * clear));
+            since = 0.0;
+        }
+    }
+    if let Some(d) = design.get(to) {
+        waypoints.push(ctx.pose.to_machine(d.point + d.normal * clear));
+    }
+    let mut tr = Tracker::new(ctx.cmm, ctx.probe);
+    let moved = recover(ctx.cmm, &mut tr, &ctx.modes).and_then(|_| {
+        move_through(
+            ctx.cmm,
+            &mut tr,
+            &waypoints,
+            ctx.modes.rapid_speed_mm_s,
+            &ctx.modes,
+        )
+    });
+    if moved.is_err() {
+        let _ = recover(ctx.cmm, &mut tr, &ctx.modes);
+    }
+}
+
+fn autonomous_task(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {
+    let first = design.first()?;
+    let second = design.get(1)?;
+    let last = design.last()?;
+    let m = |p: Point3| ctx.pose.to_machine(p);
+    let length: f64 = design
+        .windows(2)
+        .map(|w| (w[1].point - w[0].point).norm())
+        .sum();
+    let end_tangent = ctx
+        .pose
+        .dir_to_machine(last.point - design.get(design.len().checked_sub(2)?)?.point)
+        .try_normalize(1e-12)?;
+    Some(AutonomousTask {
+        start: m(first.point),
+        start_normal: ctx.pose.dir_to_machine(first.normal),
+        direction: (m(second.point) - m(first.point)).try_normalize(1e-12)?,
+        plane: (m(first.point), ctx.pose.dir_to_machine(ctx.plane_normal)),
+        end: (!closed).then_some((m(last.point), end_tangent)),
+        nominal_length_mm: length,
+        deflection_mm: ctx.settings.deflection_mm,
+        pitch_mm: ctx.settings.pitch_mm.min(0.5),
+    })
+}
+
+fn autonomous_attempt(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    res: &mut CurveResult,
+) -> Option<Vec<Measured>> {
+    let task = autonomous_task(ctx, design, closed)?;
+    let t0 = ctx.cmm.readings().time_s;
+    position(ctx, autonomous_start(ctx.probe, &task, &ctx.modes));
+    let mut attempt = autonomous_scan(ctx.cmm, ctx.probe, &task, &ctx.modes);
+    attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
+    let points = attempt.points.clone();
+    (res.record(AttemptMode::Autonomous, attempt) == Outcome::Completed).then_some(points)
+}
+
+/// Replaces the design data by an autonomous scan's surface points.
+fn autonomous_design(
+    ctx: &mut Ctx,
+    design: &[DesignPoint],
+    closed: bool,
+    res: &mut CurveResult,
+) -> Option<Vec<DesignPoint>> {
+    let points = autonomous_attempt(ctx, design, closed, res)?;
+    let new: Vec<DesignPoint> = points
+        .iter()
+        .map(|m| DesignPoint {
+            point: ctx.pose.to_part(m.point),
+            normal: ctx.pose.rotation.transpose() * m.normal,
+        })
+        .collect();
+    let new = trim_overlap(new, closed, ctx.settings.pitch_mm);
+    res.corrections
+        .push(CorrectionReport::Autonomous { points: new.len() });
+    res.learned = Some(super::Learned::Replaced(new.clone()));
+    (new.len() >= 4).then_some(new)
+}
+
+/// A closed autonomous trace ends near its start: drop the overlap.
+fn trim_overlap(mut pts: Vec<DesignPoint>, closed: bool, pitch: f64) -> Vec<DesignPoint> {
+    if closed {
+        while pts.len() > 4
+            && pts
+                .last()
+                .zip(pts.first())
+                .is_some_and(|(a, b)| (a.point - b.point).norm() < 0.75 * pitch)
+        {
+            pts.pop();
+        }
+    }
+    pts
+}
+
+/// Speed planning options from the mode's acceleration limits (speed and
+/// control cycle still to be set).
+pub fn base_speed(modes: &ModeOptions) -> SpeedOptions {
+    SpeedOptions {
+        a_lat_mm_s2: modes.lateral_accel_mm_s2,
+        a_tan_mm_s2: modes.tangential_accel_mm_s2,
+        ..SpeedOptions::default()
+    }
+}
