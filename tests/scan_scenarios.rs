@@ -197,7 +197,7 @@ fn a_local_gouge_needs_an_autonomous_correction() {
     let wp = common::example("blade");
     let plane =
         cmm::geometry::Plane::try_new([0.0, 0.0, 60.0].into(), [0.0, 0.0, 1.0].into()).unwrap();
-    let curve = &cmm::geometry::section::section_faces(&wp, &[1], &plane, &Default::default())[0];
+    let curve = &cmm::workpiece::section_faces(&wp, &[1], &plane, &Default::default())[0];
     let c = curve.points[curve.points.len() / 2].point;
     let am = json!({ "form": [ { "kind": "bump", "center_mm": [c.x, c.y, c.z], "radius_mm": 5, "height_mm": -2.5 } ] });
     let r = run(&program(am, json!([section("a", 60.0, "auto")])), 1, true);

@@ -1,7 +1,8 @@
 //! Plane sections against analytic circles and lines.
 mod common;
 
-use cmm::geometry::section::{section_faces, section_surface};
+use cmm::geometry::section::section_surface;
+use cmm::workpiece::section_faces;
 use cmm::geometry::{Plane, SectionOptions};
 use cmm::math::{Point3, Vec3};
 use common::*;

@@ -4,10 +4,9 @@
 //! answer is plane geometry.
 mod common;
 
-use cmm::geometry::section::section_faces;
 use cmm::geometry::{Plane, SectionOptions};
 use cmm::math::{Point3, Vec2, Vec3};
-use cmm::workpiece::{SurfaceSpec, TrimSpec, WorkpieceFile};
+use cmm::workpiece::{section_faces, SurfaceSpec, TrimSpec, WorkpieceFile};
 use common::*;
 
 fn polygon(centre: [f64; 2], radius: f64, n: usize) -> Vec<[f64; 2]> {

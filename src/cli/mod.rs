@@ -8,6 +8,7 @@ use crate::pointfile::PointsError;
 mod calibrate;
 mod calibrate_head;
 mod check;
+mod completions;
 mod evaluate;
 mod examples;
 mod fit;
@@ -43,6 +44,10 @@ pub enum Command {
     Scan(scan::ScanArgs),
     /// Print the JSON Schema of a file format.
     Schema(schema::SchemaArgs),
+    /// Print a shell completion script (bash, zsh, fish, powershell, elvish).
+    Completions(completions::CompletionsArgs),
+    /// Print the man page (roff).
+    Man(completions::ManArgs),
     /// Regenerate the example workpieces shipped in `workpieces/`.
     #[command(hide = true)]
     ExampleWorkpieces(examples::ExamplesArgs),
@@ -138,6 +143,8 @@ pub fn run(cli: Cli) -> Result<Status, CliError> {
         Command::Import(args) => import::run(&args),
         Command::Scan(args) => scan::run(&args),
         Command::Schema(args) => schema::run(&args),
+        Command::Completions(args) => completions::completions(&args),
+        Command::Man(args) => completions::man(&args),
         Command::ExampleWorkpieces(args) => examples::run(&args),
     }
 }

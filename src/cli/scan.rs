@@ -82,7 +82,7 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
         .map(|p| load(p))
         .collect::<Result<Vec<_>, _>>()?;
     if let Some(file) = &args.as_machined {
-        override_as_machined(&mut programs, file)?;
+        crate::app::override_as_machined(&mut programs, file)?;
     }
     let known = match &args.corrections {
         Some(path) => CorrectionsFile::read(path)?,
@@ -158,30 +158,6 @@ fn progress_bar(args: &ScanArgs, parts: usize) -> indicatif::ProgressBar {
         bar.set_style(style);
     }
     bar
-}
-
-/// Replaces every program's as-machined part by the one in `file`.
-fn override_as_machined(
-    programs: &mut [SimulatedPart],
-    file: &std::path::Path,
-) -> Result<(), CliError> {
-    let text =
-        std::fs::read_to_string(file).map_err(|source| crate::program::ProgramError::Io {
-            file: file.to_path_buf(),
-            source,
-        })?;
-    let spec: crate::formats::as_machined::AsMachinedSpec =
-        crate::jsonfile::parse_json(&text, file).map_err(crate::program::ProgramError::from)?;
-    for part in programs.iter_mut() {
-        part.as_machined =
-            crate::world::as_machined::AsMachined::from_spec(&spec, &part.program.workpiece)
-                .map_err(|e| crate::program::ProgramError::Invalid {
-                    file: file.to_path_buf(),
-                    json_path: format!("$.{}", e.json_path),
-                    reason: e.reason,
-                })?;
-    }
-    Ok(())
 }
 
 fn traced_run(

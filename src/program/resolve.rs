@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 use super::format::{FeatureSpec, ProgramFile, PROGRAM_FORMAT};
 use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, ScanSettings};
 use crate::formats::as_machined::AsMachinedSpec;
-use crate::geometry::section::section_faces;
+use crate::workpiece::section_faces;
 use crate::geometry::{Plane, SectionOptions};
 use crate::math::{rotation_xyz_deg, Point3, Vec3};
 use crate::workpiece::Workpiece;

@@ -5,6 +5,7 @@
 pub mod examples;
 pub mod format;
 mod near;
+mod section;
 mod validate;
 
 use std::path::{Path, PathBuf};
@@ -16,6 +17,7 @@ use crate::geometry::{
 use crate::math::{Point3, Vec2};
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
 pub use near::{FeetWithinReach, FootHint, KnownFoot};
+pub use section::section_faces;
 
 /// Why a workpiece could not be loaded.
 #[derive(Debug, thiserror::Error)]

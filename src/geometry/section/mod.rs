@@ -16,7 +16,7 @@ mod stitch;
 
 use crate::geometry::{NurbsSurface, Plane};
 use crate::math::{Point3, Vec2, Vec3};
-use crate::workpiece::{Face, Workpiece};
+use crate::geometry::Trim;
 
 /// Tolerances of section computation (lengths in mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -109,35 +109,35 @@ pub fn section_surface(
         .collect()
 }
 
-/// Section of the listed faces of a workpiece, stitched across faces and
-/// seams into maximal curves (closed where they close).
-pub fn section_faces(
-    wp: &Workpiece,
-    faces: &[usize],
-    plane: &Plane,
-    opts: &SectionOptions,
-) -> Vec<SectionCurve> {
+/// A face to section: its surface, its trim and the id its curves carry.
+#[derive(Debug, Clone, Copy)]
+pub struct FaceRef<'a> {
+    /// Id of the face (its index in the workpiece).
+    pub id: usize,
+    /// The face's surface.
+    pub surface: &'a NurbsSurface,
+    /// The face's trim, if any.
+    pub trim: Option<&'a Trim>,
+}
+
+/// Section of `faces`, stitched across faces and seams into maximal curves
+/// (closed where they close).
+pub fn section_faces(faces: &[FaceRef<'_>], plane: &Plane, opts: &SectionOptions) -> Vec<SectionCurve> {
     let branches: Vec<SectionCurve> = faces
         .iter()
-        .filter_map(|&i| wp.faces.get(i).map(|f| section_face(f, i, plane, opts)))
-        .flatten()
+        .flat_map(|f| section_face(f, plane, opts))
         .collect();
     stitch::stitch(branches, opts.join_tol_mm)
 }
 
 /// Section of one face: its surface's branches clipped to its trim.
-pub fn section_face(
-    face: &Face,
-    id: usize,
-    plane: &Plane,
-    opts: &SectionOptions,
-) -> Vec<SectionCurve> {
-    let branches = section_surface(&face.surface, id, plane, opts);
-    match &face.trim {
+pub fn section_face(face: &FaceRef<'_>, plane: &Plane, opts: &SectionOptions) -> Vec<SectionCurve> {
+    let branches = section_surface(face.surface, face.id, plane, opts);
+    match face.trim {
         None => branches,
         Some(trim) => branches
             .into_iter()
-            .flat_map(|c| clip::clip(c, &face.surface, trim, plane, opts))
+            .flat_map(|c| clip::clip(c, face.surface, trim, plane, opts))
             .collect(),
     }
 }
