@@ -5,9 +5,12 @@
 //!
 //! A reported point is in the part frame of the measuring side's final
 //! placement (the alignment's result); the true part stands at the
-//! world's placement. The point is taken to machine coordinates with the
-//! first and back to the true part's frame with the second, so an
-//! alignment changes nothing of the truth.
+//! world's placement. The measured point is taken to the true part's frame
+//! (through machine coordinates) to find the true surface point nearest to
+//! it, and that point is taken back to the reported frame, where its
+//! deviation from the design is measured as the point's own was. An
+//! alignment thus changes nothing of the truth, and `deviation_mm -
+//! true_deviation_mm` stays the measurement error.
 use rayon::prelude::*;
 
 use super::model::{FeatureReport, PointReport};
@@ -52,14 +55,26 @@ fn true_deviation(
     hint: &mut Option<FootHint>,
 ) -> f64 {
     let reported = Point3::from(point.measured);
-    let p = frames.world.to_part(frames.reported.to_machine(reported));
+    let same_frame = frames.reported == frames.world;
+    let p = if same_frame {
+        reported
+    } else {
+        frames.world.to_part(frames.reported.to_machine(reported))
+    };
     // The other faces are searched as far as the true part's seeds need.
     let reach = truth.seed_reach();
     let Ok(foot) = wp.closest_point_reaching(p, 0..wp.faces.len(), hint, Some(&reach)) else {
         return f64::NAN;
     };
     let known = Some((p, &foot));
-    truth
-        .true_deviation_tracked(wp, p, known, hint)
-        .unwrap_or(f64::NAN)
+    if same_frame {
+        return (truth.true_deviation_tracked(wp, p, known, hint)).unwrap_or(f64::NAN);
+    }
+    let Ok(true_foot) = truth.closest_point_tracked(wp, p, known, hint) else {
+        return f64::NAN;
+    };
+    let q = frames.reported.to_part(frames.world.to_machine(true_foot.point));
+    let mut nominal_hint = None;
+    (wp.closest_point_tracked(q, 0..wp.faces.len(), &mut nominal_hint))
+        .map_or(f64::NAN, |f| f.projection.signed_distance)
 }

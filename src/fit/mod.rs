@@ -18,7 +18,7 @@
 //! Conventions: see [`element`] for directions and residual signs; all
 //! lengths are mm. Every fit centres the data on the centroid first.
 mod algebraic;
-mod compensation;
+mod probe_radius;
 pub mod element;
 mod error;
 mod frame;
@@ -30,7 +30,7 @@ mod options;
 mod parallel;
 mod zone;
 
-pub use compensation::{compensate_probe, Side};
+pub use probe_radius::{compensate_probe, Side};
 pub use element::{
     form_error, residual_stats, Circle, Cone, Cylinder, Element, Line, Plane, ResidualStats, Sphere,
 };

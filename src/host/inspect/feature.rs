@@ -3,7 +3,7 @@
 use super::correction::DesignPoint;
 use super::record::{AttemptMode, FeatureKind};
 use super::supervisor::{scan_curve, SupervisorOptions};
-use super::{Ctx, CurveResult, LearnedSet};
+use super::{CurveCtx, CurveResult, LearnedSet};
 use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::program::{Feature, Program};
@@ -80,7 +80,7 @@ pub fn measure_feature(
                         .iter()
                         .find(|(kk, _)| *kk == key)
                         .map(|(_, l)| l.clone());
-                    let mut ctx = Ctx {
+                    let mut ctx = CurveCtx {
                         cmm: &mut *cmm,
                         probe,
                         pose: program.placement,

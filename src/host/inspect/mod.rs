@@ -23,7 +23,7 @@ use crate::program::{Pose, ScanSettings};
 use record::{AttemptMode, AttemptReport, CorrectionReport};
 
 /// What one feature's measurement needs.
-pub struct Ctx<'c> {
+pub struct CurveCtx<'c> {
     /// The machine.
     pub cmm: &'c mut dyn Machine,
     /// Probe as the host knows it.

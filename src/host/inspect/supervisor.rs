@@ -5,7 +5,7 @@
 use super::correction::{fit_correction, DesignPoint};
 use super::prepared::{scan_speed, PreparedScan, ScanInputs};
 use super::record::{AttemptMode, CorrectionReport};
-use super::{Ctx, CurveResult};
+use super::{CurveCtx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
     scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, ModeOptions, Outcome,
@@ -50,7 +50,7 @@ fn correctable(o: Outcome) -> bool {
 
 /// Measures one section curve in the given mode.
 pub fn scan_curve(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     design: Vec<DesignPoint>,
     closed: bool,
     mode: Mode,
@@ -75,7 +75,7 @@ pub fn scan_curve(
 }
 
 fn correcting(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     mut design: Vec<DesignPoint>,
     closed: bool,
     kind: ScanKind,
@@ -114,7 +114,7 @@ fn correcting(
 }
 
 fn design_attempt(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     design: &[DesignPoint],
     closed: bool,
     kind: ScanKind,
@@ -155,7 +155,7 @@ fn design_attempt(
 /// Goes straight to a probing start point (ball centre) when the line is
 /// clear of the part; otherwise the measuring mode repositions over the
 /// clearance height by itself, which also handles any failure here.
-fn position(ctx: &mut Ctx, start: Point3) {
+fn position(ctx: &mut CurveCtx, start: Point3) {
     if let Some(free) = ctx.free {
         let _ = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes);
     }
@@ -181,7 +181,7 @@ fn spread(design: &[DesignPoint], n: usize) -> Vec<usize> {
 }
 
 fn geometric(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     design: &[DesignPoint],
     res: &mut CurveResult,
 ) -> Option<Vec<DesignPoint>> {
@@ -254,7 +254,7 @@ const TRAVEL_STEP_MM: f64 = 6.0;
 /// following the design data offset outward by the ball radius plus the
 /// standoff (no detour over the part). Failures are left to the next
 /// touch point, which repositions by itself.
-fn travel_outside(ctx: &mut Ctx, design: &[DesignPoint], from: usize, to: usize) {
+fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: usize) {
     let clear = ctx.probe.tip_radius_mm + ctx.modes.standoff_mm;
     let mut waypoints = Vec::new();
     let mut since = 0.0;
@@ -283,7 +283,7 @@ fn travel_outside(ctx: &mut Ctx, design: &[DesignPoint], from: usize, to: usize)
     }
 }
 
-fn autonomous_task(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {
+fn autonomous_task(ctx: &CurveCtx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {
     let first = design.first()?;
     let second = design.get(1)?;
     let last = design.last()?;
@@ -309,7 +309,7 @@ fn autonomous_task(ctx: &Ctx, design: &[DesignPoint], closed: bool) -> Option<Au
 }
 
 fn autonomous_attempt(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     design: &[DesignPoint],
     closed: bool,
     res: &mut CurveResult,
@@ -325,7 +325,7 @@ fn autonomous_attempt(
 
 /// Replaces the design data by an autonomous scan's surface points.
 fn autonomous_design(
-    ctx: &mut Ctx,
+    ctx: &mut CurveCtx,
     design: &[DesignPoint],
     closed: bool,
     res: &mut CurveResult,
