@@ -403,3 +403,22 @@ fn scanned_points_lie_a_pitch_apart_on_average() {
     assert!((mean / 0.5 - 1.0).abs() < 0.02, "mean spacing {mean} mm at pitch 0.5 mm");
     assert!(gaps.iter().all(|g| *g > 0.4 && *g < 0.6), "{gaps:?}");
 }
+
+/// A gouge the active scan rides over without touching (trajectory error
+/// just inside its tolerance, but no points over several millimetres) is
+/// not measured: the scan is not taken as complete, the supervisor falls
+/// back, and the gouge's depth shows in the deviations (or the feature is
+/// incomplete), never a pass with the gouge unmeasured.
+#[test]
+fn a_scan_with_an_unmeasured_stretch_is_no_pass() {
+    let am = json!({ "form": [ { "kind": "bump", "center_mm": [30.026, 9.501, 59.995],
+                                 "radius_mm": 5, "height_mm": -2.3 } ] });
+    let mut f = section("z60", 60.0, "auto");
+    f["tolerance_mm"] = json!([-2.0, 0.1]);
+    let r = run(&program(am, json!([f])), 1, true);
+    let feat = &r.features[0];
+    assert_ne!(feat.status, Verdict::Pass, "{:?}", outcomes(&r, 0));
+    if feat.status == Verdict::Fail {
+        assert!(feat.deviation_mm.min < -2.0, "{:?}", feat.deviation_mm);
+    }
+}

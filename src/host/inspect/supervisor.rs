@@ -27,6 +27,10 @@ pub struct SupervisorOptions {
     pub touch_points: usize,
     /// How far past the nominal a touch point searches for contact, mm.
     pub touch_search_mm: f64,
+    /// A design-value scan that reaches its end with two consecutive
+    /// points further apart than this many pitches lost contact in
+    /// between (the stretch is unmeasured), dimensionless.
+    pub max_gap_pitches: f64,
 }
 
 impl Default for SupervisorOptions {
@@ -36,6 +40,7 @@ impl Default for SupervisorOptions {
             max_autonomous: 2,
             touch_points: 16,
             touch_search_mm: 6.0,
+            max_gap_pitches: 4.0,
         }
     }
 }
@@ -144,12 +149,28 @@ fn design_attempt(
     position(ctx, scan_start(path, targets.deflection_mm, &ctx.modes));
     let mut attempt = design_value_scan(ctx.cmm, ctx.probe, path, plan, targets, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
+    let gap_limit = ctx.supervisor.max_gap_pitches * targets.pitch_mm;
+    let gap = largest_gap(&attempt.points);
+    if attempt.outcome == Outcome::Completed && gap > gap_limit {
+        attempt.outcome = Outcome::LostContact;
+        res.notes.push(format!(
+            "the scan left a {gap:.2} mm stretch without points (more than {gap_limit:.2} mm): the stylus lost contact"
+        ));
+    }
     let mode = if kind == ScanKind::Active {
         AttemptMode::Active
     } else {
         AttemptMode::Passive
     };
     res.record(mode, attempt)
+}
+
+/// The largest distance between consecutive points, mm (0 for fewer than
+/// two).
+fn largest_gap(points: &[Measured]) -> f64 {
+    (points.windows(2))
+        .map(|w| (w[1].point - w[0].point).norm())
+        .fold(0.0, f64::max)
 }
 
 /// Goes straight to a probing start point (ball centre) when the line is
