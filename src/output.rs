@@ -42,6 +42,9 @@ pub const INTERRUPTED_EXIT_CODE: i32 = 130;
 /// outputs (removed in reverse order on interrupt).
 static PENDING: Mutex<Vec<Pending>> = Mutex::new(Vec::new());
 
+/// Set by the interrupt handler: no further file is renamed into place.
+static INTERRUPTED: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
 #[derive(Debug, Clone, PartialEq)]
 enum Pending {
     File(PathBuf),
@@ -83,6 +86,7 @@ pub fn remove_pending() {
 /// then exit with [`INTERRUPTED_EXIT_CODE`]. Call once, from `main`.
 pub fn install_interrupt_cleanup() {
     let _ = ctrlc::set_handler(|| {
+        INTERRUPTED.store(true, std::sync::atomic::Ordering::SeqCst);
         remove_pending();
         let _ = writeln!(std::io::stderr(), "cmm: interrupted; no output written");
         std::process::exit(INTERRUPTED_EXIT_CODE);
@@ -125,6 +129,9 @@ impl OutputSet {
         let mut temps = Vec::new();
         let result = self.stage(&mut created, &mut temps).and_then(|()| {
             temps.iter().try_for_each(|(tmp, path)| {
+                if INTERRUPTED.load(std::sync::atomic::Ordering::SeqCst) {
+                    return Err(WriteError::because(path, "interrupted".into()));
+                }
                 std::fs::rename(tmp, path).map_err(|e| WriteError::new(path, e))?;
                 unregister(&Pending::File(tmp.clone()));
                 Ok(())

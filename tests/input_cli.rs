@@ -35,7 +35,11 @@ fn assert_bad_input(o: &Output, needles: &[&str]) {
     for n in needles {
         assert!(err.contains(n), "'{n}' missing in: {err}");
     }
-    assert!(o.stdout.is_empty(), "stdout: {}", String::from_utf8_lossy(&o.stdout));
+    assert!(
+        o.stdout.is_empty(),
+        "stdout: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
 }
 
 /// The sphere program (radius 12.5 mm at (500, 700, 100)) rewritten by
@@ -101,7 +105,13 @@ fn a_deeply_nested_urdf_is_refused_not_a_stack_overflow() {
         "</a>".repeat(depth)
     );
     std::fs::write(&path, text).unwrap();
-    let o = cmm(&["calibrate-probe", "--machine", &s(&path), "--out", &s(&dir.path().join("c.json"))]);
+    let o = cmm(&[
+        "calibrate-probe",
+        "--machine",
+        &s(&path),
+        "--out",
+        &s(&dir.path().join("c.json")),
+    ]);
     assert_bad_input(&o, &["deep.urdf", "line 2", "nested more than 32"]);
 }
 
@@ -109,19 +119,32 @@ fn a_deeply_nested_urdf_is_refused_not_a_stack_overflow() {
 fn urdf_errors_name_the_joint_and_its_line() {
     let dir = tempfile::tempdir().unwrap();
     let text = std::fs::read_to_string(repo("part-programs/machines/bridge-ab-head.urdf")).unwrap();
-    // The first joint's origin becomes unreadable for urdf-rs.
-    let at = text.find("<joint").unwrap();
-    let origin = at + text[at..].find("xyz=\"").unwrap();
-    let mut bad = text.clone();
-    bad.replace_range(origin..origin + 5, "xyz=\"one ");
+    // Joint 'a''s origin becomes unreadable for urdf-rs (two numbers).
+    let bad = text.replace("<origin xyz=\"0 0 -0.03\"", "<origin xyz=\"0 zero -0.03\"");
+    assert_ne!(bad, text);
+    let at = text.find("<joint name=\"a\"").unwrap();
     let line = 1 + text[..at].matches('\n').count();
-    let name_start = at + text[at..].find("name=\"").unwrap() + 6;
-    let name_end = name_start + text[name_start..].find('"').unwrap();
-    let joint = &text[name_start..name_end];
+    let joint = "a";
     let path = dir.path().join("m.urdf");
     std::fs::write(&path, bad).unwrap();
-    let o = cmm(&["calibrate-probe", "--machine", &s(&path), "--out", &s(&dir.path().join("c.json"))]);
-    assert_bad_input(&o, &["m.urdf", &format!("line {line}"), &format!("joint '{joint}'")]);
+    let out = s(&dir.path().join("c.json"));
+    let o = cmm(&[
+        "calibrate-probe",
+        "--machine",
+        &s(&path),
+        "--head-angles",
+        "0,0",
+        "--out",
+        &out,
+    ]);
+    assert_bad_input(
+        &o,
+        &[
+            "m.urdf",
+            &format!("line {line}"),
+            &format!("joint '{joint}'"),
+        ],
+    );
 }
 
 #[test]
@@ -131,7 +154,10 @@ fn a_huge_tolerance_is_refused_with_its_path() {
         v["features"][0]["tolerance_mm"] = serde_json::json!([-1.797e308, 1.797e308]);
     });
     let o = cmm(&["check", &s(&p)]);
-    assert_bad_input(&o, &["p.json", "$.features[0].tolerance_mm[0]", "tolerance"]);
+    assert_bad_input(
+        &o,
+        &["p.json", "$.features[0].tolerance_mm[0]", "tolerance"],
+    );
 }
 
 #[test]
@@ -160,7 +186,14 @@ fn counts_beyond_their_bounds_are_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();
     let out = s(&dir.path().join("out"));
     let sphere = prog("sphere.json");
-    let o = cmm(&["scan", &sphere, "--variants", "18446744073709551615", "--out", &out]);
+    let o = cmm(&[
+        "scan",
+        &sphere,
+        "--variants",
+        "18446744073709551615",
+        "--out",
+        &out,
+    ]);
     assert_bad_input(&o, &["--variants", "at most 100000 parts"]);
     let o = cmm(&["scan", &sphere, "--jobs", "100000", "--out", &out]);
     assert_bad_input(&o, &["--jobs 100000", "1 to 256"]);
@@ -201,13 +234,29 @@ fn a_report_set_is_written_whole_or_not_at_all() {
 fn every_output_path_is_checked_before_measuring() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
-    for (option, file) in [("--corrections", "nodir/c.json"), ("--trace", "nodir/t.csv")] {
+    for (option, file) in [
+        ("--corrections", "nodir/c.json"),
+        ("--trace", "nodir/t.csv"),
+    ] {
         let target = s(&dir.path().join(file));
-        let o = cmm(&["scan", &prog("sphere.json"), "--ideal", "--out", &s(&out), option, &target]);
+        let o = cmm(&[
+            "scan",
+            &prog("sphere.json"),
+            "--ideal",
+            "--out",
+            &s(&out),
+            option,
+            &target,
+        ]);
         assert_bad_input(&o, &[file, "does not exist"]);
         assert!(!out.exists(), "{option}: the reports were written");
     }
-    let o = cmm(&["calibrate-probe", "--ideal", "--out", &s(&dir.path().join("nodir/c.json"))]);
+    let o = cmm(&[
+        "calibrate-probe",
+        "--ideal",
+        "--out",
+        &s(&dir.path().join("nodir/c.json")),
+    ]);
     assert_bad_input(&o, &["nodir/c.json", "does not exist"]);
 }
 
@@ -227,7 +276,11 @@ fn out_dot_writes_into_the_current_folder() {
 fn invalid_utf8_names_file_line_and_column_once() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("p.json");
-    std::fs::write(&p, b"{\n  \"format\": \"cmm-program/1\",\n  \"name\": \"a\xFFb\"\n}\n").unwrap();
+    std::fs::write(
+        &p,
+        b"{\n  \"format\": \"cmm-program/1\",\n  \"name\": \"a\xFFb\"\n}\n",
+    )
+    .unwrap();
     let o = cmm(&["check", &s(&p)]);
     assert_bad_input(&o, &["p.json", "line 3, column 13", "invalid UTF-8"]);
     assert_eq!(stderr(&o).matches("UTF-8").count(), 2, "{}", stderr(&o));
@@ -268,7 +321,15 @@ fn fit_errors_name_the_point_file() {
     std::fs::write(&csv, "x,y,z\n0,0,0\n1,0,0\n0,1,0\n").unwrap();
     let o = cmm(&["fit", "--element", "sphere", &s(&csv)]);
     assert_bad_input(&o, &["three.csv: "]);
-    let o = cmm(&["fit", "--element", "plane", &s(&csv), "--probe-radius", "-1", "--side", "inside"]);
+    let o = cmm(&[
+        "fit",
+        "--element",
+        "plane",
+        &s(&csv),
+        "--probe-radius=-1",
+        "--side",
+        "inside",
+    ]);
     assert_bad_input(&o, &["--probe-radius -1"]);
 }
 
@@ -300,7 +361,12 @@ fn calibration_numbers_are_checked_for_meaning() {
         ("--stylus-length", "-5"),
         ("--deflections", "0,0.2"),
     ] {
-        let o = cmm(&["calibrate-probe", option, value, "--out", &out]);
+        let o = cmm(&[
+            "calibrate-probe",
+            &format!("{option}={value}"),
+            "--out",
+            &out,
+        ]);
         assert_bad_input(&o, &[&format!("{option} ")]);
     }
     assert!(!dir.path().join("c.json").exists());
@@ -311,7 +377,8 @@ fn a_profile_with_a_meaningless_control_cycle_is_refused() {
     let dir = tempfile::tempdir().unwrap();
     for cycle in ["10", "1e-320"] {
         let path = dir.path().join("profile.json");
-        let text = format!("{{\"format\": \"cmm-machine-profile/1\", \"control_cycle_s\": {cycle}}}");
+        let text =
+            format!("{{\"format\": \"cmm-machine-profile/1\", \"control_cycle_s\": {cycle}}}");
         std::fs::write(&path, text).unwrap();
         let o = cmm(&[
             "calibrate-probe",
@@ -359,4 +426,19 @@ fn a_start_beyond_the_travel_is_bad_input_for_check_and_scan() {
     let o = cmm(&["scan", &s(&p), "--out", &s(&out)]);
     assert_bad_input(&o, &["p.json", "$.placement"]);
     assert!(!out.exists());
+}
+
+#[test]
+fn a_failed_calibration_names_its_machine_and_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = s(&dir.path().join("c.json"));
+    let head = s(&repo("part-programs/machines/bridge-ab-head.urdf"));
+    let o = cmm(&["calibrate-probe", "--machine", &head, "--out", &out]);
+    assert_bad_input(
+        &o,
+        &["bridge-ab-head.urdf", "probe-head joints", "--head-angles"],
+    );
+    let o = cmm(&["calibrate-probe", "--stylus-length", "500", "--out", &out]);
+    assert_bad_input(&o, &["built-in bridge CMM", "stylus 500 mm", "travel"]);
+    assert!(!dir.path().join("c.json").exists());
 }

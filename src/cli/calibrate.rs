@@ -81,7 +81,12 @@ pub const MAX_DEFLECTION_MM: f64 = 1.0;
 /// Most sphere points per further head orientation.
 pub const MAX_ORIENTATION_POINTS: usize = 1_000;
 
-fn in_range(option: &'static str, v: f64, (lo, hi): (f64, f64), unit: &str) -> Result<(), CliError> {
+fn in_range(
+    option: &'static str,
+    v: f64,
+    (lo, hi): (f64, f64),
+    unit: &str,
+) -> Result<(), CliError> {
     if v.is_finite() && v >= lo && v <= hi {
         return Ok(());
     }
@@ -100,8 +105,18 @@ fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliE
         None => ("--probe-tip-diameter", "--stylus-length"),
     };
     in_range(tip, nominal.tip_diameter_mm, TIP_DIAMETER_RANGE_MM, "mm")?;
-    in_range(stylus, nominal.stylus_length_mm, STYLUS_LENGTH_RANGE_MM, "mm")?;
-    in_range("--sphere-diameter", args.sphere_diameter, SPHERE_DIAMETER_RANGE_MM, "mm")?;
+    in_range(
+        stylus,
+        nominal.stylus_length_mm,
+        STYLUS_LENGTH_RANGE_MM,
+        "mm",
+    )?;
+    in_range(
+        "--sphere-diameter",
+        args.sphere_diameter,
+        SPHERE_DIAMETER_RANGE_MM,
+        "mm",
+    )?;
     let max_deflection = MAX_DEFLECTION_MM.min(0.45 * nominal.tip_diameter_mm);
     for &d in &args.deflections {
         if !(d.is_finite() && d > 0.0 && d <= max_deflection) {
@@ -117,7 +132,9 @@ fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliE
         return Err(CliError::Value {
             option: "--orientation-points",
             value: points.to_string(),
-            reason: format!("expected 4 (a sphere needs at least 4 points) to {MAX_ORIENTATION_POINTS}"),
+            reason: format!(
+                "expected 4 (a sphere needs at least 4 points) to {MAX_ORIENTATION_POINTS}"
+            ),
         });
     }
     Ok(())
@@ -137,8 +154,14 @@ pub(super) fn failed(
         Some(path) => format!(", profile {}", path.display()),
         None => String::new(),
     };
+    let hint = match source {
+        crate::calibrate::simulate::SimulatedCalError::Machine(_) => {
+            " (the probe starts above the sphere: a shorter --stylus-length or another machine fits)"
+        }
+        _ => "",
+    };
     let machine = format!(
-        "{machine}{profile} (probe: tip {} mm, stylus {} mm; sphere {} mm)",
+        "{machine}{profile}: probe tip {} mm, stylus {} mm, sphere {} mm{hint}",
         setup.tip_diameter_mm, setup.stylus_length_mm, args.sphere_diameter
     );
     CliError::Calibration { machine, source }
@@ -214,13 +237,22 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
 pub(super) fn summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) -> String {
     let mut lines = Vec::new();
     let p = cal.probe.probe_vector;
-    lines.push(format!("probe vector     [{:.5}, {:.5}, {:.5}] mm", p.x, p.y, p.z));
-    lines.push(format!("tip radius       {:.5} mm", cal.probe.tip_radius_mm));
+    lines.push(format!(
+        "probe vector     [{:.5}, {:.5}, {:.5}] mm",
+        p.x, p.y, p.z
+    ));
+    lines.push(format!(
+        "tip radius       {:.5} mm",
+        cal.probe.tip_radius_mm
+    ));
     lines.push(format!(
         "probing error P  {:.5} mm (nominal probe values: {:.5} mm)",
         cal.probing_error_mm, cal.probing_error_before_mm
     ));
-    lines.push("scan                 deflection    points  before rms/range mm   after rms/range mm".to_string());
+    lines.push(
+        "scan                 deflection    points  before rms/range mm   after rms/range mm"
+            .to_string(),
+    );
     for s in &cal.scans {
         lines.push(format!(
             "{:<3} {:<4} {:>17.3} {:>9} {:>10.5} {:>9.5} {:>10.5} {:>9.5}",

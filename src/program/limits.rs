@@ -53,13 +53,17 @@ pub(super) fn check_program(spec: &ProgramFile, file: &Path) -> Result<(), Progr
                 ..
             } => (surfaces, tolerance_mm, Some(points_mm.len())),
         };
-        check_count(file, points.unwrap_or(0), MAX_POINTS, &format!("{base}.points_mm"))?;
+        check_count(
+            file,
+            points.unwrap_or(0),
+            MAX_POINTS,
+            &format!("{base}.points_mm"),
+        )?;
         check_surface_list(file, surfaces.as_deref(), &format!("{base}.surfaces"))?;
         for (k, limit) in tolerance.iter().enumerate() {
             if limit.abs() > MAX_TOLERANCE_MM {
-                let reason = format!(
-                    "{limit} mm: a tolerance limit must lie within ±{MAX_TOLERANCE_MM} mm"
-                );
+                let reason =
+                    format!("{limit} mm: a tolerance limit must lie within ±{MAX_TOLERANCE_MM} mm");
                 return Err(invalid(file, format!("{base}.tolerance_mm[{k}]"), reason));
             }
         }
@@ -81,7 +85,12 @@ pub fn check_as_machined(
     file: &Path,
     base: &str,
 ) -> Result<(), ProgramError> {
-    check_count(file, spec.form.len(), MAX_FORM_TERMS, &format!("{base}.form"))?;
+    check_count(
+        file,
+        spec.form.len(),
+        MAX_FORM_TERMS,
+        &format!("{base}.form"),
+    )?;
     for (k, term) in spec.form.iter().enumerate() {
         check_surface_list(file, term.surfaces(), &format!("{base}.form[{k}].surfaces"))?;
     }

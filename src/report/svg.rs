@@ -326,6 +326,15 @@ mod tests {
     }
 
     #[test]
+    fn ranges_beyond_f64_differences_end() {
+        // Their width overflows to infinity: no ticks, and no endless loop.
+        let (_, values) = ticks(-1.797e308, 1.797e308);
+        assert!(values.is_empty());
+        let (step, values) = ticks(-1e307, 1e307);
+        assert!(step.is_finite() && !values.is_empty() && values.len() <= MAX_TICKS + 2);
+    }
+
+    #[test]
     fn degenerate_ranges_are_widened() {
         assert_eq!(padded(3.0, 3.0, 0.1), (2.5, 3.5));
         assert_eq!(padded(0.0, 2.0, 0.0), (0.0, 2.0));

@@ -116,7 +116,11 @@ fn numbers(p: &MachineProfile) -> Vec<(String, f64, Rule)> {
             Rule::UpTo(MAX_ROTARY_ACCELERATION_RAD_S2),
         ),
         ("rotary.servo_lag_s", r.servo_lag_s, lag),
-        ("rotary.scale_resolution_rad", r.scale_resolution_rad, encoder),
+        (
+            "rotary.scale_resolution_rad",
+            r.scale_resolution_rad,
+            encoder,
+        ),
         ("rotary.scale_noise_rad", r.scale_noise_rad, encoder),
     ]
     .into_iter()

@@ -105,7 +105,10 @@ fn check_depth(text: &str, file: &Path) -> Result<(), MachineError> {
     let bytes = text.as_bytes();
     let mut depth = 0usize;
     let mut at = 0usize;
-    while let Some(offset) = bytes.get(at..).and_then(|b| b.iter().position(|&c| c == b'<')) {
+    while let Some(offset) = bytes
+        .get(at..)
+        .and_then(|b| b.iter().position(|&c| c == b'<'))
+    {
         let start = at + offset;
         let rest = bytes.get(start..).unwrap_or_default();
         let skip_to = |end: &[u8]| {
@@ -184,7 +187,9 @@ fn find_element_line(text: &str, element: &str, name: &str) -> usize {
     while let Some(i) = text.get(from..).and_then(|t| t.find(&open)) {
         let start = from + i;
         let tag = text.get(start..).unwrap_or_default();
-        let tag = tag.get(..tag.find('>').unwrap_or(tag.len())).unwrap_or_default();
+        let tag = tag
+            .get(..tag.find('>').unwrap_or(tag.len()))
+            .unwrap_or_default();
         if tag.contains(&format!("\"{name}\"")) || tag.contains(&format!("'{name}'")) {
             return line_of(text, start);
         }

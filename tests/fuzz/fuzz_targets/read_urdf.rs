@@ -11,5 +11,6 @@ mod common;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = cmm::world::machine::MachineModel::from_urdf_file(common::input_file("machine.urdf", data));
+    let _ =
+        cmm::world::machine::MachineModel::from_urdf_file(common::input_file("machine.urdf", data));
 });
