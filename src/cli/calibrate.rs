@@ -235,12 +235,11 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
 
 /// The reference calibration's figures, for the terminal.
 pub(super) fn summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) -> String {
-    let mut lines = Vec::new();
     let p = cal.probe.probe_vector;
-    lines.push(format!(
+    let mut lines = vec![format!(
         "probe vector     [{:.5}, {:.5}, {:.5}] mm",
         p.x, p.y, p.z
-    ));
+    )];
     lines.push(format!(
         "tip radius       {:.5} mm",
         cal.probe.tip_radius_mm

@@ -79,11 +79,10 @@ pub fn run(
 }
 
 fn orientations(cal: &HeadCalibration, truth: &[OrientationTruth], axes: &[String]) -> String {
-    let mut lines = Vec::new();
-    lines.push(format!(
+    let mut lines = vec![format!(
         "head orientation ({})   probe vector mm                    tip radius mm  iter  vs truth: vector um  radius um",
         axes.join(",")
-    ));
+    )];
     let reference = (&cal.reference_angles_deg, &cal.reference.probe);
     let rows = std::iter::once(reference)
         .chain(cal.orientations.iter().map(|o| (&o.angles_deg, &o.probe)));

@@ -17,15 +17,14 @@ pub struct CheckArgs {
 pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
     for path in &args.programs {
         let program = load(path)?;
-        let mut lines = Vec::new();
-        lines.push(format!(
+        let mut lines = vec![format!(
             "{}: ok: program '{}', workpiece '{}' ({} surfaces), {} features",
             path.display(),
             program.name,
             program.workpiece.name,
             program.workpiece.faces.len(),
             program.features.len()
-        ));
+        )];
         for f in &program.features {
             lines.push(format!("  {}", describe(f)));
         }

@@ -166,10 +166,8 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
         outputs.add(path, updated.to_json().into_bytes());
     }
     outputs.commit()?;
-    match print_summary(&results) {
-        Err(e) if !e.is_broken_pipe() => return Err(e),
-        _ => {}
-    }
+    // Nobody reading the summary does not change the verdict.
+    print_summary(&results).or_else(|e| if e.is_broken_pipe() { Ok(()) } else { Err(e) })?;
     Ok(status(&results))
 }
 
