@@ -63,11 +63,12 @@ pub fn scenario(
 /// Replaces every part's as-machined part by the one in `file` (an
 /// `as_machined` object, DESIGN.md 6.2).
 pub fn override_as_machined(parts: &mut [SimulatedPart], file: &Path) -> Result<(), ProgramError> {
-    let text = std::fs::read_to_string(file).map_err(|source| ProgramError::Io {
+    let text = crate::jsonfile::read_text(file).map_err(|source| ProgramError::Io {
         file: file.to_path_buf(),
         source,
     })?;
     let spec: AsMachinedSpec = crate::jsonfile::parse_json(&text, file)?;
+    crate::program::limits::check_as_machined(&spec, file, "$")?;
     for part in parts.iter_mut() {
         part.as_machined = AsMachined::from_spec(&spec, &part.program.workpiece).map_err(|e| {
             ProgramError::Invalid {

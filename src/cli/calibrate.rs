@@ -68,6 +68,127 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
+/// Stylus ball diameters accepted, mm (real styli: 0.3 to 30 mm).
+pub const TIP_DIAMETER_RANGE_MM: (f64, f64) = (0.1, 50.0);
+/// Stylus lengths accepted, mm (the longest extensions are about 400 mm;
+/// the machine's travel may allow less).
+pub const STYLUS_LENGTH_RANGE_MM: (f64, f64) = (1.0, 1000.0);
+/// Reference sphere diameters accepted, mm (calibration spheres are 8 to
+/// 50 mm; a smaller one cannot be scanned with a real ball).
+pub const SPHERE_DIAMETER_RANGE_MM: (f64, f64) = (2.0, 200.0);
+/// Largest scan deflection accepted, mm (and at most 0.9 of the tip radius).
+pub const MAX_DEFLECTION_MM: f64 = 1.0;
+/// Most sphere points per further head orientation.
+pub const MAX_ORIENTATION_POINTS: usize = 1_000;
+
+fn in_range(
+    option: &'static str,
+    v: f64,
+    (lo, hi): (f64, f64),
+    unit: &str,
+) -> Result<(), CliError> {
+    if v.is_finite() && v >= lo && v <= hi {
+        return Ok(());
+    }
+    Err(CliError::Value {
+        option,
+        value: v.to_string(),
+        reason: format!("must lie in [{lo}, {hi}] {unit}"),
+    })
+}
+
+/// Every number of the command line (or the probe file) within its
+/// physical range.
+fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliError> {
+    let (tip, stylus) = match &args.probe {
+        Some(_) => ("probe file tip_diameter_mm", "probe file stylus_length_mm"),
+        None => ("--probe-tip-diameter", "--stylus-length"),
+    };
+    in_range(tip, nominal.tip_diameter_mm, TIP_DIAMETER_RANGE_MM, "mm")?;
+    in_range(
+        stylus,
+        nominal.stylus_length_mm,
+        STYLUS_LENGTH_RANGE_MM,
+        "mm",
+    )?;
+    in_range(
+        "--sphere-diameter",
+        args.sphere_diameter,
+        SPHERE_DIAMETER_RANGE_MM,
+        "mm",
+    )?;
+    let max_deflection = MAX_DEFLECTION_MM.min(0.45 * nominal.tip_diameter_mm);
+    for &d in &args.deflections {
+        if !(d.is_finite() && d > 0.0 && d <= max_deflection) {
+            return Err(CliError::Value {
+                option: "--deflections",
+                value: d.to_string(),
+                reason: format!("a deflection must lie in (0, {max_deflection}] mm (at most {MAX_DEFLECTION_MM} mm and 0.9 of the tip radius)"),
+            });
+        }
+    }
+    let points = args.orientation_points;
+    if !(4..=MAX_ORIENTATION_POINTS).contains(&points) {
+        return Err(CliError::Value {
+            option: "--orientation-points",
+            value: points.to_string(),
+            reason: format!(
+                "expected 4 (a sphere needs at least 4 points) to {MAX_ORIENTATION_POINTS}"
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// A calibration failure, naming the machine and probe it ran on.
+pub(super) fn failed(
+    args: &CalibrateArgs,
+    setup: &SimulatedSetup,
+    source: crate::calibrate::simulate::SimulatedCalError,
+) -> CliError {
+    let machine = match &args.machine {
+        Some(path) => path.display().to_string(),
+        None => "built-in bridge CMM".to_string(),
+    };
+    let profile = match &args.machine_profile {
+        Some(path) => format!(", profile {}", path.display()),
+        None => String::new(),
+    };
+    let hint = match source {
+        crate::calibrate::simulate::SimulatedCalError::Machine(_) => {
+            " (the probe starts above the sphere: a shorter --stylus-length or another machine fits)"
+        }
+        _ => "",
+    };
+    let machine = format!(
+        "{machine}{profile}: probe tip {} mm, stylus {} mm, sphere {} mm{hint}",
+        setup.tip_diameter_mm, setup.stylus_length_mm, args.sphere_diameter
+    );
+    CliError::Calibration { machine, source }
+}
+
+/// A machine with a probe head needs `--head-angles`: its head joints put
+/// the stylus elsewhere than the nominal vertical probe of a 3-axis
+/// calibration.
+fn check_no_head(args: &CalibrateArgs, machine: &MachineModel) -> Result<(), CliError> {
+    let head: Vec<String> = machine
+        .revolute_axes()
+        .iter()
+        .filter_map(|&i| machine.axes().get(i).map(|a| format!("'{}'", a.name)))
+        .collect();
+    if head.is_empty() {
+        return Ok(());
+    }
+    let file = args
+        .machine
+        .as_ref()
+        .map_or_else(|| "machine".to_string(), |p| p.display().to_string());
+    Err(CliError::Usage(format!(
+        "{file}: the machine has probe-head joints {}: give the orientations to calibrate with --head-angles (e.g. --head-angles 0,0) and the joints' order with --head-axes",
+        head.join(", ")
+    )))
+}
+
 /// Runs `cmm calibrate-probe`.
 pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
     let nominal = match &args.probe {
@@ -77,6 +198,8 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
             stylus_length_mm: args.stylus_length,
         },
     };
+    check_values(args, &nominal)?;
+    crate::output::check_writable(&args.out, false)?;
     let setup = SimulatedSetup {
         machine: match &args.machine {
             Some(path) => MachineModel::from_urdf_file(path)?,
@@ -101,25 +224,36 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
     if let Some(text) = &args.head_angles {
         return super::calibrate_head::run(args, &setup, &opts, text);
     }
-    let (cal, truth) = calibrate_simulated(&setup, &opts)?;
+    check_no_head(args, &setup.machine)?;
+    let (cal, truth) =
+        calibrate_simulated(&setup, &opts).map_err(|source| failed(args, &setup, source))?;
     let text = to_json(&to_file(&cal, &opts), Some(truth));
     crate::output::write_atomic(&args.out, text.as_bytes())?;
-    print_summary(&cal, &truth, args);
+    super::say(&summary(&cal, &truth, args))?;
     Ok(Status::Pass)
 }
 
-/// Prints the reference calibration's figures.
-pub(super) fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) {
+/// The reference calibration's figures, for the terminal.
+pub(super) fn summary(cal: &Calibration, truth: &ProbeTruth, args: &CalibrateArgs) -> String {
     let p = cal.probe.probe_vector;
-    println!("probe vector     [{:.5}, {:.5}, {:.5}] mm", p.x, p.y, p.z);
-    println!("tip radius       {:.5} mm", cal.probe.tip_radius_mm);
-    println!(
+    let mut lines = vec![format!(
+        "probe vector     [{:.5}, {:.5}, {:.5}] mm",
+        p.x, p.y, p.z
+    )];
+    lines.push(format!(
+        "tip radius       {:.5} mm",
+        cal.probe.tip_radius_mm
+    ));
+    lines.push(format!(
         "probing error P  {:.5} mm (nominal probe values: {:.5} mm)",
         cal.probing_error_mm, cal.probing_error_before_mm
+    ));
+    lines.push(
+        "scan                 deflection    points  before rms/range mm   after rms/range mm"
+            .to_string(),
     );
-    println!("scan                 deflection    points  before rms/range mm   after rms/range mm");
     for s in &cal.scans {
-        println!(
+        lines.push(format!(
             "{:<3} {:<4} {:>17.3} {:>9} {:>10.5} {:>9.5} {:>10.5} {:>9.5}",
             serde_json::to_string(&s.plane)
                 .unwrap_or_default()
@@ -131,13 +265,14 @@ pub(super) fn print_summary(cal: &Calibration, truth: &ProbeTruth, args: &Calibr
             s.before.range_mm,
             s.after.rms_mm,
             s.after.range_mm
-        );
+        ));
     }
     let dv = cal.probe.probe_vector - truth.probe_vector;
-    println!(
+    lines.push(format!(
         "vs simulation truth: probe vector off by {:.3} um, tip radius by {:.3} um",
         dv.norm() * 1e3,
         (cal.probe.tip_radius_mm - truth.tip_radius_mm) * 1e3
-    );
-    println!("written {}", args.out.display());
+    ));
+    lines.push(format!("written {}", args.out.display()));
+    lines.join("\n") + "\n"
 }

@@ -17,17 +17,18 @@ pub struct CheckArgs {
 pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
     for path in &args.programs {
         let program = load(path)?;
-        println!(
+        let mut lines = vec![format!(
             "{}: ok: program '{}', workpiece '{}' ({} surfaces), {} features",
             path.display(),
             program.name,
             program.workpiece.name,
             program.workpiece.faces.len(),
             program.features.len()
-        );
+        )];
         for f in &program.features {
-            println!("  {}", describe(f));
+            lines.push(format!("  {}", describe(f)));
         }
+        super::say(&(lines.join("\n") + "\n"))?;
     }
     Ok(Status::Pass)
 }

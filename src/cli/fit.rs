@@ -129,12 +129,20 @@ fn side(s: SideArg) -> Side {
 
 /// Runs `cmm fit`.
 pub fn run(args: &FitArgs) -> Result<Status, CliError> {
+    if let Some(r) = args.probe_radius {
+        check_probe_radius(r)?;
+    }
     let points = crate::pointfile::read_points_csv(&args.points)?;
     let opts = FitOptions::default();
-    let mut report = fit::fit(kind(args.element), method(args.method), &points, &opts)?;
+    let in_file = |source| CliError::FitPoints {
+        file: args.points.clone(),
+        source,
+    };
+    let mut report =
+        fit::fit(kind(args.element), method(args.method), &points, &opts).map_err(in_file)?;
     let probe = args.probe_radius.zip(args.side.map(side));
     if let Some((radius, s)) = probe {
-        report = fit::compensate_probe(report, radius, s)?;
+        report = fit::compensate_probe(report, radius, s).map_err(in_file)?;
     }
     let text = if args.json {
         json_text(&report, probe)
@@ -143,6 +151,21 @@ pub fn run(args: &FitArgs) -> Result<Status, CliError> {
     };
     emit(&text, args.out.as_deref())?;
     Ok(Status::Pass)
+}
+
+/// Largest stylus ball radius accepted by `--probe-radius`, mm (the
+/// largest styli balls are 30 mm across).
+pub const MAX_PROBE_RADIUS_MM: f64 = 50.0;
+
+fn check_probe_radius(r: f64) -> Result<(), CliError> {
+    if r.is_finite() && r > 0.0 && r <= MAX_PROBE_RADIUS_MM {
+        return Ok(());
+    }
+    Err(CliError::Value {
+        option: "--probe-radius",
+        value: r.to_string(),
+        reason: format!("a ball radius must lie in (0, {MAX_PROBE_RADIUS_MM}] mm"),
+    })
 }
 
 fn pt(p: &Point3) -> Value {

@@ -121,15 +121,51 @@ pub enum CliError {
     /// An output file could not be written.
     #[error(transparent)]
     Write(#[from] WriteError),
+    /// Standard output could not be written.
+    #[error("cannot write to standard output: {0}")]
+    Stdout(#[source] std::io::Error),
     /// Arguments that do not go together.
     #[error("{0}")]
     Usage(String),
+    /// A command-line value out of its meaningful range.
+    #[error("{option} {value}: {reason}")]
+    Value {
+        /// The option (`--sphere-diameter`).
+        option: &'static str,
+        /// The value given.
+        value: String,
+        /// What is wrong and what is accepted.
+        reason: String,
+    },
+    /// The simulated probe calibration failed on the given machine.
+    #[error("{machine}: {source}")]
+    Calibration {
+        /// The machine (URDF file and profile, or the built-in one) and
+        /// the probe that were calibrated.
+        machine: String,
+        /// Why it failed.
+        source: crate::calibrate::simulate::SimulatedCalError,
+    },
+    /// A point file could not be fitted.
+    #[error("{file}: {source}")]
+    FitPoints {
+        /// The point file.
+        file: std::path::PathBuf,
+        /// Why the fit failed.
+        source: crate::fit::FitError,
+    },
 }
 
 impl CliError {
     /// Exit code: 2 for bad usage or bad input (DESIGN.md 5).
     pub fn exit_code(&self) -> u8 {
         2
+    }
+
+    /// Standard output was closed by its reader (`cmm ... | head`): not an
+    /// error for the user, the program ends quietly.
+    pub fn is_broken_pipe(&self) -> bool {
+        matches!(self, CliError::Stdout(e) if e.kind() == std::io::ErrorKind::BrokenPipe)
     }
 }
 
@@ -153,9 +189,16 @@ pub fn run(cli: Cli) -> Result<Status, CliError> {
 fn emit(text: &str, out: Option<&std::path::Path>) -> Result<(), CliError> {
     match out {
         Some(path) => Ok(crate::output::write_atomic(path, text.as_bytes())?),
-        None => {
-            print!("{text}");
-            Ok(())
-        }
+        None => say(text),
     }
+}
+
+/// Writes `text` to standard output (no panic on a closed pipe: the error
+/// is returned, and [`CliError::is_broken_pipe`] tells it apart).
+pub(crate) fn say(text: &str) -> Result<(), CliError> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    out.write_all(text.as_bytes())
+        .and_then(|()| out.flush())
+        .map_err(CliError::Stdout)
 }

@@ -1,26 +1,12 @@
-//! Writing a part's report files and a batch summary into a folder.
+//! The batch summary of a multi-part run, added to the run's output set.
 use std::path::Path;
 
-use super::CliError;
-use crate::output::{write_atomic, WriteError};
+use crate::output::OutputSet;
 use crate::report::Report;
 
-fn ensure_dir(dir: &Path) -> Result<(), CliError> {
-    std::fs::create_dir_all(dir).map_err(|source| WriteError {
-        path: dir.to_path_buf(),
-        source,
-    })?;
-    Ok(())
-}
-
-/// `report.json`, `points.csv`, `report.html` and `junit.xml` of one part.
-pub fn write_all(dir: &Path, report: &Report) -> Result<(), CliError> {
-    Ok(crate::report::write_reports(dir, report)?)
-}
-
-/// `batch.json`: one row per part (folder, program, seed, status, times).
-pub fn write_batch(dir: &Path, rows: &[(String, Option<Report>, String)]) -> Result<(), CliError> {
-    ensure_dir(dir)?;
+/// `batch.json` (one row per part: folder, program, seed, status, times)
+/// and `batch-junit.xml` in `dir`, added to `set`.
+pub fn add_batch(set: &mut OutputSet, dir: &Path, rows: &[(String, Option<Report>, String)]) {
     let parts: Vec<serde_json::Value> = rows
         .iter()
         .map(|(folder, report, error)| match report {
@@ -32,14 +18,13 @@ pub fn write_batch(dir: &Path, rows: &[(String, Option<Report>, String)]) -> Res
     let doc = serde_json::json!({ "format": "cmm-batch/1", "parts": parts });
     let mut text = serde_json::to_string_pretty(&doc).unwrap_or_default();
     text.push('\n');
-    write_atomic(&dir.join("batch.json"), text.as_bytes())?;
+    set.add(&dir.join("batch.json"), text.into_bytes());
     let reports: Vec<(String, Report)> = rows
         .iter()
         .filter_map(|(f, r, _)| r.clone().map(|r| (f.clone(), r)))
         .collect();
-    write_atomic(
+    set.add(
         &dir.join("batch-junit.xml"),
-        crate::report::junit_batch(&reports).as_bytes(),
-    )?;
-    Ok(())
+        crate::report::junit_batch(&reports).into_bytes(),
+    );
 }

@@ -10,6 +10,7 @@ use crate::formats::serde_name;
 use crate::host::calibrate::file::ProbeCalibration;
 use crate::host::inspect::learned::CorrectionsFile;
 use crate::host::trace::trace_csv;
+use crate::output::OutputSet;
 use crate::report::{Report, Verdict};
 
 /// Arguments of `cmm scan`.
@@ -74,8 +75,19 @@ fn parse_shard(s: &str) -> Result<(usize, usize), String> {
     Ok((k, n))
 }
 
-/// Runs `cmm scan`: validates every input first, then measures.
+/// Most parallel jobs accepted by `--jobs`: far more than any machine has
+/// cores, and few enough that starting the threads costs nothing.
+pub const MAX_JOBS: usize = 256;
+
+/// Most parts one `cmm scan` accepts (programs times `--variants`), so a
+/// mistyped count is refused before the part list is built.
+pub const MAX_PARTS: usize = 100_000;
+
+/// Runs `cmm scan`: validates every input first (including that every
+/// output can be written), then measures, then writes every output file
+/// as one unit.
 pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
+    check_counts(args)?;
     let mut programs = args
         .programs
         .iter()
@@ -111,17 +123,28 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
             "--trace records one part: give one program and no --variants".into(),
         ));
     }
-    let (results, updated) = match (&args.trace, programs.first(), parts.first()) {
-        (Some(path), Some(program), Some(part)) => traced_run(program, part, &base, &known, path)?,
+    check_outputs(args)?;
+    let mut outputs = OutputSet::default();
+    let (mut results, updated) = match (&args.trace, programs.first(), parts.first()) {
+        (Some(path), Some(program), Some(part)) => {
+            traced_run(program, part, &base, &known, (path, &mut outputs))?
+        }
         _ => {
             let bar = progress_bar(args, parts.len());
             let tick = || bar.inc(1);
-            let out = run_batch(&programs, &parts, &base, &known, args.jobs, &tick);
+            let jobs = args.jobs.min(parts.len()).max(1);
+            let out = run_batch(&programs, &parts, &base, &known, jobs, &tick);
             bar.finish_and_clear();
             out
         }
     };
     let single = parts.len() == 1;
+    // One part that could not start: bad input, nothing is written.
+    if single && matches!(results.first(), Some(Err(_))) {
+        if let Some(Err(e)) = results.pop() {
+            return Err(CliError::Run(e));
+        }
+    }
     for (part, result) in parts.iter().zip(&results) {
         if let Ok((report, _)) = result {
             let dir = if single {
@@ -129,20 +152,55 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
             } else {
                 args.out.join(part_dir(args, part, &programs))
             };
-            super::report_files::write_all(&dir, report)?;
+            crate::report::add_reports(&mut outputs, &dir, report);
         }
     }
     if !single {
-        super::report_files::write_batch(
+        super::report_files::add_batch(
+            &mut outputs,
             &args.out,
             &batch_rows(args, &parts, &results, &programs),
-        )?;
+        );
     }
     if let Some(path) = &args.corrections {
-        crate::output::write_atomic(path, updated.to_json().as_bytes())?;
+        outputs.add(path, updated.to_json().into_bytes());
     }
-    print_summary(&results);
+    outputs.commit()?;
+    // Nobody reading the summary does not change the verdict.
+    print_summary(&results).or_else(|e| if e.is_broken_pipe() { Ok(()) } else { Err(e) })?;
     Ok(status(&results))
+}
+
+/// `--jobs` and the number of parts within their bounds.
+fn check_counts(args: &ScanArgs) -> Result<(), CliError> {
+    if args.jobs == 0 || args.jobs > MAX_JOBS {
+        return Err(CliError::Value {
+            option: "--jobs",
+            value: args.jobs.to_string(),
+            reason: format!("expected 1 to {MAX_JOBS} parallel jobs"),
+        });
+    }
+    let parts = args.programs.len().saturating_mul(args.variants.max(1));
+    if args.variants == 0 || parts > MAX_PARTS {
+        return Err(CliError::Value {
+            option: "--variants",
+            value: args.variants.to_string(),
+            reason: format!(
+                "expected 1 or more variants, at most {MAX_PARTS} parts in all ({} programs)",
+                args.programs.len()
+            ),
+        });
+    }
+    Ok(())
+}
+
+/// Every file the run will write can be written: checked before measuring.
+fn check_outputs(args: &ScanArgs) -> Result<(), CliError> {
+    crate::output::check_dir_writable(&args.out)?;
+    for path in [&args.corrections, &args.trace].into_iter().flatten() {
+        crate::output::check_writable(path, false)?;
+    }
+    Ok(())
 }
 
 /// A bar on stderr when it is a terminal and not `--quiet`; hidden otherwise.
@@ -165,7 +223,7 @@ fn traced_run(
     part: &Part,
     base: &RunOptions,
     known: &CorrectionsFile,
-    path: &std::path::Path,
+    (path, outputs): (&std::path::Path, &mut OutputSet),
 ) -> Result<(Vec<PartResult>, CorrectionsFile), CliError> {
     let opts = RunOptions {
         seed: part.seed,
@@ -173,7 +231,7 @@ fn traced_run(
         ..base.clone()
     };
     let (report, learned, rows) = run_program_traced(program, &opts, true)?;
-    crate::output::write_atomic(path, trace_csv(&rows).as_bytes())?;
+    outputs.add(path, trace_csv(&rows).into_bytes());
     let mut updated = known.clone();
     updated.merge(&report.program, &learned);
     Ok((vec![Ok((report, learned))], updated))
@@ -209,27 +267,32 @@ fn batch_rows(
         .collect()
 }
 
-fn print_summary(results: &[PartResult]) {
-    println!(
+/// The summary table on stdout; errors of parts go to stderr.
+fn print_summary(results: &[PartResult]) -> Result<(), CliError> {
+    let mut lines = vec![format!(
         "{:<20} {:<24} {:>10} {:>7} {:>9} {:>9}  attempts",
         "program", "feature", "status", "points", "min mm", "max mm"
-    );
+    )];
     for r in results {
         match r {
-            Ok((report, _)) => print_report(report),
-            Err(e) => println!("error: {e}"),
+            Ok((report, _)) => report_lines(report, &mut lines),
+            Err(e) => {
+                use std::io::Write;
+                let _ = writeln!(std::io::stderr(), "cmm: error: {e}");
+            }
         }
     }
+    super::say(&(lines.join("\n") + "\n"))
 }
 
-fn print_report(r: &Report) {
+fn report_lines(r: &Report, lines: &mut Vec<String>) {
     for f in &r.features {
         let attempts: Vec<String> = f
             .attempts
             .iter()
             .map(|a| format!("{}:{}", serde_name(&a.mode), serde_name(&a.outcome)))
             .collect();
-        println!(
+        lines.push(format!(
             "{:<20} {:<24} {:>10} {:>7} {:>9.4} {:>9.4}  {}",
             r.program,
             f.name,
@@ -238,7 +301,7 @@ fn print_report(r: &Report) {
             f.deviation_mm.min,
             f.deviation_mm.max,
             attempts.join(" -> ")
-        );
+        ));
     }
 }
 

@@ -23,9 +23,7 @@ pub fn run(args: &SchemaArgs) -> Result<Status, CliError> {
         SchemaKind::Workpiece => schemars::schema_for!(crate::workpiece::WorkpieceFile),
         SchemaKind::Program => schemars::schema_for!(crate::program::ProgramFile),
     };
-    println!(
-        "{}",
-        serde_json::to_string_pretty(&schema).unwrap_or_default()
-    );
+    let text = serde_json::to_string_pretty(&schema).unwrap_or_default();
+    super::say(&format!("{text}\n"))?;
     Ok(Status::Pass)
 }

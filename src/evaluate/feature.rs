@@ -38,7 +38,8 @@ fn deviation_report(
         kind,
         ..
     } = measured;
-    let complete = results.iter().all(|r| r.complete);
+    // A feature that measured no point has not been measured.
+    let complete = results.iter().all(|r| r.complete) && !points.is_empty();
     let in_tol = points
         .iter()
         .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);

@@ -85,7 +85,7 @@ impl MachineModel {
     /// Reads and validates a URDF file (metres, see [`urdf::MM_PER_M`]).
     pub fn from_urdf_file(path: impl AsRef<Path>) -> Result<Self, MachineError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| MachineError::Io {
+        let text = crate::jsonfile::read_text(path).map_err(|source| MachineError::Io {
             file: path.to_path_buf(),
             source,
         })?;

@@ -135,8 +135,8 @@ pub enum ProfileError {
         json_path: String,
         /// The value found.
         value: f64,
-        /// e.g. `finite and positive`.
-        requirement: &'static str,
+        /// e.g. `finite and positive`, `within [1e-5, 0.1]`.
+        requirement: String,
     },
 }
 
@@ -144,7 +144,7 @@ impl MachineProfile {
     /// Reads and validates a profile file.
     pub fn from_json_file(path: impl AsRef<Path>) -> Result<Self, ProfileError> {
         let path = path.as_ref();
-        let text = std::fs::read_to_string(path).map_err(|source| ProfileError::Io {
+        let text = crate::jsonfile::read_text(path).map_err(|source| ProfileError::Io {
             file: path.to_path_buf(),
             source,
         })?;

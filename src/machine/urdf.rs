@@ -56,10 +56,17 @@ pub(super) struct ParsedUrdf {
     pub joints: Vec<JointSpec>,
 }
 
+/// Deepest element nesting accepted in a URDF file. URDF itself nests four
+/// levels (`robot > link > visual > geometry > box`); the XML parsers
+/// recurse per level, so a file nested thousands of levels deep would
+/// overflow the stack: it is refused before they see it.
+pub const MAX_URDF_DEPTH: usize = 32;
+
 /// Parses and validates URDF text; `file` is used in messages only.
 pub(super) fn parse(text: &str, file: &Path) -> Result<ParsedUrdf, MachineError> {
+    check_depth(text, file)?;
     scan_raw(text, file)?;
-    let robot = urdf_rs::read_from_string(text).map_err(|e| xml_error(file, e.to_string()))?;
+    let robot = urdf_rs::read_from_string(text).map_err(|e| urdf_error(text, file, e))?;
     let joints = robot
         .joints
         .iter()
@@ -78,6 +85,117 @@ fn xml_error(file: &Path, reason: String) -> MachineError {
         file: file.to_path_buf(),
         reason,
     }
+}
+
+/// 1-based line of byte offset `at` in `text`.
+fn line_of(text: &str, at: usize) -> usize {
+    1 + text
+        .as_bytes()
+        .iter()
+        .take(at)
+        .filter(|&&b| b == b'\n')
+        .count()
+}
+
+/// Refuses element nesting deeper than [`MAX_URDF_DEPTH`], naming the line
+/// where it is exceeded. A light scan of the markup: comments, CDATA,
+/// processing instructions and declarations are skipped, quoted attribute
+/// values may hold `>`.
+fn check_depth(text: &str, file: &Path) -> Result<(), MachineError> {
+    let bytes = text.as_bytes();
+    let mut depth = 0usize;
+    let mut at = 0usize;
+    while let Some(offset) = bytes
+        .get(at..)
+        .and_then(|b| b.iter().position(|&c| c == b'<'))
+    {
+        let start = at + offset;
+        let rest = bytes.get(start..).unwrap_or_default();
+        let skip_to = |end: &[u8]| {
+            rest.windows(end.len())
+                .position(|w| w == end)
+                .map_or(bytes.len(), |i| start + i + end.len())
+        };
+        at = if rest.starts_with(b"<!--") {
+            skip_to(b"-->")
+        } else if rest.starts_with(b"<![CDATA[") {
+            skip_to(b"]]>")
+        } else if rest.starts_with(b"<?") {
+            skip_to(b"?>")
+        } else if rest.starts_with(b"<!") {
+            skip_to(b">")
+        } else {
+            let end = tag_end(rest).map_or(bytes.len(), |i| start + i + 1);
+            let tag = bytes.get(start..end).unwrap_or_default();
+            if tag.starts_with(b"</") {
+                depth = depth.saturating_sub(1);
+            } else if !tag.ends_with(b"/>") {
+                depth += 1;
+                if depth > MAX_URDF_DEPTH {
+                    let reason = format!(
+                        "line {}: elements nested more than {MAX_URDF_DEPTH} levels deep (URDF needs four)",
+                        line_of(text, start)
+                    );
+                    return Err(xml_error(file, reason));
+                }
+            }
+            end
+        };
+    }
+    Ok(())
+}
+
+/// Offset of the `>` closing the tag that starts `tag` (quotes respected).
+fn tag_end(tag: &[u8]) -> Option<usize> {
+    let mut quote = None;
+    for (i, &c) in tag.iter().enumerate() {
+        match (quote, c) {
+            (None, b'"' | b'\'') => quote = Some(c),
+            (Some(q), _) if c == q => quote = None,
+            (None, b'>') => return Some(i),
+            _ => {}
+        }
+    }
+    None
+}
+
+/// An urdf-rs error, located: the first `<joint>` or `<link>` that urdf-rs
+/// rejects on its own is named with its line.
+fn urdf_error(text: &str, file: &Path, err: urdf_rs::UrdfError) -> MachineError {
+    let reason = err.to_string();
+    let Ok(root) = text.parse::<xml::Element>() else {
+        return xml_error(file, reason);
+    };
+    for element in ["joint", "link"] {
+        for child in root.get_children(element, None) {
+            let alone = format!("<robot name=\"r\">{child}</robot>");
+            if let Err(e) = urdf_rs::read_from_string(&alone) {
+                let name = child.get_attribute("name", None).unwrap_or("");
+                let line = find_element_line(text, element, name);
+                let reason = format!("line {line}: {element} '{name}': {e}");
+                return xml_error(file, reason);
+            }
+        }
+    }
+    xml_error(file, reason)
+}
+
+/// The line of `<element ... name="name"` in `text` (1 when not found).
+fn find_element_line(text: &str, element: &str, name: &str) -> usize {
+    let open = format!("<{element}");
+    let mut from = 0;
+    while let Some(i) = text.get(from..).and_then(|t| t.find(&open)) {
+        let start = from + i;
+        let tag = text.get(start..).unwrap_or_default();
+        let tag = tag
+            .get(..tag.find('>').unwrap_or(tag.len()))
+            .unwrap_or_default();
+        if tag.contains(&format!("\"{name}\"")) || tag.contains(&format!("'{name}'")) {
+            return line_of(text, start);
+        }
+        from = start + open.len();
+    }
+    1
 }
 
 /// Checks names, joint types and `<limit>` presence on the raw XML.

@@ -4,6 +4,7 @@
 //! error names the file, the JSON path and the reason.
 
 pub mod format;
+pub mod limits;
 mod resolve;
 
 use std::path::PathBuf;

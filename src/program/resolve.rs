@@ -76,7 +76,7 @@ pub fn load(file: &Path) -> Result<Program, ProgramError> {
 /// Only the application layer that builds a simulated world reads the
 /// scenario.
 pub fn read(file: &Path) -> Result<(Program, AsMachinedSpec), ProgramError> {
-    let text = std::fs::read_to_string(file).map_err(|source| ProgramError::Io {
+    let text = crate::jsonfile::read_text(file).map_err(|source| ProgramError::Io {
         file: file.to_path_buf(),
         source,
     })?;
@@ -92,6 +92,7 @@ fn parse(text: &str, file: &Path) -> Result<ProgramFile, ProgramError> {
 /// Validates a parsed program; `file` locates relative paths and messages.
 pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Program, ProgramError> {
     let cx = Ctx { file };
+    super::limits::check_program(spec, file)?;
     check_header(&cx, spec)?;
     let workpiece = load_workpiece(&cx, spec)?;
     let placement = placement(&cx, spec)?;
@@ -160,10 +161,10 @@ pub fn relative_to(file: &Path, rel: &str) -> PathBuf {
 
 fn load_workpiece(cx: &Ctx, spec: &ProgramFile) -> Result<Workpiece, ProgramError> {
     let path = relative_to(cx.file, &spec.workpiece);
-    if !path.is_file() {
+    if let Some(problem) = crate::jsonfile::file_problem(&path) {
         return Err(cx.err(
             "$.workpiece",
-            format!("workpiece file {} does not exist", path.display()),
+            format!("workpiece file {} {problem}", path.display()),
         ));
     }
     Ok(Workpiece::from_path(&path)?)
@@ -195,10 +196,10 @@ fn probe(cx: &Ctx, spec: &ProgramFile) -> Result<ProbeSetup, ProgramError> {
     let calibration = match &spec.probe.calibration {
         Some(rel) => {
             let path = relative_to(cx.file, rel);
-            if !path.is_file() {
+            if let Some(problem) = crate::jsonfile::file_problem(&path) {
                 return Err(cx.err(
                     "$.probe.calibration",
-                    format!("calibration file {} does not exist", path.display()),
+                    format!("calibration file {} {problem}", path.display()),
                 ));
             }
             Some(path)
@@ -437,6 +438,7 @@ fn settings(
 /// Every nominal point must be reachable: ball centre and stylus top
 /// inside the machine's travel.
 fn check_reach(cx: &Ctx, program: &Program, travel: &Travel) -> Result<(), ProgramError> {
+    super::limits::check_start(program, travel.lo, travel.hi)?;
     for f in &program.features {
         let pts: Vec<(Point3, Vec3)> = match f {
             Feature::Section { curves, .. } => curves

@@ -18,4 +18,4 @@ pub use json::to_json;
 pub use junit::{junit_batch, junit_xml};
 pub use model::*;
 pub use profile::View;
-pub use write::{write_reports, REPORT_FILES};
+pub use write::{add_reports, write_reports, REPORT_FILES};

@@ -187,9 +187,20 @@ pub fn nice_floor(value: f64) -> f64 {
 }
 
 /// Tick step and ticks inside `[lo, hi]` (at most [`MAX_TICKS`] + 1).
+/// A range that is not finite, or too wide for an `f64` difference, has no
+/// ticks.
 pub fn ticks(lo: f64, hi: f64) -> (f64, Vec<f64>) {
-    let mut step = nice_floor((hi - lo) / MAX_TICKS as f64);
-    while (hi - lo) / step > MAX_TICKS as f64 {
+    let span = hi - lo;
+    if !(span.is_finite() && span > 0.0) {
+        return (1.0, Vec::new());
+    }
+    let mut step = nice_floor(span / MAX_TICKS as f64);
+    // Each pass at least doubles the step, so the loop is short; the bound
+    // only guards against a step that stops growing (round-off at f64's top).
+    for _ in 0..64 {
+        if span / step <= MAX_TICKS as f64 {
+            break;
+        }
         step = nice_floor(step * 2.5);
     }
     // The tolerance keeps ticks at the ends despite rounding (-0.06 / 0.02).
@@ -312,6 +323,15 @@ mod tests {
         assert!((step - 0.02).abs() < 1e-12);
         assert_eq!(values.len(), 7);
         assert_eq!(step_decimals(step), 2);
+    }
+
+    #[test]
+    fn ranges_beyond_f64_differences_end() {
+        // Their width overflows to infinity: no ticks, and no endless loop.
+        let (_, values) = ticks(-1.797e308, 1.797e308);
+        assert!(values.is_empty());
+        let (step, values) = ticks(-1e307, 1e307);
+        assert!(step.is_finite() && !values.is_empty() && values.len() <= MAX_TICKS + 2);
     }
 
     #[test]

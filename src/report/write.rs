@@ -4,20 +4,23 @@ use std::path::Path;
 
 use super::model::Report;
 use super::{csv, html, json, junit};
-use crate::output::{write_atomic, WriteError};
+use crate::output::{OutputSet, WriteError};
 
 /// File names written by [`write_reports`], in writing order.
 pub const REPORT_FILES: [&str; 4] = ["report.json", "points.csv", "report.html", "junit.xml"];
 
 /// Writes `report.json`, `points.csv`, `report.html` and `junit.xml` into
-/// `dir` (created with its parents if missing). Each file is written to a
-/// temporary file and renamed, so none is ever left half written; on error
-/// the files written before it remain.
+/// `dir` (created with its parents if missing) as one unit: all four files
+/// are written to temporary files first and renamed only when all are on
+/// disk, so on error none of them is left behind.
 pub fn write_reports(dir: &Path, report: &Report) -> Result<(), WriteError> {
-    std::fs::create_dir_all(dir).map_err(|source| WriteError {
-        path: dir.to_path_buf(),
-        source,
-    })?;
+    let mut set = OutputSet::default();
+    add_reports(&mut set, dir, report);
+    set.commit()
+}
+
+/// Adds the four report files of `report` in `dir` to an output set.
+pub fn add_reports(set: &mut OutputSet, dir: &Path, report: &Report) {
     let contents = [
         json::to_json(report),
         csv::points_csv(report),
@@ -25,7 +28,6 @@ pub fn write_reports(dir: &Path, report: &Report) -> Result<(), WriteError> {
         junit::junit_xml(report),
     ];
     for (name, text) in REPORT_FILES.iter().zip(contents) {
-        write_atomic(&dir.join(name), text.as_bytes())?;
+        set.add(&dir.join(name), text.into_bytes());
     }
-    Ok(())
 }

@@ -91,7 +91,7 @@ impl Workpiece {
             let import = crate::cad::import(path)?;
             return Workpiece::from_file(&import.workpiece, path);
         }
-        let text = std::fs::read_to_string(path).map_err(|source| WorkpieceError::Io {
+        let text = crate::jsonfile::read_text(path).map_err(|source| WorkpieceError::Io {
             file: path.to_path_buf(),
             source,
         })?;

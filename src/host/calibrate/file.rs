@@ -292,7 +292,7 @@ pub fn to_json_with_truth(file: &ProbeCalFile, truth: Option<TruthJson>) -> Stri
 impl ProbeCalibration {
     /// Reads and validates a calibration file.
     pub fn read(path: &Path) -> Result<ProbeCalibration, ProbeCalError> {
-        let text = std::fs::read_to_string(path).map_err(|source| ProbeCalError::Io {
+        let text = crate::jsonfile::read_text(path).map_err(|source| ProbeCalError::Io {
             file: path.to_path_buf(),
             source,
         })?;

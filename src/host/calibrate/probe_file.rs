@@ -59,7 +59,7 @@ struct ProgramProbe {
 
 /// Reads and checks a probe file.
 pub fn read_probe_file(path: &Path) -> Result<NominalProbe, ProbeFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| ProbeFileError::Io {
+    let text = crate::jsonfile::read_text(path).map_err(|source| ProbeFileError::Io {
         file: path.to_path_buf(),
         source,
     })?;

@@ -73,7 +73,7 @@ impl CorrectionsFile {
         if !path.exists() {
             return Ok(CorrectionsFile::empty());
         }
-        let text = std::fs::read_to_string(path).map_err(|source| CorrectionsError::Io {
+        let text = crate::jsonfile::read_text(path).map_err(|source| CorrectionsError::Io {
             file: path.to_path_buf(),
             source,
         })?;
