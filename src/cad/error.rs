@@ -99,6 +99,26 @@ pub enum CadError {
         /// What is wrong.
         reason: String,
     },
+    /// A coordinate or length is not finite or beyond [`MAX_COORDINATE_MM`].
+    #[error("{file}:{line}:{column}: #{entity} {entity_type}: {what} {value:e} mm is not finite or beyond {limit:e} mm")]
+    OutOfRange {
+        /// File name.
+        file: String,
+        /// Line of the entity.
+        line: usize,
+        /// Column of the entity.
+        column: usize,
+        /// Entity id.
+        entity: u64,
+        /// Entity type (`CARTESIAN_POINT`, ...).
+        entity_type: String,
+        /// Which value (`coordinate 2`, `radius`).
+        what: String,
+        /// The value, mm.
+        value: f64,
+        /// The limit, mm.
+        limit: f64,
+    },
     /// The file holds no face that could be converted.
     #[error("{file}:{line}:{column}: no usable face: {reason}")]
     NoFaces {
@@ -112,6 +132,10 @@ pub enum CadError {
         reason: String,
     },
 }
+
+/// Largest coordinate magnitude accepted, mm (1000 km): beyond it a value
+/// is taken as corrupt, and products of such values would overflow.
+pub const MAX_COORDINATE_MM: f64 = 1e9;
 
 /// Result alias of the CAD reader.
 pub type CadResult<T> = Result<T, CadError>;

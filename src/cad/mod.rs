@@ -111,6 +111,8 @@ pub struct Import {
     pub faces: Vec<FaceRecord>,
     /// Faces skipped or left untrimmed, with reasons.
     pub diagnostics: Vec<Diagnostic>,
+    /// The product tree (STEP assemblies); empty for files without one.
+    pub products: Vec<step::assembly::ProductNode>,
     names: HashSet<String>,
 }
 
@@ -126,6 +128,7 @@ impl Import {
             workpiece,
             faces: Vec::new(),
             diagnostics: Vec::new(),
+            products: Vec::new(),
             names: HashSet::new(),
         }
     }

@@ -3,6 +3,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::{CliError, Status};
+use crate::cad::step::assembly::ProductNode;
 use crate::cad::{Diagnostic, DiagnosticKind, Import};
 
 /// Arguments of `cmm import`.
@@ -13,6 +14,10 @@ pub struct ImportArgs {
     /// Workpiece file to write (atomically).
     #[arg(long)]
     pub out: PathBuf,
+    /// Also print the product tree (assembly occurrences, their placements
+    /// and face counts) on stdout.
+    #[arg(long)]
+    pub list: bool,
 }
 
 /// Runs `cmm import`: converts, writes the workpiece, then reports every
@@ -23,6 +28,11 @@ pub fn run(args: &ImportArgs) -> Result<Status, CliError> {
     let mut text = serde_json::to_string_pretty(&import.workpiece).unwrap_or_default();
     text.push('\n');
     crate::output::write_atomic(&args.out, text.as_bytes())?;
+    if args.list {
+        for line in tree_lines(&import) {
+            println!("{line}");
+        }
+    }
     for d in &import.diagnostics {
         eprintln!("{}", diagnostic_line(&args.file, d));
     }
@@ -61,5 +71,65 @@ pub fn summary_line(import: &Import) -> String {
         types.join(", "),
         count(DiagnosticKind::Skipped),
         count(DiagnosticKind::Untrimmed)
+    )
+}
+
+/// The product tree, one node a line, indented two spaces per level:
+/// `label (#entity[, occurrence #id]): N faces[, at (x, y, z) rotated A deg about (ax, ay, az)]`;
+/// a file without product structure gives one line with its face count.
+pub fn tree_lines(import: &Import) -> Vec<String> {
+    let mut out = Vec::new();
+    if import.products.is_empty() {
+        out.push(format!(
+            "{}: {} faces (no product structure)",
+            import.workpiece.name,
+            import.faces.len()
+        ));
+    }
+    for node in &import.products {
+        node_lines(node, 0, &mut out);
+    }
+    out
+}
+
+fn node_lines(node: &ProductNode, depth: usize, out: &mut Vec<String>) {
+    let occurrence = match node.occurrence {
+        0 => String::new(),
+        id => format!(", occurrence #{id}"),
+    };
+    let place = if node.placement.is_identity() {
+        String::new()
+    } else {
+        placement_text(node)
+    };
+    out.push(format!(
+        "{}{} (#{}{occurrence}): {} faces{place}",
+        "  ".repeat(depth),
+        node.label,
+        node.entity,
+        node.faces
+    ));
+    for c in &node.children {
+        node_lines(c, depth + 1, out);
+    }
+}
+
+fn placement_text(node: &ProductNode) -> String {
+    let t = node.placement.shift;
+    let rot = nalgebra::Rotation3::from_matrix_unchecked(node.placement.linear);
+    let (axis, angle) = rot
+        .axis_angle()
+        .map_or((crate::math::Vec3::z(), 0.0), |(a, ang)| {
+            (a.into_inner(), ang)
+        });
+    format!(
+        ", at ({:.6}, {:.6}, {:.6}) rotated {:.6} deg about ({:.6}, {:.6}, {:.6})",
+        t.x,
+        t.y,
+        t.z,
+        angle.to_degrees(),
+        axis.x,
+        axis.y,
+        axis.z
     )
 }

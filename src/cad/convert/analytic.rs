@@ -67,7 +67,7 @@ impl AxisMap {
     /// The NURBS parameter of natural value `x`.
     pub fn map(&self, x: f64) -> f64 {
         match self {
-            AxisMap::Linear(lo, hi) => x.clamp(*lo, *hi),
+            AxisMap::Linear(lo, hi) => x.max(*lo).min(*hi),
             AxisMap::Angle(arc) => arc.param(x),
         }
     }

@@ -77,7 +77,9 @@ impl Arc {
             .clamp(0.0, (self.n - 1) as f64);
         let mid = self.start + (k + 0.5) * d;
         let s = 0.5 + (0.5 * (angle - mid)).tan() / (2.0 * (0.25 * d).tan());
-        (self.start + (k + s) * d).clamp(self.start, self.start + self.sweep)
+        (self.start + (k + s) * d)
+            .max(self.start)
+            .min(self.start + self.sweep)
     }
 }
 

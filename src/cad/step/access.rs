@@ -115,6 +115,20 @@ impl<'a> Args<'a> {
         self.ctx.err(self.inst, reason)
     }
 
+    /// An [`CadError::OutOfRange`] error at this entity.
+    pub fn out_of_range(&self, what: &str, value: f64) -> CadError {
+        CadError::OutOfRange {
+            file: self.ctx.file.to_string(),
+            line: self.inst.pos.line,
+            column: self.inst.pos.column,
+            entity: self.inst.id,
+            entity_type: type_name(self.inst),
+            what: what.to_string(),
+            value,
+            limit: crate::cad::error::MAX_COORDINATE_MM,
+        }
+    }
+
     /// Parameter `i`.
     pub fn get(&self, i: usize) -> CadResult<&'a Value> {
         self.params
@@ -128,9 +142,14 @@ impl<'a> Args<'a> {
             .ok_or_else(|| self.err(format!("parameter {} is not a number", i + 1)))
     }
 
-    /// Parameter `i` as a length in mm.
+    /// Parameter `i` as a length in mm (finite, at most
+    /// [`crate::cad::error::MAX_COORDINATE_MM`] in magnitude).
     pub fn length(&self, i: usize) -> CadResult<f64> {
-        Ok(self.real(i)? * self.ctx.length_mm)
+        let v = self.real(i)? * self.ctx.length_mm;
+        if !(v.abs() <= crate::cad::error::MAX_COORDINATE_MM) {
+            return Err(self.out_of_range(&format!("parameter {}", i + 1), v));
+        }
+        Ok(v)
     }
 
     /// Parameter `i` as a non-negative integer.

@@ -1,9 +1,11 @@
 //! Points, directions, placements and curves.
 use super::access::{has_record, Args, Ctx};
-use crate::cad::error::CadResult;
+pub use super::bspline::bspline_curve;
+use super::bspline::is_bspline_curve;
+use crate::cad::error::{CadResult, MAX_COORDINATE_MM};
 use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
-use crate::cad::nurbs::{new_curve, NurbsCurve};
+use crate::cad::nurbs::new_curve;
 use crate::math::{Point3, Vec3};
 
 /// Deepest chain of curve wrappers (TRIMMED_CURVE, SURFACE_CURVE) followed.
@@ -28,13 +30,28 @@ fn scale(ctx: &Ctx, space: Space) -> f64 {
 /// A CARTESIAN_POINT (2-D points get z = 0).
 pub fn point(ctx: &Ctx, id: u64, space: Space) -> CadResult<Point3> {
     let args = ctx.args(id, "CARTESIAN_POINT")?;
-    let c = args.reals(1)?;
     let s = scale(ctx, space);
+    let c = args.reals(1)?;
+    for (k, x) in c.iter().enumerate() {
+        let v = x * s;
+        if !(v.abs() <= MAX_COORDINATE_MM) {
+            return Err(args.out_of_range(&format!("coordinate {}", k + 1), v));
+        }
+    }
     match c.as_slice() {
         [x, y] => Ok(Point3::new(x * s, y * s, 0.0)),
         [x, y, z] => Ok(Point3::new(x * s, y * s, z * s)),
         _ => Err(args.err("CARTESIAN_POINT needs 2 or 3 coordinates")),
     }
+}
+
+/// Parameter `i` as a length in `space` (checked finite and in range).
+fn scaled(ctx: &Ctx, args: &Args, i: usize, space: Space) -> CadResult<f64> {
+    let v = args.real(i)? * scale(ctx, space);
+    if !(v.abs() <= MAX_COORDINATE_MM) {
+        return Err(args.out_of_range(&format!("parameter {}", i + 1), v));
+    }
+    Ok(v)
 }
 
 /// A DIRECTION (not normalised; 2-D gets z = 0).
@@ -89,7 +106,7 @@ pub fn vector(ctx: &Ctx, id: u64, space: Space) -> CadResult<Vec3> {
     let unit = dir
         .try_normalize(EPS_DIRECTION)
         .ok_or_else(|| args.err("zero direction"))?;
-    Ok(unit * args.real(2)? * scale(ctx, space))
+    Ok(unit * scaled(ctx, &args, 2, space)?)
 }
 
 /// Reads any supported curve; wrappers (TRIMMED_CURVE, SURFACE_CURVE,
@@ -103,7 +120,7 @@ fn curve_at_depth(ctx: &Ctx, id: u64, space: Space, depth: usize) -> CadResult<C
     if depth > MAX_CURVE_CHAIN {
         return Err(args.err("curve wrappers nested too deeply"));
     }
-    if args.inst.complex || has_record(args.inst, "B_SPLINE_CURVE_WITH_KNOTS") {
+    if is_bspline_curve(args.inst) {
         return bspline_curve(ctx, id, space).map(Curve::Nurbs);
     }
     let name = args
@@ -116,7 +133,7 @@ fn curve_at_depth(ctx: &Ctx, id: u64, space: Space, depth: usize) -> CadResult<C
         "LINE" => line(ctx, &args, space),
         "CIRCLE" => Ok(Curve::Circle {
             frame: placement(ctx, args.reference(1)?, space)?,
-            radius: args.real(2)? * scale(ctx, space),
+            radius: scaled(ctx, &args, 2, space)?,
         }),
         "ELLIPSE" => ellipse(ctx, &args, space),
         "POLYLINE" => polyline(ctx, &args, space),
@@ -140,11 +157,10 @@ fn line(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
 
 fn ellipse(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
     let frame = placement(ctx, args.reference(1)?, space)?;
-    let s = scale(ctx, space);
     Ok(Curve::Ellipse {
         frame,
-        a: args.real(2)? * s,
-        b: args.real(3)? * s,
+        a: scaled(ctx, args, 2, space)?,
+        b: scaled(ctx, args, 3, space)?,
     })
 }
 
@@ -161,46 +177,4 @@ fn polyline(ctx: &Ctx, args: &Args, space: Space) -> CadResult<Curve> {
     new_curve(1, knots, &points, vec![1.0; n])
         .map(Curve::Nurbs)
         .map_err(|e| args.err(format!("POLYLINE needs 2 or more distinct points: {e}")))
-}
-
-/// B_SPLINE_CURVE_WITH_KNOTS, simple or complex (rational) form.
-pub fn bspline_curve(ctx: &Ctx, id: u64, space: Space) -> CadResult<NurbsCurve> {
-    let inst = ctx.inst(id)?;
-    let (base, knots_args, off) = if inst.complex {
-        (
-            ctx.args(id, "B_SPLINE_CURVE")?,
-            ctx.args(id, "B_SPLINE_CURVE_WITH_KNOTS")?,
-            (0, 0),
-        )
-    } else {
-        let a = ctx.args(id, "B_SPLINE_CURVE_WITH_KNOTS")?;
-        (a, a, (1, 6))
-    };
-    let degree = base.count(off.0)?;
-    let points = base
-        .refs(off.0 + 1)?
-        .into_iter()
-        .map(|p| point(ctx, p, space))
-        .collect::<CadResult<Vec<_>>>()?;
-    let knots = expand_knots(&knots_args, off.1, off.1 + 1)?;
-    let weights = match ctx.args(id, "RATIONAL_B_SPLINE_CURVE") {
-        Ok(r) => r.reals(0)?,
-        Err(_) => vec![1.0; points.len()],
-    };
-    new_curve(degree, knots, &points, weights)
-        .map_err(|e| base.err(format!("inconsistent B-spline curve: {e}")))
-}
-
-/// Expands (multiplicities, knots) into a full knot vector.
-pub fn expand_knots(args: &Args, mult_index: usize, knot_index: usize) -> CadResult<Vec<f64>> {
-    let mults = args.counts(mult_index)?;
-    let knots = args.reals(knot_index)?;
-    if mults.len() != knots.len() || mults.iter().sum::<usize>() > 1_000_000 {
-        return Err(args.err("knot multiplicities and knots differ in length"));
-    }
-    Ok(mults
-        .iter()
-        .zip(&knots)
-        .flat_map(|(&m, &k)| std::iter::repeat_n(k, m))
-        .collect())
 }

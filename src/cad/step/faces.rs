@@ -1,5 +1,6 @@
 //! Conversion of one B-rep face to a trimmed NURBS surface.
 use super::access::{has_record, type_name, Ctx};
+use super::bspline::knot_form;
 use super::parser::Instance;
 use super::pcurves::pcurve_trim;
 use super::projected::projected_trim;
@@ -86,18 +87,19 @@ fn spline_trim(
 }
 
 /// The surface's type; complex B-spline instances are named
-/// `RATIONAL_B_SPLINE_SURFACE` (or `B_SPLINE_SURFACE_WITH_KNOTS`).
+/// `RATIONAL_B_SPLINE_SURFACE`, else after their knot form
+/// (`B_SPLINE_SURFACE_WITH_KNOTS`, `QUASI_UNIFORM_SURFACE`, ...).
 pub fn surface_type_name(inst: &Instance) -> String {
     if !inst.complex {
         return type_name(inst);
     }
-    let rational = has_record(inst, "RATIONAL_B_SPLINE_SURFACE");
-    let name = if rational {
-        "RATIONAL_B_SPLINE_SURFACE"
-    } else {
-        "B_SPLINE_SURFACE_WITH_KNOTS"
-    };
-    name.to_string()
+    if has_record(inst, "RATIONAL_B_SPLINE_SURFACE") {
+        return "RATIONAL_B_SPLINE_SURFACE".into();
+    }
+    match knot_form(inst, true) {
+        Some((_, name)) => name.to_string(),
+        None => type_name(inst),
+    }
 }
 
 fn face_loops(sampler: &mut EdgeSampler, face: &FaceData) -> Result<Vec<LoopPoints>, String> {

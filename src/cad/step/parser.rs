@@ -73,6 +73,11 @@ impl StepFile {
     pub fn get(&self, id: u64) -> Option<&Instance> {
         self.index.get(&id).and_then(|&k| self.instances.get(k))
     }
+
+    /// The file-order index of `#id` (`usize::MAX` when undefined).
+    pub fn position(&self, id: u64) -> usize {
+        self.index.get(&id).copied().unwrap_or(usize::MAX)
+    }
 }
 
 /// Parses the whole text (syntax only).

@@ -1,7 +1,9 @@
 //! Surface entities: elementary surfaces, B-spline surfaces (simple and
 //! rational complex form), surfaces of revolution and linear extrusion.
-use super::access::{has_record, Ctx};
-use super::curves::{axis1, bspline_curve, curve, expand_knots, placement, point, vector, Space};
+use super::access::Ctx;
+pub use super::bspline::bspline_surface;
+use super::bspline::{bspline_curve, is_bspline_curve, is_bspline_surface};
+use super::curves::{axis1, curve, placement, vector, Space};
 use crate::cad::convert::analytic::Analytic;
 use crate::cad::convert::arc::Arc;
 use crate::cad::error::CadResult;
@@ -25,14 +27,38 @@ pub enum SurfaceKind {
     Extrusion(Curve, Vec3),
 }
 
+/// Deepest chain of surface wrappers (offset, trimmed, curve-bounded) followed.
+const MAX_SURFACE_CHAIN: usize = 16;
+
 /// Reads the surface `#id`; `Err` for malformed or unsupported surfaces.
+///
+/// RECTANGULAR_TRIMMED_SURFACE and CURVE_BOUNDED_SURFACE resolve to their
+/// basis surface (the face's own loops bound it); OFFSET_SURFACE is exact
+/// for elementary basis surfaces (see [`offset`]).
 pub fn surface(ctx: &Ctx, id: u64) -> CadResult<SurfaceKind> {
+    surface_at(ctx, id, 0)
+}
+
+fn surface_at(ctx: &Ctx, id: u64, depth: usize) -> CadResult<SurfaceKind> {
     let inst = ctx.inst(id)?;
-    if inst.complex || has_record(inst, "B_SPLINE_SURFACE_WITH_KNOTS") {
+    if is_bspline_surface(inst) {
         return bspline_surface(ctx, id).map(SurfaceKind::Spline);
     }
     let args = ctx.first(id)?;
     let name = inst.records.first().map(|r| r.name.as_str()).unwrap_or("");
+    if depth > MAX_SURFACE_CHAIN {
+        return Err(args.err("surface wrappers nested too deeply"));
+    }
+    match name {
+        "RECTANGULAR_TRIMMED_SURFACE" | "CURVE_BOUNDED_SURFACE" => {
+            return surface_at(ctx, args.reference(1)?, depth + 1);
+        }
+        "OFFSET_SURFACE" => {
+            let basis = surface_at(ctx, args.reference(1)?, depth + 1)?;
+            return offset(basis, args.length(2)?).map_err(|r| args.err(r));
+        }
+        _ => {}
+    }
     let frame = || placement(ctx, args.reference(1)?, Space::Model);
     let a = match name {
         "PLANE" => Analytic::Plane(frame()?),
@@ -67,47 +93,41 @@ pub fn surface(ctx: &Ctx, id: u64) -> CadResult<SurfaceKind> {
     Ok(SurfaceKind::Analytic(a))
 }
 
-/// B_SPLINE_SURFACE_WITH_KNOTS, simple or complex (rational) form.
-pub fn bspline_surface(ctx: &Ctx, id: u64) -> CadResult<SurfaceSpec> {
-    let inst = ctx.inst(id)?;
-    let (base, knots, off) = if inst.complex {
-        (
-            ctx.args(id, "B_SPLINE_SURFACE")?,
-            ctx.args(id, "B_SPLINE_SURFACE_WITH_KNOTS")?,
-            (0, 0),
-        )
-    } else {
-        let a = ctx.args(id, "B_SPLINE_SURFACE_WITH_KNOTS")?;
-        (a, a, (1, 8))
+/// The surface at signed distance `d` (mm) along the basis surface's normal
+/// (ISO 10303-42: outward for cylinders, cones, spheres and tori, the
+/// placement axis for planes). Offsets of elementary surfaces are again
+/// elementary: a plane moves along its normal, radii grow by `d` (a cone's
+/// reference radius by `d / cos(semi-angle)`). Other basis surfaces have no
+/// exact NURBS offset and are refused.
+pub fn offset(basis: SurfaceKind, d: f64) -> Result<SurfaceKind, String> {
+    let SurfaceKind::Analytic(a) = basis else {
+        return Err("OFFSET_SURFACE of a non-elementary surface has no exact NURBS form".into());
     };
-    let degree = [base.count(off.0)?, base.count(off.0 + 1)?];
-    let grid = base.ref_grid(off.0 + 2)?;
-    let control_points = grid
-        .iter()
-        .map(|row| {
-            row.iter()
-                .map(|&p| point(ctx, p, Space::Model).map(|q| [q.x, q.y, q.z]))
-                .collect::<CadResult<Vec<_>>>()
-        })
-        .collect::<CadResult<Vec<_>>>()?;
-    let knots_u = expand_knots(&knots, off.1, off.1 + 2)?;
-    let knots_v = expand_knots(&knots, off.1 + 1, off.1 + 3)?;
-    let weights = match ctx.args(id, "RATIONAL_B_SPLINE_SURFACE") {
-        Ok(r) => Some(r.real_grid(0)?),
-        Err(_) => None,
+    let grown = |r: f64| {
+        let g = r + d;
+        if g > 0.0 && g.is_finite() {
+            Ok(g)
+        } else {
+            Err(format!("offset {d} mm collapses radius {r} mm"))
+        }
     };
-    let spec = SurfaceSpec {
-        name: String::new(),
-        degree,
-        knots_u,
-        knots_v,
-        control_points,
-        weights,
-        reversed: false,
-        trim: None,
+    let out = match a {
+        Analytic::Plane(f) => Analytic::Plane(Frame {
+            origin: f.origin + f.z * d,
+            ..f
+        }),
+        Analytic::Cylinder(f, r) => Analytic::Cylinder(f, grown(r)?),
+        Analytic::Sphere(f, r) => Analytic::Sphere(f, grown(r)?),
+        Analytic::Torus(f, big, small) => Analytic::Torus(f, big, grown(small)?),
+        Analytic::Cone(f, r, semi) => {
+            let c = semi.cos();
+            if c.abs() < EPS_DIRECTION {
+                return Err("offset of a flat cone".into());
+            }
+            Analytic::Cone(f, r + d / c, semi)
+        }
     };
-    check_spline(&spec).map_err(|reason| base.err(reason))?;
-    Ok(spec)
+    Ok(SurfaceKind::Analytic(out))
 }
 
 /// Shape checks of a NURBS surface (counts, knot order, positive weights).
@@ -166,7 +186,7 @@ fn conic(frame: &Frame, a: f64, b: f64) -> Result<NurbsCurve, crate::geometry::N
 /// Reads a pcurve's 2-D curve (parameter space, unscaled).
 pub fn param_curve(ctx: &Ctx, id: u64) -> CadResult<Curve> {
     let inst = ctx.inst(id)?;
-    if inst.complex || has_record(inst, "B_SPLINE_CURVE_WITH_KNOTS") {
+    if is_bspline_curve(inst) {
         return bspline_curve(ctx, id, Space::Param).map(Curve::Nurbs);
     }
     curve(ctx, id, Space::Param)

@@ -22,6 +22,9 @@ pub struct Units {
     pub length_mm: f64,
     /// Radians per file plane-angle unit.
     pub angle_rad: f64,
+    /// Declared length uncertainty of the geometry context, mm (the
+    /// UNCERTAINTY_MEASURE_WITH_UNIT of its GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT).
+    pub uncertainty_mm: Option<f64>,
 }
 
 /// Finds the units of the geometry; error "missing units" when there is no length unit.
@@ -42,6 +45,7 @@ pub fn find_units(step: &StepFile, file: &str) -> CadResult<Units> {
             return Ok(Units {
                 length_mm,
                 angle_rad,
+                uncertainty_mm: uncertainty(&ctx, inst),
             });
         }
     }
@@ -163,4 +167,46 @@ fn si_prefix(p: &str) -> Option<f64> {
         _ => return None,
     };
     Some(factor)
+}
+
+/// Millimetres per length unit of representation `rep`'s context, when it
+/// declares one.
+pub fn rep_length_mm(ctx: &Ctx, rep: u64) -> Option<f64> {
+    let context = rep_context(ctx, rep)?;
+    context_unit(ctx, context, "LENGTH_UNIT", 1000.0)
+        .ok()
+        .flatten()
+        .filter(|f| f.is_finite() && *f > 0.0)
+}
+
+fn rep_context<'a>(ctx: &Ctx<'a>, rep: u64) -> Option<&'a Instance> {
+    let rec = ctx.step.get(rep)?.records.first()?;
+    let context = ctx.step.get(as_ref(rec.params.get(2)?)?)?;
+    has_record(context, "GLOBAL_UNIT_ASSIGNED_CONTEXT").then_some(context)
+}
+
+/// The smallest declared length uncertainty of a context, mm (`None` when
+/// it declares none or it cannot be read).
+fn uncertainty(ctx: &Ctx, context: &Instance) -> Option<f64> {
+    let args = ctx
+        .args(context.id, "GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT")
+        .ok()?;
+    let ids = args.refs(0).ok()?;
+    ids.into_iter()
+        .filter_map(|id| {
+            let inst = ctx.inst(id).ok()?;
+            let rec = inst
+                .records
+                .iter()
+                .find(|r| r.name == "UNCERTAINTY_MEASURE_WITH_UNIT")?;
+            let unit = ctx.inst(as_ref(rec.params.get(1)?)?).ok()?;
+            if !has_record(unit, "LENGTH_UNIT") {
+                return None;
+            }
+            let value = rec.params.first().and_then(as_real)?;
+            let factor = unit_factor(ctx, unit, 1000.0, 0).ok()?;
+            Some(value * factor)
+        })
+        .filter(|u| u.is_finite() && *u > 0.0)
+        .reduce(f64::min)
 }
