@@ -48,11 +48,24 @@ fn face_samples(wp: &Workpiece, n: usize) -> Vec<(usize, Point3)> {
 /// Surface type of every 510 face, from the Directory and Parameter text.
 fn text_surface_types(text: &str) -> BTreeMap<String, usize> {
     let lines: Vec<&str> = text.lines().collect();
-    let d: Vec<&str> = lines.iter().copied().filter(|l| l.get(72..73) == Some("D")).collect();
+    let d: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| l.get(72..73) == Some("D"))
+        .collect();
     let kind_of = |de: usize| d[de - 1][..8].trim().to_string();
     let mut counts = BTreeMap::new();
-    for l in lines.iter().filter(|l| l.get(72..73) == Some("P") && l.starts_with("510,")) {
-        let surf: usize = l.split(',').nth(1).expect("surface field").trim().parse().expect("DE");
+    for l in lines
+        .iter()
+        .filter(|l| l.get(72..73) == Some("P") && l.starts_with("510,"))
+    {
+        let surf: usize = l
+            .split(',')
+            .nth(1)
+            .expect("surface field")
+            .trim()
+            .parse()
+            .expect("DE");
         *counts.entry(format!("IGES {}", kind_of(surf))).or_insert(0) += 1;
     }
     counts
@@ -88,12 +101,18 @@ fn both() -> Option<(Import, Import, String)> {
         return None;
     };
     let text = std::fs::read_to_string(&ig).expect("read");
-    Some((import(&ig).expect("IGES imports"), import(&st).expect("STEP imports"), text))
+    Some((
+        import(&ig).expect("IGES imports"),
+        import(&st).expect("STEP imports"),
+        text,
+    ))
 }
 
 #[test]
 fn brep_faces_counts_and_types() {
-    let Some((iges, _, text)) = both() else { return };
+    let Some((iges, _, text)) = both() else {
+        return;
+    };
     assert_eq!(iges.faces.len(), 29, "OpenCASCADE's face count");
     assert!(iges.diagnostics.is_empty(), "{:?}", iges.diagnostics);
     assert!(iges.workpiece.surfaces.iter().all(|s| s.trim.is_some()));
@@ -107,7 +126,9 @@ fn brep_faces_counts_and_types() {
 
 #[test]
 fn brep_matches_the_step_part() {
-    let Some((iges, step, _)) = both() else { return };
+    let Some((iges, step, _)) = both() else {
+        return;
+    };
     let (wi, ws) = (workpiece(&iges), workpiece(&step));
     for (from, to, what) in [(&wi, &ws, "IGES on STEP"), (&ws, &wi, "STEP on IGES")] {
         let samples = face_samples(from, 24);
@@ -119,23 +140,40 @@ fn brep_matches_the_step_part() {
             worst = worst.max(d);
             // Normal sense: a point 0.01 mm outside `from` along its normal
             // is 0.01 mm outside `to` unless another face is closer.
-            let own = from.closest_point_among(*p, [*k]).expect("own face").projection;
+            let own = from
+                .closest_point_among(*p, [*k])
+                .expect("own face")
+                .projection;
             let q = p + own.normal * 0.01;
             let other = to.closest_point(q).expect("projects").projection;
             if other.distance > 0.0099 {
-                assert!(other.signed_distance > 0.0, "{what}: face {k} at {p:?} points inwards");
+                assert!(
+                    other.signed_distance > 0.0,
+                    "{what}: face {k} at {p:?} points inwards"
+                );
                 outward_checked += 1;
             }
         }
         assert!(worst < 1e-6, "{what}: worst distance {worst:e} mm");
-        assert!(outward_checked > samples.len() / 2, "{what}: {outward_checked} normal checks");
+        assert!(
+            outward_checked > samples.len() / 2,
+            "{what}: {outward_checked} normal checks"
+        );
     }
 }
 
 #[test]
 fn brep_normals_enclose_a_positive_volume() {
-    let Some((iges, step, _)) = both() else { return };
-    let (vi, vs) = (volume(&workpiece(&iges), 200), volume(&workpiece(&step), 200));
+    let Some((iges, step, _)) = both() else {
+        return;
+    };
+    let (vi, vs) = (
+        volume(&workpiece(&iges), 200),
+        volume(&workpiece(&step), 200),
+    );
     assert!(vi > 0.0, "outward normals give a positive volume: {vi}");
-    assert!((vi - vs).abs() < 1e-3 * vs.abs(), "IGES {vi} vs STEP {vs} mm^3");
+    assert!(
+        (vi - vs).abs() < 1e-3 * vs.abs(),
+        "IGES {vi} vs STEP {vs} mm^3"
+    );
 }

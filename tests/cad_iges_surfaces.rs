@@ -32,7 +32,10 @@ fn sphere_196_points_lie_at_the_radius() {
     }
     let top = pts.iter().map(|p| p[2]).fold(f64::MIN, f64::max);
     let bottom = pts.iter().map(|p| p[2]).fold(f64::MAX, f64::min);
-    assert!((top - 8.0).abs() < TOL && (bottom + 2.0).abs() < TOL, "whole sphere");
+    assert!(
+        (top - 8.0).abs() < TOL && (bottom + 2.0).abs() < TOL,
+        "whole sphere"
+    );
 }
 
 #[test]
@@ -53,10 +56,18 @@ fn sphere_in_inches_moved_by_a_chained_124() {
     }
 }
 
-fn revolve_line(a: [f64; 3], b: [f64; 3], angles: (f64, f64)) -> cmm::workpiece::format::SurfaceSpec {
+fn revolve_line(
+    a: [f64; 3],
+    b: [f64; 3],
+    angles: (f64, f64),
+) -> cmm::workpiece::format::SurfaceSpec {
     let mut g = Iges::default();
     let axis = g.add(110, 0, "0.,0.,0.,0.,0.,1.");
-    let line = g.add(110, 0, &format!("{},{},{},{},{},{}", a[0], a[1], a[2], b[0], b[1], b[2]));
+    let line = g.add(
+        110,
+        0,
+        &format!("{},{},{},{},{},{}", a[0], a[1], a[2], b[0], b[1], b[2]),
+    );
     g.dependent(axis);
     g.dependent(line);
     g.add(120, 0, &format!("{axis},{line},{},{}", angles.0, angles.1));
@@ -65,13 +76,20 @@ fn revolve_line(a: [f64; 3], b: [f64; 3], angles: (f64, f64)) -> cmm::workpiece:
 
 #[test]
 fn revolution_120_of_a_parallel_line_is_a_cylinder() {
-    let s = revolve_line([3.0, 0.0, 0.0], [3.0, 0.0, 10.0], (0.0, std::f64::consts::PI));
+    let s = revolve_line(
+        [3.0, 0.0, 0.0],
+        [3.0, 0.0, 10.0],
+        (0.0, std::f64::consts::PI),
+    );
     let pts = grid_points(&s, 16);
     for p in &pts {
         assert!((p[0].hypot(p[1]) - 3.0).abs() < TOL, "{p:?}");
         assert!(p[2] > -TOL && p[2] < 10.0 + TOL && p[1] > -TOL, "{p:?}");
     }
-    assert!(pts.iter().any(|p| (p[0] + 3.0).abs() < TOL), "sweeps to 180 deg");
+    assert!(
+        pts.iter().any(|p| (p[0] + 3.0).abs() < TOL),
+        "sweeps to 180 deg"
+    );
 }
 
 #[test]
@@ -96,7 +114,9 @@ fn tabulated_cylinder_122_of_a_quarter_arc() {
         assert!((p[0].hypot(p[1]) - 5.0).abs() < TOL, "{p:?}");
         assert!(p[0] > -TOL && p[1] > -TOL && p[2] > -TOL && p[2] < 7.0 + TOL);
     }
-    assert!(pts.iter().any(|p| (p[2] - 7.0).abs() < TOL && (p[1] - 5.0).abs() < TOL));
+    assert!(pts
+        .iter()
+        .any(|p| (p[2] - 7.0).abs() < TOL && (p[1] - 5.0).abs() < TOL));
 }
 
 #[test]
@@ -116,7 +136,11 @@ fn ruled_118_between_a_line_and_a_spline_with_reversal() {
     let mut g = Iges::default();
     let a = g.add(110, 0, "0.,0.,0.,4.,0.,0.");
     // A quadratic B-spline from (4, 0, 3) over (2, 0, 5) to (0, 0, 3): in the y = 0 plane.
-    let b = g.add(126, 0, "2,2,0,0,1,0,0.,0.,0.,1.,1.,1.,1.,1.,1.,4.,0.,3.,2.,0.,5.,0.,0.,3.,0.,1.,0.,1.,0.");
+    let b = g.add(
+        126,
+        0,
+        "2,2,0,0,1,0,0.,0.,0.,1.,1.,1.,1.,1.,1.,4.,0.,3.,2.,0.,5.,0.,0.,3.,0.,1.,0.,1.,0.",
+    );
     g.add(118, 1, &format!("{a},{b},1,0"));
     let s = only_surface(&g);
     for p in grid_points(&s, 16) {
@@ -124,7 +148,10 @@ fn ruled_118_between_a_line_and_a_spline_with_reversal() {
     }
     let surf = s.to_surface().expect("surface");
     let (p, q) = (surf.point(0.0, 1.0), surf.point(0.0, 0.0));
-    assert!((p.x - 0.0).abs() < TOL && (p.z - 3.0).abs() < TOL, "reversed rail: {p:?}");
+    assert!(
+        (p.x - 0.0).abs() < TOL && (p.z - 3.0).abs() < TOL,
+        "reversed rail: {p:?}"
+    );
     assert!(q.x.abs() < TOL && q.z.abs() < TOL, "{q:?}");
 }
 
@@ -151,7 +178,10 @@ fn cylinder_192_trimmed_by_model_space_circles() {
     assert!(s.trim.is_some(), "{:?}", imp.diagnostics);
     for p in grid_points(s, 12) {
         assert!((p[0].hypot(p[1]) - 4.0).abs() < TOL, "{p:?}");
-        assert!(p[2] > -0.2 && p[2] < 6.2, "extent of the face plus margin: {p:?}");
+        assert!(
+            p[2] > -0.2 && p[2] < 6.2,
+            "extent of the face plus margin: {p:?}"
+        );
     }
 }
 

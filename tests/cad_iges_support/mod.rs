@@ -97,7 +97,10 @@ impl Iges {
             'G',
             &[
                 "1H,,1H;,4Htest,6Ht.iges,1Hs,1Hp,32,38,6,308,15,4Htest,1.,".to_string(),
-                format!("{},1,0.01,15H20260101.000000,1E-07,100.,1Ha,1Hb,11,0;", self.units),
+                format!(
+                    "{},1,0.01,15H20260101.000000,1E-07,100.,1Ha,1Hb,11,0;",
+                    self.units
+                ),
             ],
         );
         let d = section('D', &d);

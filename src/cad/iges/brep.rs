@@ -44,7 +44,10 @@ pub fn solid_faces(m: &Model, e: &Entry) -> CadResult<Vec<ShellFace>> {
 fn shell<'a>(f: &Fields<'a>, k: usize) -> CadResult<&'a Entry> {
     let e = f.target(k)?;
     if e.kind != 514 {
-        return Err(f.bad(k, &format!("points to entity {} (expected a 514 shell)", e.kind)));
+        return Err(f.bad(
+            k,
+            &format!("points to entity {} (expected a 514 shell)", e.kind),
+        ));
     }
     Ok(e)
 }
@@ -65,7 +68,10 @@ pub fn shell_faces(m: &Model, e: &Entry, shell_sense: bool) -> CadResult<Vec<She
         .map(|i| {
             let face = g.target(2 + 2 * i)?;
             if face.kind != 510 {
-                return Err(g.bad(2 + 2 * i, &format!("points to entity {} (expected a 510 face)", face.kind)));
+                return Err(g.bad(
+                    2 + 2 * i,
+                    &format!("points to entity {} (expected a 510 face)", face.kind),
+                ));
             }
             Ok(ShellFace {
                 face: face.seq,
@@ -98,7 +104,13 @@ impl EdgeCache {
     fn vertex(&mut self, m: &Model, f: &Fields, field: usize, k: i64) -> CadResult<Point3> {
         let list = f.target(field)?;
         if list.kind != 502 {
-            return Err(f.bad(field, &format!("points to entity {} (expected a 502 vertex list)", list.kind)));
+            return Err(f.bad(
+                field,
+                &format!(
+                    "points to entity {} (expected a 502 vertex list)",
+                    list.kind
+                ),
+            ));
         }
         if !self.vertices.contains_key(&list.seq) {
             let g = m.fields(list)?;
@@ -111,7 +123,11 @@ impl EdgeCache {
                 .collect::<CadResult<Vec<_>>>()?;
             self.vertices.insert(list.seq, pts);
         }
-        let pts = self.vertices.get(&list.seq).map(Vec::as_slice).unwrap_or(&[]);
+        let pts = self
+            .vertices
+            .get(&list.seq)
+            .map(Vec::as_slice)
+            .unwrap_or(&[]);
         usize::try_from(k)
             .ok()
             .and_then(|k| k.checked_sub(1))
@@ -125,7 +141,13 @@ impl EdgeCache {
             return Ok(p.clone());
         }
         if list.kind != 504 {
-            return Err(m.err(list, format!("loop edge is entity {} (expected a 504 edge list)", list.kind)));
+            return Err(m.err(
+                list,
+                format!(
+                    "loop edge is entity {} (expected a 504 edge list)",
+                    list.kind
+                ),
+            ));
         }
         let g = m.fields(list)?;
         let at = 2 + 5 * k.saturating_sub(1);
@@ -137,10 +159,17 @@ impl EdgeCache {
         let to = self.vertex(m, &g, at + 3, g.int(at + 4)?)?;
         let ps = pieces(m, curve, &self.place, 0)?;
         let o = &self.opts;
-        let mut pts = polyline(&ps, o.chord_tolerance_mm, o.max_edge_samples, o.point_tolerance_mm);
+        let mut pts = polyline(
+            &ps,
+            o.chord_tolerance_mm,
+            o.max_edge_samples,
+            o.point_tolerance_mm,
+        );
         let closed = (from - to).norm() <= o.point_tolerance_mm;
         let d = |a: Option<&Point3>, b: Point3| a.map_or(f64::INFINITY, |a| (a - b).norm());
-        if !closed && d(pts.first(), to) + d(pts.last(), from) < d(pts.first(), from) + d(pts.last(), to) {
+        if !closed
+            && d(pts.first(), to) + d(pts.last(), from) < d(pts.first(), from) + d(pts.last(), to)
+        {
             pts.reverse();
         }
         if let Some(p) = pts.first_mut() {
@@ -161,7 +190,12 @@ struct LoopEdge {
 }
 
 /// Converts 510 face `sf` of a solid placed as the cache's placement.
-pub fn face510(m: &Model, sf: ShellFace, cache: &mut EdgeCache, opts: &ImportOptions) -> CadResult<FaceOut> {
+pub fn face510(
+    m: &Model,
+    sf: ShellFace,
+    cache: &mut EdgeCache,
+    opts: &ImportOptions,
+) -> CadResult<FaceOut> {
     let Some(e) = m.get(sf.face) else {
         return Err(m.missing(sf.face));
     };
@@ -192,7 +226,10 @@ fn loop508(
     outer: bool,
 ) -> CadResult<FaceLoop> {
     if e.kind != 508 {
-        return Err(m.err(e, format!("loop pointer is entity {} (expected a 508 loop)", e.kind)));
+        return Err(m.err(
+            e,
+            format!("loop pointer is entity {} (expected a 508 loop)", e.kind),
+        ));
     }
     let f = m.fields(e)?;
     let mut at = 2;
@@ -227,10 +264,16 @@ fn loop508(
 
 /// The parameter curve oriented like the edge's points, `None` when its
 /// ends do not map onto the edge's ends within the pcurve tolerance.
-fn orient_uv(uv: Vec<P2>, points: &[Point3], s: &NurbsSurface, opts: &ImportOptions) -> Option<Vec<P2>> {
+fn orient_uv(
+    uv: Vec<P2>,
+    points: &[Point3],
+    s: &NurbsSurface,
+    opts: &ImportOptions,
+) -> Option<Vec<P2>> {
     let at = |p: Option<&P2>| p.map(|q| s.point(q[0], q[1]));
     let near = |a: Option<Point3>, b: Option<&Point3>| {
-        a.zip(b).is_some_and(|(a, b)| (a - b).norm() <= opts.pcurve_tolerance_mm)
+        a.zip(b)
+            .is_some_and(|(a, b)| (a - b).norm() <= opts.pcurve_tolerance_mm)
     };
     let (first, last) = (points.first(), points.last());
     if near(at(uv.first()), first) && near(at(uv.last()), last) {

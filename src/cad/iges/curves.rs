@@ -80,7 +80,8 @@ fn point_at(c: &[f64], k: usize) -> Point3 {
 /// so reflections keep the sense of rotation of the definition space).
 fn mapped_frame(f: &Fields, tr: &Affine, center: Point3) -> CadResult<Frame> {
     let (x, y) = (tr.vector(Vec3::x()), tr.vector(Vec3::y()));
-    Frame::new(tr.apply(center), x.cross(&y), Some(x)).ok_or_else(|| f.bad(0, "degenerate transform"))
+    Frame::new(tr.apply(center), x.cross(&y), Some(x))
+        .ok_or_else(|| f.bad(0, "degenerate transform"))
 }
 
 /// Counter-clockwise sweep from angle `t0` to `t1` (a full turn when equal).
@@ -113,10 +114,15 @@ fn ellipse104(f: &Fields, tr: &Affine) -> CadResult<Piece> {
     let c = f.reals(1, 11)?;
     let g = |k: usize| c.get(k).copied().unwrap_or(0.0);
     let (a, b, cc, d, e, ff) = (g(0), g(1), g(2), g(3), g(4), g(5));
-    let degenerate = [b, d, e].iter().any(|x| x.abs() > 1e-12 * (a.abs() + cc.abs()));
+    let degenerate = [b, d, e]
+        .iter()
+        .any(|x| x.abs() > 1e-12 * (a.abs() + cc.abs()));
     let (ra, rb) = ((-ff / a).sqrt(), (-ff / cc).sqrt());
     if f.entry.form != 1 || degenerate || !(ra > 0.0 && rb > 0.0) {
-        return Err(f.bad(1, "is not an ellipse in standard position (only form 1 ellipses are supported)"));
+        return Err(f.bad(
+            1,
+            "is not an ellipse in standard position (only form 1 ellipses are supported)",
+        ));
     }
     let frame = mapped_frame(f, tr, Point3::new(0.0, 0.0, g(6)))?;
     let s = tr.scale();

@@ -156,7 +156,10 @@ impl Model<'_> {
             if te.kind != 124 {
                 return Err(self.err(
                     from,
-                    format!("transformation pointer #{} is entity {}, not 124", te.seq, te.kind),
+                    format!(
+                        "transformation pointer #{} is entity {}, not 124",
+                        te.seq, te.kind
+                    ),
                 ));
             }
             if chain.contains(&te.seq) || chain.len() > MAX_CHAIN {
@@ -312,4 +315,3 @@ impl<'a> Fields<'a> {
         self.toks.items.is_empty()
     }
 }
-

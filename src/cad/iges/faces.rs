@@ -50,14 +50,20 @@ pub fn bounded(
         .collect();
     match surf {
         Surf::Analytic(a) => analytic_face(a, &lp, same_sense, ext).map(|s| (s, None)),
-        Surf::Revolution { frame, profile, .. } => {
-            analytic_face(&Swept::Revolution(*frame, profile.clone()), &lp, same_sense, ext)
-                .map(|s| (s, None))
-        }
-        Surf::Extrusion { profile, dir, .. } => {
-            analytic_face(&Swept::Extrusion(profile.clone(), *dir), &lp, same_sense, ext)
-                .map(|s| (s, None))
-        }
+        Surf::Revolution { frame, profile, .. } => analytic_face(
+            &Swept::Revolution(*frame, profile.clone()),
+            &lp,
+            same_sense,
+            ext,
+        )
+        .map(|s| (s, None)),
+        Surf::Extrusion { profile, dir, .. } => analytic_face(
+            &Swept::Extrusion(profile.clone(), *dir),
+            &lp,
+            same_sense,
+            ext,
+        )
+        .map(|s| (s, None)),
         Surf::Spline(spec, _) => {
             let mut spec = spec.clone();
             spec.reversed = !same_sense;
@@ -72,7 +78,11 @@ pub fn bounded(
     }
 }
 
-fn spline_trim(spec: &SurfaceSpec, loops: &[FaceLoop], opts: &ImportOptions) -> Result<TrimSpec, String> {
+fn spline_trim(
+    spec: &SurfaceSpec,
+    loops: &[FaceLoop],
+    opts: &ImportOptions,
+) -> Result<TrimSpec, String> {
     if loops.is_empty() {
         return Err("face has no boundary loops".into());
     }
@@ -132,8 +142,9 @@ fn natural_outer(
     opts: &ImportOptions,
 ) -> Result<(SurfaceSpec, Option<String>), String> {
     let Surf::Spline(_, [u0, u1, v0, v1]) = surf else {
-        let note = (!holes.is_empty())
-            .then(|| "holes of a face bounded by its surface's own boundary are not applied".into());
+        let note = (!holes.is_empty()).then(|| {
+            "holes of a face bounded by its surface's own boundary are not applied".into()
+        });
         return surf.untrimmed().map(|s| (s, note));
     };
     let mut loops = vec![FaceLoop {
@@ -164,14 +175,18 @@ fn boundary142(
     let (bptr, cptr) = (g.target_opt(3)?, g.target_opt(4)?);
     let uv = match (surf, bptr) {
         (Surf::Spline(spec, _), Some(b)) => {
-            let s = spec.to_surface().map_err(|x| m.err(e, format!("surface cannot be evaluated: {x}")))?;
+            let s = spec
+                .to_surface()
+                .map_err(|x| m.err(e, format!("surface cannot be evaluated: {x}")))?;
             Some(close(uv_curve(m, b, &s, opts)?))
         }
         _ => None,
     };
     let points = match cptr {
         Some(c) if uv.is_none() => model_points(m, c, place, opts)?,
-        None if uv.is_none() => return Err(m.err(e, "curve on surface has no usable boundary curve")),
+        None if uv.is_none() => {
+            return Err(m.err(e, "curve on surface has no usable boundary curve"))
+        }
         _ => Vec::new(),
     };
     Ok(FaceLoop { points, uv, outer })
@@ -189,7 +204,12 @@ fn sampled(m: &Model, c: &Entry, place: &Affine, opts: &ImportOptions) -> CadRes
 }
 
 /// A closed model-space curve sampled, closing point dropped.
-fn model_points(m: &Model, c: &Entry, place: &Affine, opts: &ImportOptions) -> CadResult<Vec<Point3>> {
+fn model_points(
+    m: &Model,
+    c: &Entry,
+    place: &Affine,
+    opts: &ImportOptions,
+) -> CadResult<Vec<Point3>> {
     let mut pts = sampled(m, c, place, opts)?;
     let closed = pts
         .first()
@@ -231,7 +251,10 @@ fn boundary141(
     let g = m.fields(e)?;
     let n = g.count(4)?;
     let spline = match surf {
-        Surf::Spline(spec, _) => Some(spec.to_surface().map_err(|x| m.err(e, format!("surface cannot be evaluated: {x}")))?),
+        Surf::Spline(spec, _) => Some(
+            spec.to_surface()
+                .map_err(|x| m.err(e, format!("surface cannot be evaluated: {x}")))?,
+        ),
         _ => None,
     };
     let (mut points, mut uv): (Vec<Point3>, Option<Vec<P2>>) = (Vec::new(), Some(Vec::new()));

@@ -104,7 +104,7 @@ impl Run<'_> {
         let (m, e) = (self.m, item.entry);
         let free_surface = SURFACE_TYPES.contains(&e.kind)
             && !uses.parts.contains(&e.seq)
-            && !dependent(e);
+            && (item.instanced || !dependent(e));
         match e.kind {
             186 => self.solid(item),
             514 | 510 if self.in_solid.contains(&e.seq) => Ok(()),
@@ -146,11 +146,21 @@ impl Run<'_> {
             Err(x) => return self.push(e, Err(x)),
         };
         let faces = brep::solid_faces(self.m, e);
-        self.faces(&Item { entry: e, place }, e, faces)
+        let solid = Item {
+            entry: e,
+            place,
+            instanced: item.instanced,
+        };
+        self.faces(&solid, e, faces)
     }
 
     /// Converts the faces of a solid or shell (or one free face).
-    fn faces(&mut self, item: &Item, owner: &Entry, faces: CadResult<Vec<brep::ShellFace>>) -> CadResult<()> {
+    fn faces(
+        &mut self,
+        item: &Item,
+        owner: &Entry,
+        faces: CadResult<Vec<brep::ShellFace>>,
+    ) -> CadResult<()> {
         let faces = match faces {
             Ok(f) => f,
             Err(x) => return self.push(owner, Err(x)),

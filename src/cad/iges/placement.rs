@@ -15,6 +15,8 @@ pub struct Item<'m> {
     pub entry: &'m Entry,
     /// Placement (includes the unit scale).
     pub place: Affine,
+    /// True for members of a subfigure definition (placed by an instance).
+    pub instanced: bool,
 }
 
 /// Entities that other entities use as parts (surfaces of faces, faces of
@@ -36,7 +38,9 @@ pub fn uses(m: &Model) -> Uses {
         let ptr = |k: usize| f.ptr(k).ok();
         let listed = |count: usize, first: usize, stride: usize| -> Vec<u64> {
             let n = f.count(count).unwrap_or(0).min(f.len());
-            (0..n).filter_map(|i| f.ptr(first + stride * i).ok()).collect()
+            (0..n)
+                .filter_map(|i| f.ptr(first + stride * i).ok())
+                .collect()
         };
         let found: Vec<u64> = match e.kind {
             144 | 142 => ptr(1).into_iter().chain(ptr(2)).collect(),
@@ -88,13 +92,20 @@ fn expand<'m>(
         out.push(Item {
             entry: e,
             place: *place,
+            instanced: stack.len() > 1,
         });
         return Ok(());
     }
     let f = m.fields(e)?;
     let def = f.target(1)?;
     if def.kind != 308 {
-        return Err(f.bad(1, &format!("points to entity {} (expected a 308 subfigure definition)", def.kind)));
+        return Err(f.bad(
+            1,
+            &format!(
+                "points to entity {} (expected a 308 subfigure definition)",
+                def.kind
+            ),
+        ));
     }
     if stack.contains(&def.seq) || stack.len() > MAX_CHAIN {
         stack.push(def.seq);
@@ -105,7 +116,11 @@ fn expand<'m>(
             return Ok(default);
         }
         let v = f.real(k)?;
-        Ok(if v == 0.0 && default != 0.0 { default } else { v })
+        Ok(if v == 0.0 && default != 0.0 {
+            default
+        } else {
+            v
+        })
     };
     let scale = opt(5, 1.0)?;
     let shift = Vec3::new(opt(2, 0.0)?, opt(3, 0.0)?, opt(4, 0.0)?);

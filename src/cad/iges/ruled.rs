@@ -28,7 +28,8 @@ pub fn ruled(m: &Model, f: &Fields, tr: &Affine) -> CadResult<SurfaceSpec> {
     if f.int(3)? == 1 {
         c2 = reversed(&c2).map_err(|r| f.bad(2, &r))?;
     }
-    let (a, b) = compatible(&unit(&c1), &unit(&c2)).map_err(|r| f.bad(1, &format!("and 2: {r}")))?;
+    let (a, b) =
+        compatible(&unit(&c1), &unit(&c2)).map_err(|r| f.bad(1, &format!("and 2: {r}")))?;
     let (pa, pb) = (control_points(&a), control_points(&b));
     let (wa, wb) = (weights(&a), weights(&b));
     let rational = wa.iter().any(|w| *w != 1.0);
@@ -53,14 +54,25 @@ fn rebuild(degree: usize, knots: Vec<f64>, c: &NurbsCurve) -> Result<NurbsCurve,
 pub fn unit(c: &NurbsCurve) -> NurbsCurve {
     let (lo, hi) = c.domain();
     let len = (hi - lo).max(f64::MIN_POSITIVE);
-    let knots = c.knots().as_slice().iter().map(|t| (t - lo) / len).collect();
+    let knots = c
+        .knots()
+        .as_slice()
+        .iter()
+        .map(|t| (t - lo) / len)
+        .collect();
     rebuild(c.knots().degree(), knots, c).unwrap_or_else(|_| c.clone())
 }
 
 /// The same curve traversed backwards (same domain).
 pub fn reversed(c: &NurbsCurve) -> Result<NurbsCurve, String> {
     let (lo, hi) = c.domain();
-    let knots: Vec<f64> = c.knots().as_slice().iter().rev().map(|t| lo + hi - t).collect();
+    let knots: Vec<f64> = c
+        .knots()
+        .as_slice()
+        .iter()
+        .rev()
+        .map(|t| lo + hi - t)
+        .collect();
     let mut pts = control_points(c);
     let mut w = weights(c);
     pts.reverse();
@@ -80,7 +92,12 @@ pub fn restrict(c: &NurbsCurve, t0: f64, t1: f64) -> Result<NurbsCurve, String> 
     let mut c = c.clone();
     for (cut, t) in [(cut0, t0), (cut1, t1)] {
         if cut {
-            let have = c.knots().as_slice().iter().filter(|k| (*k - t).abs() <= snap).count();
+            let have = c
+                .knots()
+                .as_slice()
+                .iter()
+                .filter(|k| (*k - t).abs() <= snap)
+                .count();
             if have < p {
                 c = c.insert_knot(t, p - have).map_err(|e| e.to_string())?;
             }
@@ -88,9 +105,17 @@ pub fn restrict(c: &NurbsCurve, t0: f64, t1: f64) -> Result<NurbsCurve, String> 
     }
     let u = c.knots().as_slice();
     let first = |t: f64| u.iter().position(|k| (k - t).abs() <= snap);
-    let s = if cut0 { first(t0).map_or(0, |a| a.saturating_sub(1)) } else { 0 };
+    let s = if cut0 {
+        first(t0).map_or(0, |a| a.saturating_sub(1))
+    } else {
+        0
+    };
     let n = c.knots().num_basis();
-    let e = if cut1 { first(t1).map_or(n - 1, |b| b.saturating_sub(1)) } else { n - 1 };
+    let e = if cut1 {
+        first(t1).map_or(n - 1, |b| b.saturating_sub(1))
+    } else {
+        n - 1
+    };
     let mut knots = vec![t0];
     knots.extend(u.get(s + 1..e + p + 1).unwrap_or(&[]).iter().copied());
     knots.push(t1);
@@ -110,7 +135,9 @@ fn raise_line(c: &NurbsCurve, p: usize, knots: &[f64]) -> Result<NurbsCurve, Str
     let n = knots.len().saturating_sub(p + 1);
     let pts: Vec<Point3> = (0..n)
         .map(|i| {
-            let g = knots.get(i + 1..=i + p).map_or(0.0, |s| s.iter().sum::<f64>() / p as f64);
+            let g = knots
+                .get(i + 1..=i + p)
+                .map_or(0.0, |s| s.iter().sum::<f64>() / p as f64);
             c.point(g)
         })
         .collect();
@@ -126,9 +153,15 @@ fn compatible(a: &NurbsCurve, b: &NurbsCurve) -> Result<(NurbsCurve, NurbsCurve)
     let (pa, pb) = (a.knots().degree(), b.knots().degree());
     if pa != pb {
         return match (is_line(a), is_line(b)) {
-            (true, _) if is_polynomial(b) => Ok((raise_line(a, pb, b.knots().as_slice())?, b.clone())),
-            (_, true) if is_polynomial(a) => Ok((a.clone(), raise_line(b, pa, a.knots().as_slice())?)),
-            _ => Err(format!("rails of degree {pa} and {pb} (only a line can be raised exactly)")),
+            (true, _) if is_polynomial(b) => {
+                Ok((raise_line(a, pb, b.knots().as_slice())?, b.clone()))
+            }
+            (_, true) if is_polynomial(a) => {
+                Ok((a.clone(), raise_line(b, pa, a.knots().as_slice())?))
+            }
+            _ => Err(format!(
+                "rails of degree {pa} and {pb} (only a line can be raised exactly)"
+            )),
         };
     }
     let (a, b) = merge_knots(a, b)?;
@@ -139,11 +172,18 @@ fn compatible(a: &NurbsCurve, b: &NurbsCurve) -> Result<(NurbsCurve, NurbsCurve)
         .zip(&wb)
         .all(|(x, y)| (x - ratio * y).abs() <= WEIGHT_TOL * x.abs());
     if !proportional {
-        return Err("rails with different rational weights (not an exact NURBS ruled surface)".into());
+        return Err(
+            "rails with different rational weights (not an exact NURBS ruled surface)".into(),
+        );
     }
     let scaled = wb.iter().map(|w| w * ratio).collect();
-    let b = new_curve(pb, b.knots().as_slice().to_vec(), &control_points(&b), scaled)
-        .map_err(|e| e.to_string())?;
+    let b = new_curve(
+        pb,
+        b.knots().as_slice().to_vec(),
+        &control_points(&b),
+        scaled,
+    )
+    .map_err(|e| e.to_string())?;
     Ok((a, b))
 }
 
@@ -155,9 +195,19 @@ fn merge_knots(a: &NurbsCurve, b: &NurbsCurve) -> Result<(NurbsCurve, NurbsCurve
         let missing = |x: &NurbsCurve, y: &NurbsCurve| -> Vec<(f64, usize)> {
             let mut out = Vec::new();
             for &t in y.knots().as_slice() {
-                let my = |c: &NurbsCurve| c.knots().as_slice().iter().filter(|k| (*k - t).abs() <= KNOT_SNAP).count();
+                let my = |c: &NurbsCurve| {
+                    c.knots()
+                        .as_slice()
+                        .iter()
+                        .filter(|k| (*k - t).abs() <= KNOT_SNAP)
+                        .count()
+                };
                 let need = my(y).saturating_sub(my(x));
-                if need > 0 && !out.iter().any(|(s, _): &(f64, usize)| (s - t).abs() <= KNOT_SNAP) {
+                if need > 0
+                    && !out
+                        .iter()
+                        .any(|(s, _): &(f64, usize)| (s - t).abs() <= KNOT_SNAP)
+                {
                     out.push((t, need));
                 }
             }

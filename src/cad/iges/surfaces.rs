@@ -81,10 +81,15 @@ impl Surf {
                 length,
             } => Ok(extrude(profile, *dir, [0.0, *length])),
             Surf::Analytic(a @ Analytic::Sphere(..)) => {
-                let maps = [AxisMap::Angle(Arc::new(0.0, TAU)), AxisMap::Angle(Arc::new(-FRAC_PI_2, FRAC_PI_2))];
+                let maps = [
+                    AxisMap::Angle(Arc::new(0.0, TAU)),
+                    AxisMap::Angle(Arc::new(-FRAC_PI_2, FRAC_PI_2)),
+                ];
                 Ok(a.to_nurbs(&maps))
             }
-            Surf::Analytic(a @ Analytic::Torus(..)) => Ok(a.to_nurbs(&a.maps((0.0, TAU), (0.0, TAU)))),
+            Surf::Analytic(a @ Analytic::Torus(..)) => {
+                Ok(a.to_nurbs(&a.maps((0.0, TAU), (0.0, TAU))))
+            }
             Surf::Analytic(_) => Err("unbounded analytic surface used without a boundary".into()),
         }
     }
@@ -152,7 +157,9 @@ pub fn curve_nurbs(m: &Model, f: &Fields, k: usize, tr: &Affine) -> CadResult<Nu
     let ps = pieces(m, e, tr, 0)?;
     let c = match ps.as_slice() {
         [Piece::Segment(a, b)] => line_nurbs(*a, *b),
-        [Piece::Arc(Curve::Circle { frame, radius }, t0, t1)] => arc_nurbs(frame, *radius, *t0, *t1),
+        [Piece::Arc(Curve::Circle { frame, radius }, t0, t1)] => {
+            arc_nurbs(frame, *radius, *t0, *t1)
+        }
         [Piece::Arc(Curve::Nurbs(c), t0, t1)] => {
             let (lo, hi) = c.domain();
             if *t0 > lo || *t1 < hi {
@@ -175,7 +182,10 @@ fn line_nurbs(a: Point3, b: Point3) -> Result<NurbsCurve, String> {
 pub fn arc_nurbs(frame: &Frame, r: f64, t0: f64, t1: f64) -> Result<NurbsCurve, String> {
     let arc = Arc::new(t0, t1);
     let pts = arc.points();
-    let points: Vec<Point3> = pts.iter().map(|p| frame.world(r * p.c, r * p.s, 0.0)).collect();
+    let points: Vec<Point3> = pts
+        .iter()
+        .map(|p| frame.world(r * p.c, r * p.s, 0.0))
+        .collect();
     crate::cad::nurbs::new_curve(2, arc.knots(), &points, pts.iter().map(|p| p.w).collect())
         .map_err(|e| e.to_string())
 }
@@ -190,7 +200,10 @@ fn revolution120(m: &Model, f: &Fields, tr: &Affine) -> CadResult<Surf> {
     let profile = curve_nurbs(m, f, 2, tr)?;
     let (a0, a1) = (f.real(3)?, f.real(4)?);
     if !(a1 > a0 && a1 - a0 <= TAU + 1e-9) {
-        return Err(f.bad(3, "and the terminate angle do not give a sweep in (0, 2 pi]"));
+        return Err(f.bad(
+            3,
+            "and the terminate angle do not give a sweep in (0, 2 pi]",
+        ));
     }
     Ok(Surf::Revolution {
         frame,
@@ -235,7 +248,10 @@ fn point116(f: &Fields, k: usize, tr: &Affine) -> CadResult<Point3> {
     let m = f.model();
     let e = f.target(k)?;
     if e.kind != 116 {
-        return Err(f.bad(k, &format!("points to entity {} (expected a 116 point)", e.kind)));
+        return Err(f.bad(
+            k,
+            &format!("points to entity {} (expected a 116 point)", e.kind),
+        ));
     }
     let own = tr.then_inner(&m.transform(e)?);
     let g = m.fields(e)?;
@@ -247,7 +263,10 @@ fn direction123(f: &Fields, k: usize, tr: &Affine) -> CadResult<Vec3> {
     let m = f.model();
     let e = f.target(k)?;
     if e.kind != 123 {
-        return Err(f.bad(k, &format!("points to entity {} (expected a 123 direction)", e.kind)));
+        return Err(f.bad(
+            k,
+            &format!("points to entity {} (expected a 123 direction)", e.kind),
+        ));
     }
     let own = tr.then_inner(&m.transform(e)?);
     let g = m.fields(e)?;
@@ -273,7 +292,9 @@ fn analytic(f: &Fields, tr: &Affine) -> CadResult<Analytic> {
     };
     let positive = |k: usize| -> CadResult<f64> {
         let r = f.real(k)?;
-        (r > 0.0).then_some(r * s).ok_or_else(|| f.bad(k, "is not a positive radius"))
+        (r > 0.0)
+            .then_some(r * s)
+            .ok_or_else(|| f.bad(k, "is not a positive radius"))
     };
     Ok(match f.entry.kind {
         190 => Analytic::Plane(frame(direction123(f, 2, tr)?, 3)?),
@@ -283,7 +304,11 @@ fn analytic(f: &Fields, tr: &Affine) -> CadResult<Analytic> {
             if !(semi > 0.0 && semi < FRAC_PI_2) {
                 return Err(f.bad(4, "is not a cone semi-angle in (0, 90) degrees"));
             }
-            Analytic::Cone(frame(direction123(f, 2, tr)?, 5)?, f.real(3)?.abs() * s, semi)
+            Analytic::Cone(
+                frame(direction123(f, 2, tr)?, 5)?,
+                f.real(3)?.abs() * s,
+                semi,
+            )
         }
         196 => {
             let axis = match optional_direction(f, 3, tr)? {
