@@ -12,8 +12,12 @@ use cmm::workpiece::Workpiece;
 use std::collections::BTreeMap;
 use std::path::Path;
 
+/// A part file: `$CMM_SHARED_CAD/<name>` when that variable is set, else
+/// `../shared/cad/<name>` beside the repository.
 fn path(name: &str) -> Option<String> {
-    let p = format!("{}/../shared/cad/{name}", env!("CARGO_MANIFEST_DIR"));
+    let dir = std::env::var("CMM_SHARED_CAD")
+        .unwrap_or_else(|_| format!("{}/../shared/cad", env!("CARGO_MANIFEST_DIR")));
+    let p = format!("{dir}/{name}");
     if Path::new(&p).exists() {
         return Some(p);
     }
@@ -176,4 +180,14 @@ fn brep_normals_enclose_a_positive_volume() {
         (vi - vs).abs() < 1e-3 * vs.abs(),
         "IGES {vi} vs STEP {vs} mm^3"
     );
+}
+
+#[test]
+fn bearing_keeps_its_trimmed_faces() {
+    let Some(p) = path("bearing.iges") else { return };
+    let imp = import(&p).expect("imports");
+    assert_eq!(imp.faces.len(), 213, "OpenCASCADE's face count");
+    assert!(imp.diagnostics.is_empty(), "{:?}", imp.diagnostics.first());
+    assert!(imp.workpiece.surfaces.iter().all(|s| s.trim.is_some()));
+    assert!(imp.faces.iter().all(|f| f.surface_type == "IGES 128"));
 }

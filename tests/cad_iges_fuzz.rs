@@ -11,9 +11,11 @@ use rand::{RngExt, SeedableRng};
 /// Bytes that steer mutations into interesting IGES syntax.
 const SPICE: &[u8] = b",;.-+0123456789EDHSGPTX \n";
 
+/// A part file from `$CMM_SHARED_CAD`, else `../shared/cad` beside the repository.
 fn shared(name: &str) -> Option<Vec<u8>> {
-    let p = format!("{}/../shared/cad/{name}", env!("CARGO_MANIFEST_DIR"));
-    std::fs::read(p).ok()
+    let dir = std::env::var("CMM_SHARED_CAD")
+        .unwrap_or_else(|_| format!("{}/../shared/cad", env!("CARGO_MANIFEST_DIR")));
+    std::fs::read(format!("{dir}/{name}")).ok()
 }
 
 /// A file with one entity of each supported kind.

@@ -157,7 +157,7 @@ impl EdgeCache {
         let curve = g.target(at)?;
         let from = self.vertex(m, &g, at + 1, g.int(at + 2)?)?;
         let to = self.vertex(m, &g, at + 3, g.int(at + 4)?)?;
-        let ps = pieces(m, curve, &self.place, 0)?;
+        let ps = pieces(m, curve, &self.place)?;
         let o = &self.opts;
         let mut pts = polyline(
             &ps,

@@ -37,25 +37,43 @@ impl Piece {
     }
 }
 
+/// Most entities visited while expanding one curve (guards shared and
+/// cyclic composite structures).
+const MAX_VISITS: usize = 100_000;
+
 /// The pieces of curve entity `e`; `place` maps the parent's definition
 /// space to the target space (model mm, or a surface's parameter plane).
-pub fn pieces(m: &Model, e: &Entry, place: &Affine, depth: usize) -> CadResult<Vec<Piece>> {
-    if depth > MAX_CHAIN {
-        return Err(m.err(e, "composite curves nested too deeply (or cyclic)"));
+pub fn pieces(m: &Model, e: &Entry, place: &Affine) -> CadResult<Vec<Piece>> {
+    let mut stack = Vec::new();
+    let mut budget = MAX_VISITS;
+    pieces_in(m, e, place, &mut stack, &mut budget)
+}
+
+fn pieces_in(
+    m: &Model,
+    e: &Entry,
+    place: &Affine,
+    stack: &mut Vec<u64>,
+    budget: &mut usize,
+) -> CadResult<Vec<Piece>> {
+    if stack.contains(&e.seq) || stack.len() > MAX_CHAIN {
+        stack.push(e.seq);
+        return Err(m.cycle(e, stack));
     }
+    *budget = budget
+        .checked_sub(1)
+        .ok_or_else(|| m.err(e, "composite curve expands to too many entities"))?;
     let f = m.fields(e)?;
     let tr = place.then_inner(&m.transform(e)?);
     match e.kind {
         102 => {
             let n = f.count(1)?;
             let mut out = Vec::new();
+            stack.push(e.seq);
             for k in 0..n {
-                let child = f.target(2 + k)?;
-                if child.seq == e.seq {
-                    return Err(m.cycle(e, &[e.seq, e.seq]));
-                }
-                out.extend(pieces(m, child, &tr, depth + 1)?);
+                out.extend(pieces_in(m, f.target(2 + k)?, &tr, stack, budget)?);
             }
+            stack.pop();
             Ok(out)
         }
         110 => {

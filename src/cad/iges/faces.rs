@@ -194,7 +194,7 @@ fn boundary142(
 
 /// A model-space curve sampled to the chord tolerance, from start to end.
 fn sampled(m: &Model, c: &Entry, place: &Affine, opts: &ImportOptions) -> CadResult<Vec<Point3>> {
-    let ps = pieces(m, c, place, 0)?;
+    let ps = pieces(m, c, place)?;
     Ok(polyline(
         &ps,
         opts.chord_tolerance_mm,

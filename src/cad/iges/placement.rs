@@ -63,6 +63,9 @@ pub fn uses(m: &Model) -> Uses {
     u
 }
 
+/// Most entities a file may expand to through subfigure instances.
+const MAX_ITEMS: usize = 1_000_000;
+
 /// True when the status field marks the entry physically dependent on a parent.
 pub fn dependent(e: &Entry) -> bool {
     matches!(e.status.get(2..4), Some("01") | Some("03"))
@@ -88,12 +91,17 @@ fn expand<'m>(
     stack: &mut Vec<u64>,
     out: &mut Vec<Item<'m>>,
 ) -> CadResult<()> {
+    if out.len() >= MAX_ITEMS {
+        return Err(m.err(e, "subfigure instances expand to too many entities"));
+    }
+    // Instances are listed too (and ignored later), so that the list length
+    // counts every visit.
+    out.push(Item {
+        entry: e,
+        place: *place,
+        instanced: stack.len() > 1,
+    });
     if e.kind != 408 {
-        out.push(Item {
-            entry: e,
-            place: *place,
-            instanced: stack.len() > 1,
-        });
         return Ok(());
     }
     let f = m.fields(e)?;

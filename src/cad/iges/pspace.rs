@@ -45,7 +45,7 @@ pub fn uv_curve(
     opts: &ImportOptions,
 ) -> CadResult<Vec<P2>> {
     let mut out: Vec<P2> = Vec::new();
-    for p in &pieces(m, e, &Affine::identity(), 0)? {
+    for p in &pieces(m, e, &Affine::identity())? {
         join(&mut out, sample_piece(p, surface, opts));
     }
     Ok(out)

@@ -132,6 +132,9 @@ fn is_polynomial(c: &NurbsCurve) -> bool {
 /// A straight (degree 1, two points) curve expressed on `knots` of degree `p`
 /// (control points at the Greville abscissae: exact by linear precision).
 fn raise_line(c: &NurbsCurve, p: usize, knots: &[f64]) -> Result<NurbsCurve, String> {
+    if p == 0 {
+        return Err("a line cannot be lowered to degree 0".into());
+    }
     let n = knots.len().saturating_sub(p + 1);
     let pts: Vec<Point3> = (0..n)
         .map(|i| {

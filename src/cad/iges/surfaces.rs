@@ -154,7 +154,7 @@ fn grid<T>(n1: usize, n2: usize, f: impl Fn(usize) -> T) -> Vec<Vec<T>> {
 /// their sweep, B-splines over their range).
 pub fn curve_nurbs(m: &Model, f: &Fields, k: usize, tr: &Affine) -> CadResult<NurbsCurve> {
     let e = f.target(k)?;
-    let ps = pieces(m, e, tr, 0)?;
+    let ps = pieces(m, e, tr)?;
     let c = match ps.as_slice() {
         [Piece::Segment(a, b)] => line_nurbs(*a, *b),
         [Piece::Arc(Curve::Circle { frame, radius }, t0, t1)] => {
@@ -192,7 +192,7 @@ pub fn arc_nurbs(frame: &Frame, r: f64, t0: f64, t1: f64) -> Result<NurbsCurve, 
 
 fn revolution120(m: &Model, f: &Fields, tr: &Affine) -> CadResult<Surf> {
     let axis = f.target(1)?;
-    let [o, end] = match pieces(m, axis, tr, 0)?.as_slice() {
+    let [o, end] = match pieces(m, axis, tr)?.as_slice() {
         [Piece::Segment(a, b)] => [*a, *b],
         _ => return Err(f.bad(1, "is not a line (110) axis")),
     };
