@@ -135,8 +135,8 @@ fn brep_matches_the_step_part() {
     };
     let (wi, ws) = (workpiece(&iges), workpiece(&step));
     for (from, to, what) in [(&wi, &ws, "IGES on STEP"), (&ws, &wi, "STEP on IGES")] {
-        let samples = face_samples(from, 24);
-        assert!(samples.len() > 29 * 50, "{what}: {} samples", samples.len());
+        let samples = face_samples(from, 12);
+        assert!(samples.len() > 29 * 20, "{what}: {} samples", samples.len());
         let mut worst: f64 = 0.0;
         let mut outward_checked = 0;
         for (k, p) in &samples {
@@ -158,6 +158,10 @@ fn brep_matches_the_step_part() {
                 outward_checked += 1;
             }
         }
+        println!(
+            "{what}: {} samples, worst distance {worst:.2e} mm, {outward_checked} normal checks",
+            samples.len()
+        );
         assert!(worst < 1e-6, "{what}: worst distance {worst:e} mm");
         assert!(
             outward_checked > samples.len() / 2,
@@ -175,6 +179,7 @@ fn brep_normals_enclose_a_positive_volume() {
         volume(&workpiece(&iges), 200),
         volume(&workpiece(&step), 200),
     );
+    println!("volume: IGES {vi:.3} mm^3, STEP {vs:.3} mm^3");
     assert!(vi > 0.0, "outward normals give a positive volume: {vi}");
     assert!(
         (vi - vs).abs() < 1e-3 * vs.abs(),
@@ -184,7 +189,9 @@ fn brep_normals_enclose_a_positive_volume() {
 
 #[test]
 fn bearing_keeps_its_trimmed_faces() {
-    let Some(p) = path("bearing.iges") else { return };
+    let Some(p) = path("bearing.iges") else {
+        return;
+    };
     let imp = import(&p).expect("imports");
     assert_eq!(imp.faces.len(), 213, "OpenCASCADE's face count");
     assert!(imp.diagnostics.is_empty(), "{:?}", imp.diagnostics.first());

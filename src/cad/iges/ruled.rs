@@ -86,7 +86,7 @@ pub fn restrict(c: &NurbsCurve, t0: f64, t1: f64) -> Result<NurbsCurve, String> 
     let (lo, hi) = c.domain();
     let snap = KNOT_SNAP * (hi - lo).abs().max(1.0);
     let (cut0, cut1) = (t0 > lo + snap, t1 < hi - snap);
-    if !(t1 > t0) {
+    if t1.partial_cmp(&t0) != Some(std::cmp::Ordering::Greater) {
         return Err(format!("empty curve range [{t0}, {t1}]"));
     }
     let mut c = c.clone();
