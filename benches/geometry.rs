@@ -1,6 +1,7 @@
-//! Geometry kernel benchmarks: evaluation, warm and cold projection.
+//! Geometry kernel benchmarks: evaluation, warm and cold projection, and
+//! `cmm evaluate` per point near a real trimmed part.
 //!
-//! `cargo bench --bench geometry`
+//! `cargo bench --bench geometry` (`-- evaluate` for the last alone)
 use std::hint::black_box;
 use std::path::Path;
 
@@ -79,9 +80,58 @@ fn bench(c: &mut Criterion) {
     }
 }
 
+/// The NIST test part (about 200 trimmed faces), when the shared CAD
+/// files sit beside the repository.
+fn nist() -> Option<Workpiece> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cad/nist_ctc_05_asme1_rd.stp");
+    Workpiece::from_path(&path).ok()
+}
+
+/// Points 0.5 mm off the faces of `wp` (along the normal, at random
+/// parameters inside each face's trim), seeded.
+fn near_points(wp: &Workpiece, n: usize) -> Vec<Point3> {
+    let mut out = Vec::with_capacity(n);
+    let mut seed = 0x9e37_79b9_7f4a_7c15_u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut tries = 0;
+    while out.len() < n && tries < 100 * n {
+        tries += 1;
+        let Some(face) = wp.faces.get((next() * wp.faces.len() as f64) as usize) else {
+            continue;
+        };
+        let ((u0, u1), (v0, v1)) = face.surface.domain();
+        let uv = Vec2::new(u0 + (u1 - u0) * next(), v0 + (v1 - v0) * next());
+        if face.contains(uv) {
+            let off = if next() < 0.5 { 0.5 } else { -0.5 };
+            out.push(face.surface.point(uv.x, uv.y) + face.surface.normal(uv.x, uv.y) * off);
+        }
+    }
+    out
+}
+
+fn bench_evaluate(c: &mut Criterion) {
+    let Some(wp) = nist() else {
+        eprintln!("evaluate: nist_ctc_05 not found beside the repository, skipped");
+        return;
+    };
+    let points = near_points(&wp, 500);
+    c.bench_function(&format!("evaluate/nist_ctc_05 ({} faces, per point)", wp.faces.len()), |b| {
+        let mut k = 0;
+        b.iter(|| {
+            k = (k + 1) % points.len();
+            black_box(cmm::evaluate::evaluate_point(&wp, points[k]).ok())
+        })
+    });
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(30).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
-    targets = bench
+    targets = bench, bench_evaluate
 }
 criterion_main!(benches);

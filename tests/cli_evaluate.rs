@@ -155,3 +155,106 @@ fn usage_errors_exit_2() {
     assert_eq!(cmm(&["evaluate"]).status.code(), Some(2));
     assert_eq!(cmm(&["frobnicate"]).status.code(), Some(2));
 }
+
+/// A reference sphere of radius 12.5 mm whose poles point along
+/// (sin 40 deg, 0, cos 40 deg) from the centre (10, -5, 3), as JSON.
+fn tilted_sphere_json() -> String {
+    let mut file = cmm::workpiece::examples::reference_sphere(25.0);
+    let (s, c) = 40f64.to_radians().sin_cos();
+    for cp in file.surfaces[0].control_points.iter_mut().flatten() {
+        let [x, y, z] = *cp;
+        *cp = [c * x + s * z + 10.0, y - 5.0, -s * x + c * z + 3.0];
+    }
+    cmm::workpiece::examples::to_json(&file)
+}
+
+#[test]
+fn tilted_sphere_answers_every_point_with_status_ok() {
+    let dir = tempfile::tempdir().unwrap();
+    let wp = write(&dir, "tilted.json", &tilted_sphere_json());
+    let (s, c) = 40f64.to_radians().sin_cos();
+    let center = [10.0, -5.0, 3.0];
+    // Directions from the centre (the poles and near them among them) and
+    // radii; the analytic deviation is radius - 12.5.
+    let dirs = [
+        [s, 0.0, c],
+        [-s, 0.0, -c],
+        [s + 1e-7, 0.0, c],
+        [1.0, 2.0, -0.5],
+        [0.0, 1.0, 0.0],
+        [-0.3, 0.2, 0.9],
+    ];
+    let radii = [0.4, 6.0, 12.5, 13.1, 30.0];
+    let mut text = String::from("x,y,z\n");
+    let mut want = vec![];
+    for d in dirs {
+        let n = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+        for r in radii {
+            let p: Vec<f64> = (0..3).map(|k| center[k] + d[k] / n * r).collect();
+            text.push_str(&format!("{},{},{}\n", p[0], p[1], p[2]));
+            want.push(r - 12.5);
+        }
+    }
+    let pts = write(&dir, "p.csv", &text);
+    let out = cmm(&["evaluate", "--workpiece", &wp, "--points", &pts, "--json"]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(0), "{err}");
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let points = v["points"].as_array().unwrap();
+    assert_eq!(points.len(), want.len());
+    for (k, (p, w)) in points.iter().zip(&want).enumerate() {
+        assert_eq!(p["status"], "ok", "point {k}");
+        let got = p["deviation_mm"].as_f64().unwrap();
+        assert!((got - w).abs() < 1e-9, "point {k}: {got} vs {w}");
+    }
+    // CSV: the status is the last column.
+    let out = cmm(&["evaluate", "--workpiece", &wp, "--points", &pts]);
+    assert_eq!(out.status.code(), Some(0));
+    let csv = String::from_utf8_lossy(&out.stdout);
+    let mut lines = csv.lines();
+    assert!(lines.next().unwrap().ends_with(",deviation_mm,status"));
+    assert_eq!(lines.filter(|l| l.ends_with(",ok")).count(), want.len());
+}
+
+#[test]
+fn huge_finite_points_are_rejected_as_out_of_range() {
+    let dir = tempfile::tempdir().unwrap();
+    let wp = repo("workpieces/sphere.json");
+    let pts = write(&dir, "p.csv", "x,y,z\n1,2,3\n3.5e201,0,0\n");
+    let out = cmm(&[
+        "evaluate",
+        "--workpiece",
+        wp.to_str().unwrap(),
+        "--points",
+        &pts,
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(2), "{err}");
+    assert!(err.contains("out of range") && err.contains("3.5e201"), "{err}");
+    assert!(!err.contains("not finite"), "{err}");
+    assert!(out.stdout.is_empty());
+    // Far but within range: answered.
+    let pts = write(&dir, "q.csv", "x,y,z\n1e140,-2e139,5\n");
+    let out = cmm(&[
+        "evaluate",
+        "--workpiece",
+        wp.to_str().unwrap(),
+        "--points",
+        &pts,
+        "--json",
+    ]);
+    assert_eq!(out.status.code(), Some(0));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    // So far out every point of the sphere is as close to rounding (the
+    // sign is that of whichever foot came first).
+    let got = v["points"][0]["deviation_mm"].as_f64().unwrap().abs();
+    let want = (1e140f64).hypot(2e139) - 12.5;
+    assert!((got - want).abs() <= 1e-12 * want, "{got} vs {want}");
+}
+
+#[test]
+fn help_documents_the_exit_codes() {
+    let out = cmm(&["evaluate", "--help"]);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("unconfirmed") && text.contains("3 "), "{text}");
+}

@@ -4,8 +4,9 @@ use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 use std::sync::OnceLock;
 
-use super::newton::{self, Bounds, Foot};
-use super::{check_finite, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
+use super::newton::{Bounds, Foot};
+use super::{check_query, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
+use super::SearchStatus;
 use crate::geometry::{BezierPatch, NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
 
@@ -13,12 +14,15 @@ mod boxes;
 mod build;
 mod convex;
 mod grid;
+mod leaf;
 mod stack;
 #[cfg(test)]
 mod tests;
 mod warm;
 
 use boxes::{crossed, extent, Shadow};
+pub(crate) use leaf::Searched;
+use leaf::{Best, Doubt};
 use stack::NodeStack;
 pub(crate) use warm::{LeafMemo, NoMemo};
 
@@ -219,40 +223,45 @@ impl ProjectionIndex {
         self.nodes.get(i).map_or(f64::INFINITY, |n| n.aabb.dist2(p))
     }
 
-    /// Global closest point of `surface` (the one this index was built for).
+    /// Global closest point of `surface` (the one this index was built
+    /// for): always the best point found, its
+    /// [`status`](Projection::status) unconfirmed when some piece that
+    /// could hold a closer point could not be confirmed. An error only for
+    /// an invalid query point (see [`super::check_query`]).
     pub fn project(
         &self,
         surface: &NurbsSurface,
         p: Point3,
     ) -> Result<Projection, ProjectionError> {
-        self.project_within(surface, None, p, f64::INFINITY)?
-            .map(|f| f.into_projection(surface, p))
-            .ok_or(ProjectionError::NotFinite {
-                x: p.x,
-                y: p.y,
-                z: p.z,
-            })
+        self.project_face(surface, None, p)
     }
 
-    /// Best-first search; only points closer than `sqrt(best_dist2)` count.
-    /// With a trim, only points on the face count, and its boundary is
-    /// searched too.
-    pub(crate) fn project_within(
+    /// [`Self::project`] onto the face of `surface` inside `trim` (its
+    /// boundary included).
+    pub fn project_face(
         &self,
         surface: &NurbsSurface,
         trim: Option<&Trim>,
         p: Point3,
-        best_dist2: f64,
-    ) -> Result<Option<Foot>, ProjectionError> {
-        Ok(self
-            .search(surface, trim, p, best_dist2, None)?
-            .map(|(_, foot)| foot))
+    ) -> Result<Projection, ProjectionError> {
+        let searched = self.search_checked(surface, trim, p, f64::INFINITY, None)?;
+        let status = searched.status;
+        let (_, foot) = searched.found.ok_or(ProjectionError::OutOfRange {
+            x: p.x,
+            y: p.y,
+            z: p.z,
+            limit_mm: super::MAX_QUERY_MM,
+        })?;
+        let mut pr = foot.into_projection(surface, p);
+        pr.status = status;
+        Ok(pr)
     }
 
-    /// [`Self::project_within`] that leaves out leaf `skip` (which the
-    /// caller has searched already, see [`Self::search_leaf`]) and also
-    /// returns the leaf of the foot (`None` for a foot on the trim
-    /// boundary).
+    /// Best-first search; only points closer than `sqrt(best_dist2)` count.
+    /// With a trim, only points on the face count, and its boundary is
+    /// searched too. Leaf `skip` (which the caller has searched already,
+    /// see [`Self::search_leaf`]) is left out. Returns the foot with the
+    /// leaf it lies in (`None` for a foot on the trim boundary).
     pub(crate) fn search(
         &self,
         surface: &NurbsSurface,
@@ -261,8 +270,24 @@ impl ProjectionIndex {
         best_dist2: f64,
         skip: Option<usize>,
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+        Ok(self
+            .search_checked(surface, trim, p, best_dist2, skip)?
+            .into_found())
+    }
+
+    /// [`Self::search`] with the status of the whole search apart: it is
+    /// unconfirmed also when nothing closer was found but a leaf that could
+    /// hold a closer point could not be confirmed.
+    pub(crate) fn search_checked(
+        &self,
+        surface: &NurbsSurface,
+        trim: Option<&Trim>,
+        p: Point3,
+        best_dist2: f64,
+        skip: Option<usize>,
+    ) -> Result<Searched, ProjectionError> {
         let Some((root, mut best)) = self.start(p, best_dist2)? else {
-            return Ok(None);
+            return Ok(Searched::nothing());
         };
         let mut heap = BinaryHeap::new();
         heap.push(Entry {
@@ -316,17 +341,14 @@ impl ProjectionIndex {
             *bound2 = best.dist2;
             Ok(())
         })?;
-        self.with_boundary(surface, trim, p, best)
+        Ok(self.with_boundary(surface, trim, p, best)?.into_found())
     }
 
     /// The root node and the empty best of a search for `p` that must beat
     /// `best_dist2`; `None` for an empty hierarchy.
     fn start(&self, p: Point3, best_dist2: f64) -> Result<Option<(usize, Best)>, ProjectionError> {
-        check_finite(p)?;
-        let best = Best {
-            dist2: best_dist2,
-            found: None,
-        };
+        check_query(p)?;
+        let best = Best::new(best_dist2);
         Ok(self.nodes.len().checked_sub(1).map(|root| (root, best)))
     }
 
@@ -346,7 +368,9 @@ impl ProjectionIndex {
         if skip == Some(leaf) {
             return Ok(());
         }
-        if let Some(foot) = self.search_leaf_with(surface, trim, leaf, (p, best.dist2), memo)? {
+        let (better, doubt) = self.leaf_search(surface, trim, leaf, (p, best.dist2), memo)?;
+        best.doubt = Doubt::least(best.doubt, doubt);
+        if let Some(foot) = better {
             best.dist2 = foot.dist2;
             best.found = Some((Some(leaf), foot));
         }
@@ -361,13 +385,14 @@ impl ProjectionIndex {
         trim: Option<&Trim>,
         p: Point3,
         mut best: Best,
-    ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
+    ) -> Result<Searched, ProjectionError> {
         if let Some(t) = trim {
             if let Some(foot) = closest_on_boundary(surface, t, p, best.dist2, &self.opts)? {
+                best.dist2 = foot.dist2;
                 best.found = Some((None, foot));
             }
         }
-        Ok(best.found)
+        Ok(best.finish())
     }
 
     /// The closest point of leaf `leaf` (on the face, with a trim) closer
@@ -386,7 +411,7 @@ impl ProjectionIndex {
 
     /// [`Self::search_leaf`], but `None` without a Newton iteration when
     /// `memo` knows the leaf to be far enough; on an untrimmed surface the
-    /// leaf's least distance is noted in `memo`.
+    /// least distance of a leaf whose foot is confirmed is noted in `memo`.
     fn search_leaf_with(
         &self,
         surface: &NurbsSurface,
@@ -395,26 +420,9 @@ impl ProjectionIndex {
         (p, best_dist2): (Point3, f64),
         memo: &mut dyn LeafMemo,
     ) -> Result<Option<Foot>, ProjectionError> {
-        let Some(l) = self.leaves.get(leaf) else {
-            return Ok(None);
-        };
-        if l.obb.dist2(p) >= best_dist2 {
-            return Ok(None);
-        }
-        if trim.is_some_and(|t| !t.may_touch(l.bounds.lo, l.bounds.hi)) {
-            return Ok(None);
-        }
-        let floor = memo.floor(leaf, p);
-        if floor > 0.0 && floor * floor >= best_dist2 {
-            return Ok(None);
-        }
-        let start = l.nearest_sample(p).0;
-        let foot = newton::minimise(surface, p, start, &l.bounds, &self.opts)?;
-        if trim.is_none() {
-            memo.note(leaf, p, foot.dist2.sqrt());
-        }
-        let on_face = trim.is_none_or(|t| t.contains(foot.uv));
-        Ok((on_face && foot.dist2 < best_dist2).then_some(foot))
+        Ok(self
+            .leaf_search(surface, trim, leaf, (p, best_dist2), memo)?
+            .0)
     }
 }
 
@@ -433,13 +441,6 @@ impl Leaf {
             .min_by(|a, b| dist2(a).total_cmp(&dist2(b)))
             .map_or((self.bounds.lo, f64::INFINITY), |s| (s.0, dist2(s)))
     }
-}
-
-/// The best foot of a search so far (with the leaf it came from, `None`
-/// on the trim boundary) and the squared distance a better one must beat.
-struct Best {
-    dist2: f64,
-    found: Option<(Option<usize>, Foot)>,
 }
 
 /// Heap entry ordered by smallest distance first.

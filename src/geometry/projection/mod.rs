@@ -12,13 +12,16 @@
 //!   far points and points beyond the boundary (answer on the boundary) need no
 //!   special cases.
 
+mod descent;
 mod index;
 mod newton;
+mod status;
 mod trimmed;
 
 pub use index::ProjectionIndex;
 pub(crate) use index::{LeafMemo, NoMemo};
 pub(crate) use newton::{minimise_cached, minimise_with, Bounds, Foot};
+pub use status::{SearchStatus, UnconfirmedReason};
 pub(crate) use trimmed::closest_on_boundary;
 
 use crate::geometry::{Jet2, NurbsSurface};
@@ -36,6 +39,11 @@ pub struct ProjectionOptions {
     /// quadratic convergence leaves an error of the order of its square
     /// divided by the curvature radius.
     pub final_step_mm: f64,
+    /// ... provided the surface bends by at most this (mm) along the step
+    /// (its second-order Taylor term): near a pole a step short in mm may
+    /// still be long in the parameter, and Newton's error after it is of
+    /// the order of that bend.
+    pub final_bend_mm: f64,
     /// A longer Newton step is also the last one when quadratic convergence,
     /// with its constant estimated from the previous full step, predicts a
     /// foot error below this (mm) after it...
@@ -44,8 +52,17 @@ pub struct ProjectionOptions {
     /// remainder, of the order of the step cubed over the curvature radius
     /// squared).
     pub final_step_max_mm: f64,
-    /// Newton iterations allowed per start before [`ProjectionError::NoConvergence`].
+    /// Newton iterations allowed per start; a foot still moving after them
+    /// is [`SearchStatus::Unconfirmed`].
     pub max_iterations: usize,
+    /// A foot where no step lowers the distance is a minimum (confirmed)
+    /// when the residual's component along each free tangent is at most
+    /// this (mm), or at most what the rounding of the squared distance lets
+    /// a line search see.
+    pub stationary_tol_mm: f64,
+    /// Further starts (the next-nearest samples of a leaf) tried when a
+    /// cold search cannot confirm the foot of its first start in a leaf.
+    pub max_restarts: usize,
     /// Halvings allowed in the line search of one Newton step.
     pub max_halvings: usize,
     /// A leaf of the cold-search tree is flat enough when its control points
@@ -75,9 +92,12 @@ impl Default for ProjectionOptions {
         ProjectionOptions {
             step_tol_mm: 1e-11,
             final_step_mm: 3e-6,
+            final_bend_mm: 1e-10,
             final_error_mm: 1e-12,
             final_step_max_mm: 3e-4,
             max_iterations: 60,
+            stationary_tol_mm: 1e-9,
+            max_restarts: 3,
             max_halvings: 40,
             leaf_flatness: 0.05,
             max_leaf_depth: 8,
@@ -116,7 +136,25 @@ pub enum ProjectionError {
         /// Query point z.
         z: f64,
     },
+    /// The query point is finite but so far out that squared distances to
+    /// it would overflow.
+    #[error("query point ({x:e}, {y:e}, {z:e}) is out of range: coordinates must lie within +-{limit_mm:e} mm")]
+    OutOfRange {
+        /// Query point x.
+        x: f64,
+        /// Query point y.
+        y: f64,
+        /// Query point z.
+        z: f64,
+        /// Largest coordinate magnitude accepted, mm.
+        limit_mm: f64,
+    },
 }
+
+/// Largest coordinate magnitude of a query point, mm: squared distances
+/// to the surface stay finite (the surface's own coordinates are checked
+/// far tighter when it is made).
+pub const MAX_QUERY_MM: f64 = 1e150;
 
 /// The closest point found on a surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -133,6 +171,8 @@ pub struct Projection {
     pub signed_distance: f64,
     /// Newton iterations spent (all starts together for cold queries).
     pub iterations: usize,
+    /// Whether the search confirmed this foot as the closest point.
+    pub status: SearchStatus,
 }
 
 /// Warm projection: bounded Newton over the whole domain from `hint`.
@@ -153,7 +193,7 @@ pub fn project_from(
     hint: Vec2,
     opts: &ProjectionOptions,
 ) -> Result<Projection, ProjectionError> {
-    check_finite(p)?;
+    check_query(p)?;
     let foot = newton::minimise(surface, p, hint, &domain_bounds(surface), opts)?;
     Ok(foot.into_projection(surface, p))
 }
@@ -235,7 +275,7 @@ pub fn project_warm(
     warm: &mut WarmStart,
     opts: &ProjectionOptions,
 ) -> Result<Projection, ProjectionError> {
-    check_finite(p)?;
+    check_query(p)?;
     let bounds = domain_bounds(surface);
     let eval = |x: Vec2, out: &mut Jet2| surface.jet2_into(x.x, x.y, out);
     let foot = warm.run(eval, p, &bounds, opts)?;
@@ -250,14 +290,21 @@ fn domain_bounds(surface: &NurbsSurface) -> Bounds {
     }
 }
 
-fn check_finite(p: Point3) -> Result<(), ProjectionError> {
-    if p.iter().all(|c| c.is_finite()) {
-        Ok(())
-    } else {
-        Err(ProjectionError::NotFinite {
-            x: p.x,
-            y: p.y,
-            z: p.z,
+/// `Ok` for a valid query point: finite, each coordinate within
+/// [`MAX_QUERY_MM`].
+pub fn check_query(p: Point3) -> Result<(), ProjectionError> {
+    let (x, y, z) = (p.x, p.y, p.z);
+    if !p.iter().all(|c| c.is_finite()) {
+        Err(ProjectionError::NotFinite { x, y, z })
+    } else if !p.iter().all(|c| c.abs() <= MAX_QUERY_MM) {
+        Err(ProjectionError::OutOfRange {
+            x,
+            y,
+            z,
+            limit_mm: MAX_QUERY_MM,
         })
+    } else {
+        Ok(())
     }
 }
+

@@ -1,0 +1,137 @@
+//! The line search of a Newton step and its fallback: a step whose line
+//! search finds no descent ends the iteration only at a stationary point
+//! (to rounding); elsewhere a projected-gradient step is tried.
+use super::newton::{evaluate_at, gradient, Bounds, Foot};
+use super::ProjectionOptions;
+use crate::geometry::Jet2;
+use crate::math::{Point3, Vec2};
+
+/// What a line search did to the foot.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(super) enum Descent {
+    /// The full Newton step lowered the distance (foot moved there).
+    Full,
+    /// A shorter step, or a projected-gradient step, did (foot moved).
+    Partial,
+    /// No step helped, and the foot is stationary to rounding (foot as
+    /// it was).
+    Stationary,
+    /// No step helped though the foot is not stationary (foot as it was).
+    None,
+}
+
+/// Relative rounding of a surface point as evaluated (units in the last
+/// place of its magnitude), for the stationarity test.
+const EVAL_ROUNDING_ULPS: f64 = 64.0;
+
+/// Line search along the Newton step from `foot` to `target` (a point of
+/// the box), with the projected-gradient fallback.
+pub(super) fn newton_line<F: Fn(Vec2, &mut Jet2)>(
+    eval: &F,
+    p: Point3,
+    foot: &mut Foot,
+    target: Vec2,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Descent {
+    let (x0, delta) = (foot.uv, target - foot.uv);
+    // The full step lands on `target` exactly (a coordinate clamped to a
+    // face stays on it); shorter ones are snapped to the faces they reach.
+    let path = |t: f64| {
+        if t == 1.0 {
+            target
+        } else {
+            bounds.snap(x0 + delta * t)
+        }
+    };
+    match backtrack(eval, p, foot, path, opts) {
+        Some(true) => Descent::Full,
+        Some(false) => Descent::Partial,
+        None if is_stationary(&foot.d, p, foot.uv, bounds, opts) => Descent::Stationary,
+        None => gradient_step(eval, p, foot, bounds, opts),
+    }
+}
+
+/// A projected-gradient step: each free coordinate moves by the residual's
+/// component along its tangent (in mm, divided by the tangent's length),
+/// the path clamped into the box, backtracking until the distance drops.
+fn gradient_step<F: Fn(Vec2, &mut Jet2)>(
+    eval: &F,
+    p: Point3,
+    foot: &mut Foot,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> Descent {
+    let (x0, g) = (foot.uv, gradient(&foot.d, p));
+    let lengths2 = [foot.d.su().norm_squared(), foot.d.sv().norm_squared()];
+    let component = |k: usize| {
+        let s2 = lengths2.get(k).copied().unwrap_or(0.0);
+        if bounds.pinned(x0, g, k) || s2 <= 0.0 || !s2.is_finite() {
+            0.0
+        } else {
+            -g[k] / s2
+        }
+    };
+    let dir = Vec2::new(component(0), component(1));
+    if dir == Vec2::zeros() || !dir.iter().all(|c| c.is_finite()) {
+        return Descent::None;
+    }
+    match backtrack(eval, p, foot, |t| bounds.snap(x0 + dir * t), opts) {
+        Some(_) => Descent::Partial,
+        None => Descent::None,
+    }
+}
+
+/// Backtracking: moves `foot` to the first of `path(1), path(1/2), ...`
+/// that lowers the distance and tells whether it was `path(1)`; `None`
+/// (with `foot` as it was) when none does.
+fn backtrack<F: Fn(Vec2, &mut Jet2), X: Fn(f64) -> Vec2>(
+    eval: &F,
+    p: Point3,
+    foot: &mut Foot,
+    path: X,
+    opts: &ProjectionOptions,
+) -> Option<bool> {
+    let (x0, dist0, it) = (foot.uv, foot.dist2, foot.iterations);
+    let mut t = 1.0;
+    for _ in 0..=opts.max_halvings {
+        let x = path(t);
+        if x == x0 {
+            break;
+        }
+        evaluate_at(eval, p, foot, x, it);
+        if foot.dist2 < dist0 {
+            return Some(t == 1.0);
+        }
+        t *= 0.5;
+    }
+    // The evaluation is pure, so this restores the foot exactly.
+    evaluate_at(eval, p, foot, x0, it);
+    None
+}
+
+/// Whether the first-order conditions of a minimum over the box hold at
+/// `x` to rounding: along each free coordinate (not held at a face by the
+/// gradient) the residual's tangential component is at most
+/// `stationary_tol_mm`, or at most what the rounding of the squared
+/// distance lets a line search see.
+pub(super) fn is_stationary(
+    d: &Jet2,
+    p: Point3,
+    x: Vec2,
+    bounds: &Bounds,
+    opts: &ProjectionOptions,
+) -> bool {
+    let r = d.point() - p;
+    let g = gradient(d, p);
+    // A step of length s along a tangent with residual component c lowers
+    // the squared distance by at most about c^2 (at s ~ c); the squared
+    // distance carries an error of about 2 |r| ulp(|S|).
+    let noise = EVAL_ROUNDING_ULPS * f64::EPSILON * r.norm() * (d.point().coords.norm() + r.norm());
+    let tol = opts.stationary_tol_mm.max(noise.sqrt());
+    let tangents = [d.su(), d.sv()];
+    (0..2).all(|k| {
+        let s = tangents.get(k).map_or(0.0, |t| t.norm());
+        bounds.pinned(x, g, k) || g[k].abs() <= tol * s
+    })
+}
