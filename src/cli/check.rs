@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
-use crate::program::{load, Feature};
+use crate::program::Feature;
 
 /// Arguments of `cmm check`.
 #[derive(Debug, clap::Args)]
@@ -16,7 +16,8 @@ pub struct CheckArgs {
 /// Runs `cmm check`.
 pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
     for path in &args.programs {
-        let program = load(path)?;
+        // The scenario is validated too (a program's `as_machined` block).
+        let program = crate::app::load(path)?.program;
         let mut lines = vec![format!(
             "{}: ok: program '{}', workpiece '{}' ({} surfaces), {} features",
             path.display(),
