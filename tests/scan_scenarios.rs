@@ -384,26 +384,6 @@ fn fitted_circle_reports_diameter_and_centre_of_a_scaled_shifted_bore() {
     assert_eq!(r.features[0].status, Verdict::Fail);
 }
 
-/// Points are taken a pitch apart on average (not up to a control cycle's
-/// travel more): on a closed section the mean spacing of consecutive
-/// points is within 2 % of the pitch and the points cover the section's
-/// length (analytic reference: the count of pitches in the measured
-/// polyline's length).
-#[test]
-fn scanned_points_lie_a_pitch_apart_on_average() {
-    let am = json!({ "form": [ { "kind": "offset", "mm": 0.05 } ] });
-    let r = run(&program(am, json!([section("z60", 60.0, "active")])), 1, true);
-    let pts: Vec<[f64; 3]> = r.features[0].points.iter().map(|p| p.measured).collect();
-    assert!(pts.len() > 100, "{} points", pts.len());
-    let gaps: Vec<f64> = pts
-        .windows(2)
-        .map(|w| (0..3).map(|k| (w[1][k] - w[0][k]).powi(2)).sum::<f64>().sqrt())
-        .collect();
-    let mean = gaps.iter().sum::<f64>() / gaps.len() as f64;
-    assert!((mean / 0.5 - 1.0).abs() < 0.02, "mean spacing {mean} mm at pitch 0.5 mm");
-    assert!(gaps.iter().all(|g| *g > 0.4 && *g < 0.6), "{gaps:?}");
-}
-
 /// A gouge the active scan rides over without touching (trajectory error
 /// just inside its tolerance, but no points over several millimetres) is
 /// not measured: the scan is not taken as complete, the supervisor falls

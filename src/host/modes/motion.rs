@@ -26,9 +26,6 @@ pub struct Tracker {
     /// Ball-centre velocity commanded in the last cycle, mm/s.
     pub command: Vec3,
     last_point: Option<Point3>,
-    /// The last cycle's point, not taken: nearer than the pitch to the
-    /// last point taken.
-    pending: Option<Measured>,
     /// Whether the probe's deflection correction is not the identity.
     corrected: bool,
 }
@@ -44,7 +41,6 @@ impl Tracker {
             points: Vec::new(),
             command: Vec3::zeros(),
             last_point: None,
-            pending: None,
             corrected: probe.correction != DeflectionCorrection::identity(),
         }
     }
@@ -81,35 +77,17 @@ impl Tracker {
         }
     }
 
-    /// Takes a point at every `pitch` of travel: the first point measured,
-    /// then, once a cycle's point is at least `pitch` from the last point
-    /// taken, whichever of it and the cycle before lies nearer to `pitch`
-    /// from that point (so consecutive points lie a pitch apart on
-    /// average, not up to a cycle's travel more).
+    /// Records the current point when it is at least `pitch` from the
+    /// last.
     pub fn sample(&mut self, pitch: f64) {
         let Some(m) = self.measured() else { return };
-        let Some(last) = self.last_point else {
-            self.take(m);
-            return;
-        };
-        let d = (m.point - last).norm();
-        if d < pitch {
-            self.pending = Some(m);
-            return;
+        if self
+            .last_point
+            .is_none_or(|p| (m.point - p).norm() >= pitch)
+        {
+            self.points.push(m);
+            self.last_point = Some(m.point);
         }
-        match self.pending.take() {
-            Some(p) if pitch - (p.point - last).norm() < d - pitch => {
-                self.take(p);
-                self.pending = Some(m);
-            }
-            _ => self.take(m),
-        }
-    }
-
-    fn take(&mut self, m: Measured) {
-        self.points.push(m);
-        self.last_point = Some(m.point);
-        self.pending = None;
     }
 
     /// Machine time since the start, s.
