@@ -169,11 +169,20 @@ fn violations(refs: &Refs) -> Vec<String> {
     out
 }
 
+/// Whether a file holds unit tests only (`tests.rs`, or under a `tests/`
+/// folder of a module): such a file may use a later module for its
+/// fixtures (an example workpiece in a geometry test) without making the
+/// product's modules depend on each other. The world rules hold for it all
+/// the same.
+fn is_unit_test(file: &str) -> bool {
+    file.ends_with("/tests.rs") || file.contains("/tests/")
+}
+
 /// The top-level module graph's cycles (one line per strongly connected
-/// set of two or more modules).
+/// set of two or more modules); unit-test files are left out.
 fn cycles(refs: &Refs) -> Vec<String> {
     let mut graph: BTreeMap<String, BTreeSet<String>> = BTreeMap::new();
-    for (file, names) in refs {
+    for (file, names) in refs.iter().filter(|(f, _)| !is_unit_test(f)) {
         let from = top(file).to_string();
         let to: Vec<String> = (names.iter())
             .filter(|n| !n.contains("::") && **n != from)
@@ -243,7 +252,12 @@ fn the_checker_sees_each_kind_of_broken_rule() {
         ("seam/mod.rs", "use crate::math::Vec3; // crate::world in a comment"),
     ];
     assert_eq!(violations(&tree(&ok)), Vec::<String>::new());
-    let broken: [(&str, &str, &str); 7] = [
+    let fixture = [
+        ("workpiece/mod.rs", "use crate::geometry::Plane;"),
+        ("geometry/projection/tests.rs", "use crate::workpiece::examples;"),
+    ];
+    assert_eq!(violations(&tree(&fixture)), Vec::<String>::new());
+    let broken: [(&str, &str, &str); 8] = [
         ("host/inspect/run.rs", "use crate::world::cmm::SimulatedCmm;", "names the world"),
         ("cli/scan.rs", "use crate::{app, world::as_machined};", "names the world"),
         ("world/cmm.rs", "fn f() { crate::host::modes::x() }", "names host"),
@@ -251,6 +265,7 @@ fn the_checker_sees_each_kind_of_broken_rule() {
         ("seam/mod.rs", "use crate::host::modes::Measured;", "(seam) names host"),
         ("machine/mod.rs", "use super::world::dynamics::Servo;", "names world"),
         ("geometry/a.rs", "use crate::workpiece::Face;", "cycle"),
+        ("workpiece/near/tests.rs", "use crate::world::as_machined::X;", "names the world"),
     ];
     for (file, text, expect) in broken {
         let mut files = ok.to_vec();

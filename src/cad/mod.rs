@@ -50,7 +50,7 @@ pub use error::{CadError, CadResult};
 pub use options::ImportOptions;
 pub use step::parse_step_str;
 
-use crate::workpiece::format::{SurfaceSpec, WorkpieceFile, WORKPIECE_FORMAT};
+use crate::formats::workpiece::{SurfaceSpec, WorkpieceFile, WORKPIECE_FORMAT};
 use std::collections::HashSet;
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! B-spline geometry of the reader is the geometry kernel's: curves are
 //! [`crate::geometry::NurbsCurve`], surfaces are evaluated as
 //! [`crate::geometry::NurbsSurface`] (built with
-//! [`crate::workpiece::SurfaceSpec::to_surface`]). These helpers build curves
+//! [`crate::formats::workpiece::SurfaceSpec::to_surface`]). These helpers build curves
 //! from file data and read control points and weights back for the
 //! swept-surface constructions.
 pub use crate::geometry::NurbsCurve;

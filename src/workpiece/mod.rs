@@ -3,7 +3,7 @@
 //! query over all faces.
 
 pub mod examples;
-pub mod format;
+pub use crate::formats::workpiece as format;
 mod near;
 mod section;
 mod validate;

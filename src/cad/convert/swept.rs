@@ -13,7 +13,7 @@ use crate::cad::geom::EPS_LENGTH_MM;
 use crate::cad::geom::{angle, closest_on, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::SurfaceSpec;
+use crate::formats::workpiece::SurfaceSpec;
 
 /// A swept surface with a NURBS profile.
 #[derive(Debug, Clone, PartialEq)]

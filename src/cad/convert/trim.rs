@@ -4,7 +4,7 @@
 use super::analytic::{AxisMap, NaturalSurface};
 use crate::cad::geom::EPS_UV;
 use crate::math::Point3;
-use crate::workpiece::format::{SurfaceSpec, TrimSpec};
+use crate::formats::workpiece::{SurfaceSpec, TrimSpec};
 use std::f64::consts::{PI, TAU};
 
 /// One sampled boundary loop of a face, in traversal order.

@@ -14,7 +14,7 @@ use super::surfaces::curve_nurbs;
 use crate::cad::error::CadResult;
 use crate::cad::nurbs::{control_points, new_curve, weights, NurbsCurve};
 use crate::math::Point3;
-use crate::workpiece::format::SurfaceSpec;
+use crate::formats::workpiece::SurfaceSpec;
 
 /// Knots closer than this (relative to the domain length) are the same knot.
 const KNOT_SNAP: f64 = 1e-10;

@@ -13,7 +13,7 @@ use crate::cad::error::CadResult;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::SurfaceSpec;
+use crate::formats::workpiece::SurfaceSpec;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 /// A surface entity converted to model space.

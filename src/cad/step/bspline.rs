@@ -7,7 +7,7 @@ use super::curves::{point, Space};
 use super::parser::Instance;
 use crate::cad::error::CadResult;
 use crate::cad::nurbs::{new_curve, NurbsCurve};
-use crate::workpiece::format::SurfaceSpec;
+use crate::formats::workpiece::SurfaceSpec;
 
 /// Largest knot-vector length accepted (guards hostile multiplicities).
 const MAX_KNOTS: usize = 1_000_000;

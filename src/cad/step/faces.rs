@@ -13,7 +13,7 @@ use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::{SurfaceSpec, TrimSpec};
+use crate::formats::workpiece::{SurfaceSpec, TrimSpec};
 
 /// A converted face.
 #[derive(Debug, Clone, PartialEq)]

@@ -8,7 +8,7 @@ use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
 use crate::geometry::NurbsSurface;
 use crate::math::Point3;
-use crate::workpiece::format::TrimSpec;
+use crate::formats::workpiece::TrimSpec;
 
 type P2 = [f64; 2];
 

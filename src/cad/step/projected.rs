@@ -12,7 +12,7 @@ use crate::cad::sample::adaptive;
 use crate::geometry::projection::project_from;
 use crate::geometry::{NurbsSurface, Projection, ProjectionIndex, ProjectionOptions};
 use crate::math::{Point3, Vec2};
-use crate::workpiece::format::TrimSpec;
+use crate::formats::workpiece::TrimSpec;
 
 type P2 = [f64; 2];
 

@@ -11,7 +11,7 @@ use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::{new_curve, NurbsCurve};
 use crate::math::{Point3, Vec3};
-use crate::workpiece::format::SurfaceSpec;
+use crate::formats::workpiece::SurfaceSpec;
 use std::f64::consts::TAU;
 
 /// A surface as read from the file.

@@ -1,7 +1,7 @@
 //! The `cmm-workpiece/1` file format (DESIGN.md 6.1): serde types, from which
 //! the JSON Schema (`cmm schema workpiece`) is generated too.
 //!
-//! These types only describe the file; [`super::Workpiece::from_file`] turns
+//! These types only describe the file; [`crate::workpiece::Workpiece::from_file`] turns
 //! them into validated geometry.
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
