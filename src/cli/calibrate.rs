@@ -144,7 +144,7 @@ fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliE
 pub(super) fn failed(
     args: &CalibrateArgs,
     setup: &SimulatedSetup,
-    source: crate::calibrate::simulate::SimulatedCalError,
+    source: crate::app::calibrate::simulate::SimulatedCalError,
 ) -> CliError {
     let machine = match &args.machine {
         Some(path) => path.display().to_string(),
@@ -155,7 +155,7 @@ pub(super) fn failed(
         None => String::new(),
     };
     let hint = match source {
-        crate::calibrate::simulate::SimulatedCalError::Machine(_) => {
+        crate::app::calibrate::simulate::SimulatedCalError::Machine(_) => {
             " (the probe starts above the sphere: a shorter --stylus-length or another machine fits)"
         }
         _ => "",
