@@ -5,7 +5,6 @@
 mod cad_common;
 use cad_common::eval;
 use cmm::cad::{import, step::import_step, ImportOptions};
-use std::collections::HashMap;
 
 fn path(name: &str) -> Option<String> {
     // CMM_CAD_DIR overrides the directory (a checkout whose parent has no shared/).

@@ -323,16 +323,26 @@ fn cut_ascending(l: &NLoop, axis: usize) -> Vec<P2> {
             p
         });
     }
-    let boundary = if net > 0.0 { TAU } else { 0.0 };
+    // The loops were shifted to start in [0, 2 pi) (`periodic_range`), so a
+    // loop spanning one period crosses 2 pi whichever way it runs.
+    let boundary = TAU;
     let k = pts.windows(2).position(|w| matches!(w, [p, q] if (coord(p, axis) - boundary) * (coord(q, axis) - boundary) <= 0.0 && coord(p, axis) != coord(q, axis)));
     let Some(k) = k else { return sorted(pts, axis) };
     let (head, tail) = pts.split_at(k + 1);
     let crossing = interpolate(head.last().copied(), tail.first().copied(), axis, boundary);
-    let mut out: Vec<P2> = vec![crossing_shift(crossing, axis, -net)];
-    out.extend(tail.iter().map(|p| crossing_shift(*p, axis, -net)));
-    out.extend(head.iter().copied());
-    out.push(crossing);
-    if net < 0.0 {
+    let mut out: Vec<P2>;
+    if net > 0.0 {
+        // head rises to 2 pi, tail from 2 pi on: tail moved down one period first.
+        out = vec![crossing_shift(crossing, axis, -net)];
+        out.extend(tail.iter().map(|p| crossing_shift(*p, axis, -net)));
+        out.extend(head.iter().copied());
+        out.push(crossing);
+    } else {
+        // head falls to 2 pi, tail from 2 pi down: head moved down one period after.
+        out = vec![crossing];
+        out.extend(tail.iter().copied());
+        out.extend(head.iter().map(|p| crossing_shift(*p, axis, net)));
+        out.push(crossing_shift(crossing, axis, net));
         out.reverse();
     }
     out.dedup();

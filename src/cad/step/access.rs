@@ -146,7 +146,7 @@ impl<'a> Args<'a> {
     /// [`crate::cad::error::MAX_COORDINATE_MM`] in magnitude).
     pub fn length(&self, i: usize) -> CadResult<f64> {
         let v = self.real(i)? * self.ctx.length_mm;
-        if !(v.abs() <= crate::cad::error::MAX_COORDINATE_MM) {
+        if !in_range(v) {
             return Err(self.out_of_range(&format!("parameter {}", i + 1), v));
         }
         Ok(v)
@@ -274,4 +274,10 @@ pub fn as_ref(v: &Value) -> Option<u64> {
         Value::Ref(id) => Some(*id),
         _ => None,
     }
+}
+
+/// True when `v` (mm) is finite and at most
+/// [`crate::cad::error::MAX_COORDINATE_MM`] in magnitude.
+pub fn in_range(v: f64) -> bool {
+    v.is_finite() && v.abs() <= crate::cad::error::MAX_COORDINATE_MM
 }

@@ -89,7 +89,7 @@ pub fn derived_knots(form: KnotForm, p: usize, n: usize) -> Result<Vec<f64>, Str
             "a Bezier of degree {p} needs {} control points, found {n}",
             p + 1
         )),
-        KnotForm::PiecewiseBezier if p > 0 && (n - 1) % p == 0 => {
+        KnotForm::PiecewiseBezier if p > 0 && (n - 1).is_multiple_of(p) => {
             let segments = (n - 1) / p;
             Ok(ends(segments as f64, segments - 1, p))
         }

@@ -2,7 +2,7 @@
 use super::access::{has_record, Args, Ctx};
 pub use super::bspline::bspline_curve;
 use super::bspline::is_bspline_curve;
-use crate::cad::error::{CadResult, MAX_COORDINATE_MM};
+use crate::cad::error::CadResult;
 use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::new_curve;
@@ -34,7 +34,7 @@ pub fn point(ctx: &Ctx, id: u64, space: Space) -> CadResult<Point3> {
     let c = args.reals(1)?;
     for (k, x) in c.iter().enumerate() {
         let v = x * s;
-        if !(v.abs() <= MAX_COORDINATE_MM) {
+        if !super::access::in_range(v) {
             return Err(args.out_of_range(&format!("coordinate {}", k + 1), v));
         }
     }
@@ -48,7 +48,7 @@ pub fn point(ctx: &Ctx, id: u64, space: Space) -> CadResult<Point3> {
 /// Parameter `i` as a length in `space` (checked finite and in range).
 fn scaled(ctx: &Ctx, args: &Args, i: usize, space: Space) -> CadResult<f64> {
     let v = args.real(i)? * scale(ctx, space);
-    if !(v.abs() <= MAX_COORDINATE_MM) {
+    if !super::access::in_range(v) {
         return Err(args.out_of_range(&format!("parameter {}", i + 1), v));
     }
     Ok(v)
