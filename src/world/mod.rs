@@ -13,6 +13,7 @@
 //! the same inputs and seed give identical results.
 
 pub mod cmm;
+pub mod contact;
 pub mod machine;
 pub mod noise;
 pub mod probe;
