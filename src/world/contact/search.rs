@@ -38,8 +38,9 @@ pub struct ContactSearch {
     opts: ContactOptions,
     /// A point and a lower bound of the true distance from it, mm.
     anchor: Option<(Point3, f64)>,
-    /// Where the list of near leaves was made, and the list.
-    near_at: Option<Point3>,
+    /// Where the list of near leaves was made and the bound it was made
+    /// within (mm), and the list.
+    near_at: Option<(Point3, f64)>,
     near: Vec<u32>,
     warm: Vec<WarmFoot>,
     stamp: u64,
@@ -115,23 +116,27 @@ impl ContactSearch {
                 z: y.z,
             });
         }
-        let slack = self.opts.slack_mm;
-        let listed = reach + 2.0 * slack;
-        let fresh = self.near_at.is_some_and(|a| (y - a).norm() <= slack);
+        // The list made at `a` within `listed` holds every leaf whose bound
+        // at `y` is below `listed - |y - a|`: it serves while that is at
+        // least what the search looks at.
+        let needed = reach + self.opts.edge_tie_mm;
+        let fresh = self
+            .near_at
+            .is_some_and(|(a, listed)| listed - (y - a).norm() >= needed);
         if !fresh {
+            let listed = needed + 2.0 * self.opts.slack_mm;
             self.near.clear();
             self.tree.within(&self.leaves.leaves, y, listed, &mut self.near);
-            self.near_at = Some(y);
+            self.near_at = Some((y, listed));
             if self.near.is_empty() {
                 let floor = self.tree.nearest(&self.leaves.leaves, y);
                 self.anchor = Some((y, floor));
                 return Ok(None);
             }
         }
-        let moved = self.near_at.map_or(0.0, |a| (y - a).norm());
+        let off_list = self.near_at.map_or(0.0, |(a, listed)| listed - (y - a).norm());
         let floor = self.search(wp, am, y, reach, opts)?;
-        // Leaves off the list are at least `listed - moved` away.
-        self.anchor = Some((y, floor.min(listed - moved)));
+        self.anchor = Some((y, floor.min(off_list)));
         Ok(self.answer(wp, am, y, reach))
     }
 
