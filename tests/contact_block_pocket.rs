@@ -266,3 +266,52 @@ fn form_terms_act_on_the_trimmed_face() {
         assert!((d - want).abs() < 1e-8, "{p}: {d} vs {want}");
     }
 }
+
+/// The simulated machine lowers the ball into the pocket at 20 mm/s, 17.9
+/// mm inside its rim: no deflection in the pocket (no lid at the top
+/// face's height) until the ball meets the floor, then the deflection the
+/// analytic floor gives; every cycle is checked against the analytic
+/// solid (the free-air bound must never skip a contact).
+#[test]
+fn the_machine_feels_no_lid_and_meets_the_floor() {
+    use cmm::host::machine::Cmm;
+    use cmm::program::Pose;
+    use cmm::world::cmm::{SimulatedCmm, TruePart};
+    use cmm::world::machine::{MachineModel, MachineProfile};
+    use cmm::world::probe::TrueProbe;
+    let wp = block_with_pocket();
+    let am = AsMachined::nominal();
+    let pose = Pose {
+        rotation: cmm::math::Mat3::identity(),
+        translation: Vec3::new(350.0, 500.0, 20.0),
+    };
+    let part = TruePart {
+        workpiece: &wp,
+        as_machined: &am,
+        pose,
+    };
+    let (r, pv) = (1.5, Vec3::new(0.0, 0.0, -50.0));
+    let probe = TrueProbe::ideal(pv, r);
+    let ball0 = Point3::new(25.0 + 17.9, 50.0, 60.0);
+    let start = pose.to_machine(ball0) - pv;
+    let profile = MachineProfile::default().ideal();
+    let mut sim =
+        SimulatedCmm::new(part, MachineModel::default_bridge(), profile, probe, 1, start).unwrap();
+    let mut touched = 0;
+    for _ in 0..4000 {
+        let readings = sim.step(Vec3::new(0.0, 0.0, -20.0));
+        let ball = pose.to_part(readings.scales + pv);
+        let depth = r - reference(ball);
+        let d = readings.deflection.norm();
+        if depth <= 0.0 {
+            assert_eq!(d, 0.0, "deflection {d} at {ball} in free air");
+        } else {
+            assert!((d - depth).abs() < 1e-6, "{ball}: {d} vs {depth}");
+            touched += 1;
+            if depth > 0.5 {
+                break;
+            }
+        }
+    }
+    assert!(touched > 10, "{touched}");
+}
