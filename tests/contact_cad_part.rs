@@ -20,10 +20,11 @@ use common::*;
 const CELL_MM: f64 = 0.02;
 
 fn ctc05() -> Option<Workpiece> {
-    let p = format!(
-        "{}/../shared/cad/nist_ctc_05_asme1_rd.stp",
-        env!("CARGO_MANIFEST_DIR")
-    );
+    // The shared CAD files beside the repository, or where CMM_CAD_DIR
+    // says.
+    let dir = std::env::var("CMM_CAD_DIR")
+        .unwrap_or_else(|_| format!("{}/../shared/cad", env!("CARGO_MANIFEST_DIR")));
+    let p = format!("{dir}/nist_ctc_05_asme1_rd.stp");
     if !std::path::Path::new(&p).exists() {
         println!("note: {p} not found; skipping");
         return None;
