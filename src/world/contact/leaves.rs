@@ -268,9 +268,8 @@ impl FaceContext<'_> {
         let diag = (size.max - size.min).norm();
         let flat = deviation(&patch, &points) <= self.opts.flatness * diag;
         let refine_flat = !flat && depth < self.opts.max_flat_depth;
-        let refine_trim = !segs.is_empty()
-            && diag > self.opts.trim_leaf_mm
-            && depth < self.opts.max_trim_depth;
+        let refine_trim =
+            !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
         if !(refine_flat || refine_trim) {
             self.push((&rect, patch.degree), &points, segs, out);
             return;
@@ -340,10 +339,12 @@ fn slab_of(points: &[Point3], [p, q]: [usize; 2], inflate: f64) -> Slab {
     let Some(normal) = (c11 - c00).cross(&(c01 - c10)).try_normalize(1e-12) else {
         return everywhere;
     };
-    let (lo, hi) = points.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-        let s = p.coords.dot(&normal);
-        (l.min(s), h.max(s))
-    });
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            let s = p.coords.dot(&normal);
+            (l.min(s), h.max(s))
+        });
     Slab {
         normal,
         lo: lo - inflate,
@@ -380,7 +381,11 @@ fn deviation(patch: &BezierPatch, points: &[Point3]) -> f64 {
 fn u_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=q)
-        .map(|j| (0..p).map(|i| (patch.point(i + 1, j) - patch.point(i, j)).norm()).sum::<f64>())
+        .map(|j| {
+            (0..p)
+                .map(|i| (patch.point(i + 1, j) - patch.point(i, j)).norm())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max)
 }
 
@@ -388,6 +393,10 @@ fn u_extent(patch: &BezierPatch) -> f64 {
 fn v_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=p)
-        .map(|i| (0..q).map(|j| (patch.point(i, j + 1) - patch.point(i, j)).norm()).sum::<f64>())
+        .map(|i| {
+            (0..q)
+                .map(|j| (patch.point(i, j + 1) - patch.point(i, j)).norm())
+                .sum::<f64>()
+        })
         .fold(0.0, f64::max)
 }

@@ -126,7 +126,8 @@ impl ContactSearch {
         if !fresh {
             let listed = needed + 2.0 * self.opts.slack_mm;
             self.near.clear();
-            self.tree.within(&self.leaves.leaves, y, listed, &mut self.near);
+            self.tree
+                .within(&self.leaves.leaves, y, listed, &mut self.near);
             self.near_at = Some((y, listed));
             if self.near.is_empty() {
                 let floor = self.tree.nearest(&self.leaves.leaves, y);
@@ -134,7 +135,9 @@ impl ContactSearch {
                 return Ok(None);
             }
         }
-        let off_list = self.near_at.map_or(0.0, |(a, listed)| listed - (y - a).norm());
+        let off_list = self
+            .near_at
+            .map_or(0.0, |(a, listed)| listed - (y - a).norm());
         let floor = self.search(wp, am, y, reach, opts)?;
         self.anchor = Some((y, floor.min(off_list)));
         Ok(self.answer(wp, am, y, reach))
@@ -187,8 +190,8 @@ impl ContactSearch {
                 continue;
             }
             let face = leaf.face;
-            let on_face = !leaf.crossed()
-                || wp.faces.get(face).is_some_and(|f| f.contains(foot.uv));
+            let on_face =
+                !leaf.crossed() || wp.faces.get(face).is_some_and(|f| f.contains(foot.uv));
             if on_face {
                 let edge = on_domain_side(wp, face, foot.uv);
                 self.found.push(Candidate { face, foot, edge });
@@ -216,10 +219,17 @@ impl ContactSearch {
 
     /// The answer from `self.found`: the closest foot, signed by the sign
     /// rule at a face boundary.
-    fn answer(&self, wp: &Workpiece, am: &AsMachined, y: Point3, reach: f64) -> Option<TrueContact> {
-        let best = self.found.iter().min_by(|a, b| {
-            (a.foot.dist2.total_cmp(&b.foot.dist2)).then(a.face.cmp(&b.face))
-        })?;
+    fn answer(
+        &self,
+        wp: &Workpiece,
+        am: &AsMachined,
+        y: Point3,
+        reach: f64,
+    ) -> Option<TrueContact> {
+        let best = self
+            .found
+            .iter()
+            .min_by(|a, b| (a.foot.dist2.total_cmp(&b.foot.dist2)).then(a.face.cmp(&b.face)))?;
         let tp = am.finish_foot(wp, y, best.face, &best.foot);
         if tp.distance >= reach {
             return None;
@@ -284,7 +294,14 @@ fn leaf_foot(
         return Ok(w.foot);
     }
     let foot = minimise_with(eval, y, leaf.start(y), &leaf.bounds, opts)?;
-    remember(warm, WarmFoot { leaf: id, foot, stamp });
+    remember(
+        warm,
+        WarmFoot {
+            leaf: id,
+            foot,
+            stamp,
+        },
+    );
     Ok(foot)
 }
 

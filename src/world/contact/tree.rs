@@ -43,7 +43,10 @@ impl LeafTree {
     fn build(&mut self, leaves: &[Leaf], lo: usize, hi: usize) -> u32 {
         let ids = self.order.get(lo..hi).unwrap_or_default();
         let box_of = |i: &u32| leaves.get(*i as usize).map_or(Aabb::empty(), |l| l.aabb);
-        let aabb = ids.iter().map(box_of).fold(Aabb::empty(), |a, b| a.union(&b));
+        let aabb = ids
+            .iter()
+            .map(box_of)
+            .fold(Aabb::empty(), |a, b| a.union(&b));
         let at = self.nodes.len() as u32;
         self.nodes.push(Node {
             aabb,
@@ -124,7 +127,10 @@ impl LeafTree {
             }
             let ids = self.order.get(node.a as usize..node.b as usize);
             for &id in ids.unwrap_or_default() {
-                if leaves.get(id as usize).is_some_and(|l| l.lower_bound(p) < radius) {
+                if leaves
+                    .get(id as usize)
+                    .is_some_and(|l| l.lower_bound(p) < radius)
+                {
                     out.push(id);
                 }
             }
