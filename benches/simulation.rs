@@ -1,6 +1,9 @@
 //! Simulator speed: control cycles per second during active scanning of
-//! the blade (target: >= 2 million per second on one core), and a
-//! whole error-correcting part with learned corrections.
+//! the blade (target: >= 2 million per second on one core) and of a real
+//! trimmed CAD part (NIST CTC 5, 209 faces, imported at bench time when
+//! the shared CAD files are beside the repository; the per-cycle contact
+//! search must not grow with the part: within 2x of the blade's cost), and
+//! a whole error-correcting part with learned corrections.
 //!
 //! `cargo bench --bench simulation`
 use std::hint::black_box;
@@ -98,19 +101,58 @@ fn scan_once(sp: &SimulatedPart, model: &MachineModel, path: &BallPath, plan: &S
     (sim.readings().time_s / sim.cycle_s()).round() as u64
 }
 
-fn bench(c: &mut Criterion) {
-    let p = program("blade-z60.json");
+/// Criterion's throughput of active scans of the first section curve of
+/// `p` (control cycles per second).
+fn scan_bench(c: &mut Criterion, name: &str, p: &SimulatedPart) {
     let (path, plan) = path_and_plan(&p.program);
     let plan = ScanPlan::Active(plan.speeds().clone());
     let model = MachineModel::default_bridge();
-    let cycles = scan_once(&p, &model, &path, &plan);
-    println!("active scan of blade z60: {cycles} control cycles per run");
+    let cycles = scan_once(p, &model, &path, &plan);
+    println!("{name}: {cycles} control cycles per run");
     let mut g = c.benchmark_group("simulation");
     g.throughput(Throughput::Elements(cycles));
-    g.bench_function("active_scan_blade_z60_cycles", |b| {
-        b.iter(|| black_box(scan_once(&p, &model, &path, &plan)))
+    g.bench_function(name, |b| {
+        b.iter(|| black_box(scan_once(p, &model, &path, &plan)))
     });
     g.finish();
+}
+
+/// NIST CTC 5 (STEP, 209 trimmed faces) imported through `cmm::cad`,
+/// placed at (350, 500, 20) with its z = 100 section: a program written to
+/// a temporary directory. `None` when the CAD file is not there.
+fn ctc05_program() -> Option<(tempfile::TempDir, SimulatedPart)> {
+    let step = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cad/nist_ctc_05_asme1_rd.stp");
+    if !step.exists() {
+        println!("note: {} not found; skipping the CAD part", step.display());
+        return None;
+    }
+    let import = cmm::cad::import(&step).unwrap_or_else(|e| panic!("{e}"));
+    let dir = tempfile::tempdir().unwrap_or_else(|e| panic!("{e}"));
+    let wp = dir.path().join("ctc05.json");
+    let text = serde_json::to_string(&import.workpiece).unwrap_or_else(|e| panic!("{e}"));
+    std::fs::write(&wp, text).unwrap_or_else(|e| panic!("{e}"));
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "ctc05-z100", "workpiece": "ctc05.json",
+        "placement": { "translate_mm": [350, 500, 20], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 80, "deflection_mm": 0.3, "pitch_mm": 0.5,
+                      "trajectory_tolerance_mm": 1.5 },
+        "as_machined": { "form": [ { "kind": "offset", "mm": 0.01 } ], "roughness_um": 0.2 },
+        "features": [ { "name": "z100", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 100], "normal": [0, 0, 1] },
+            "tolerance_mm": [-0.1, 0.1] } ] });
+    let file = dir.path().join("ctc05-z100.json");
+    std::fs::write(&file, prog.to_string()).unwrap_or_else(|e| panic!("{e}"));
+    let p = load(&file).unwrap_or_else(|e| panic!("{e}"));
+    Some((dir, p))
+}
+
+fn bench(c: &mut Criterion) {
+    let p = program("blade-z60.json");
+    scan_bench(c, "active_scan_blade_z60_cycles", &p);
+    if let Some((_dir, cad)) = ctc05_program() {
+        scan_bench(c, "active_scan_ctc05_z100_cycles", &cad);
+    }
     let overcut = program("blade-overcut.json");
     let Ok((_, learned)) = run_program(&overcut, &RunOptions::default()) else {
         panic!("first part")
@@ -133,8 +175,8 @@ criterion_group! {
 criterion_main!(benches);
 
 /// What a run of blade-z60 spends besides the per-cycle loop: re-planning
-/// the z60 section's speeds, and the whole run (the real-time ratio is
-/// its machine time over this wall time).
+/// the z60 section's speeds, and the whole run (the real-time ratio is its
+/// machine time over this wall time).
 fn overhead(c: &mut Criterion) {
     let p = program("blade-z60.json");
     let (path, plan) = path_and_plan(&p.program);

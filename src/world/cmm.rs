@@ -9,25 +9,24 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
+use super::contact::{ContactOptions, ContactSearch};
 use super::dynamics::{Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
-use crate::geometry::{ProjectionError, ProjectionOptions};
+use crate::geometry::ProjectionOptions;
 use crate::machine::{GeometricErrors, LinearAxes, MachineModel, MachineProfile};
-use crate::math::{Iso3, Point3, Vec2, Vec3};
+use crate::math::{Iso3, Point3, Vec3};
 use crate::program::Pose;
 use crate::seam::{Cmm, HeadCommandError, MachineStatus, Readings};
 use crate::workpiece::Workpiece;
-use crate::world::as_machined::{AsMachined, TrueProjection, TrueWarm};
+use crate::world::as_machined::AsMachined;
 use nalgebra::UnitQuaternion;
 
 /// Contact is evaluated only when the ball may be this close to the part
-/// (beyond its radius), mm; further away the last distance bounds it.
+/// (beyond its radius), mm; further away the contact search's free-air
+/// bound rules it out (the roughness, a few micrometres at most, stays far
+/// inside this margin).
 const CONTACT_MARGIN_MM: f64 = 0.5;
-
-/// A warm-started contact deeper than this many times the stylus range is
-/// taken for a wrong local foot and recomputed cold (dimensionless).
-const WRONG_FOOT_DEFLECTIONS: f64 = 2.0;
 
 /// The contact needs the ball's distance to the true surface to 0.1 um.
 /// A foot-point error `e` changes that distance by about `e^2 / R` and the
@@ -87,10 +86,9 @@ pub struct SimulatedCmm<'a> {
     /// versions), several times cheaper per draw than ChaCha8; the noise
     /// needs statistical quality, not secrecy.
     rng: Xoshiro256PlusPlus,
-    /// Warm start of the next contact computation (the last foot).
-    hint: Option<TrueWarm>,
-    /// Lower bound of the ball's distance to the part, mm.
-    clearance: f64,
+    /// The per-cycle contact search (free-air bound, near leaves, warm
+    /// feet).
+    search: ContactSearch,
     last: Readings,
     /// Projection options of the contact search.
     contact: ProjectionOptions,
@@ -146,8 +144,11 @@ impl<'a> SimulatedCmm<'a> {
             probe,
             servo,
             rng,
-            hint: None,
-            clearance: 0.0,
+            search: ContactSearch::new(
+                part.workpiece,
+                part.as_machined,
+                &ContactOptions::default(),
+            ),
             last,
             contact: contact_options(&part.workpiece.options),
             geometric,
@@ -197,62 +198,37 @@ impl<'a> SimulatedCmm<'a> {
         self.turned = self.mount.rotation != UnitQuaternion::identity();
     }
 
-    /// True deflection for the current state (zero when not touching).
+    /// True deflection for the current state (zero when not touching):
+    /// the contact search rules out a contact in free air at the cost of
+    /// one bound check.
     #[inline(always)]
     fn contact(&mut self, velocity: Vec3) -> Vec3 {
         let r = self.probe.tip_radius_mm;
-        if self.clearance > r + CONTACT_MARGIN_MM {
-            self.clearance -= velocity.norm() * self.servo.cycle_s();
-            // Far from the part the last foot is no good start: Newton from
-            // it can end on the far side of a closed surface.
-            self.hint = None;
-            return Vec3::zeros();
-        }
-        self.near_contact(velocity)
-    }
-
-    /// [`Self::contact`] when the ball may be near the part: the contact
-    /// computation proper.
-    #[inline(never)]
-    fn near_contact(&mut self, velocity: Vec3) -> Vec3 {
-        let r = self.probe.tip_radius_mm;
-        let a0 = self.ball_centre(self.servo.position());
-        let y = self.part.pose.to_part(a0);
-        let Ok(tp) = self.project(y) else {
-            self.hint = None;
-            return Vec3::zeros();
-        };
-        let rough = gaussian(&mut self.rng, self.part.as_machined.roughness_mm);
-        // Beyond a face's edge the ball can only touch the edge from outside:
-        // the distance is unsigned and the push points away from the edge.
-        let (s, n_part) = if self.on_edge(tp.face, tp.uv) {
-            let away = (y - tp.point).try_normalize(1e-12).unwrap_or(tp.normal);
-            (tp.distance + rough, away)
-        } else {
-            (tp.signed_distance + rough, tp.normal)
-        };
-        self.clearance = s - velocity.norm() * self.servo.cycle_s();
-        let n = self.part.pose.dir_to_machine(n_part);
-        self.probe.deflection(r - s, n, velocity)
-    }
-
-    /// Closest true point to `y` (part frame), warm-started from the last
-    /// contact; a warm result deeper than the stylus can ever be pushed is
-    /// a wrong local foot and is redone cold.
-    fn project(&mut self, y: Point3) -> Result<TrueProjection, ProjectionError> {
-        let (am, wp) = (self.part.as_machined, self.part.workpiece);
-        // The warm start moves to the new foot in place (on an error the
-        // caller drops it).
-        if let Some(warm) = self.hint.as_mut() {
-            let tp = am.closest_point_along(wp, y, warm, &self.contact)?;
-            let limit = WRONG_FOOT_DEFLECTIONS * self.probe.max_deflection_mm;
-            if self.probe.tip_radius_mm - tp.signed_distance <= limit {
-                return Ok(tp);
+        let ball = self.ball_centre(self.servo.position());
+        let y = self.part.pose.to_part(ball);
+        let (wp, am) = (self.part.workpiece, self.part.as_machined);
+        let found = self
+            .search
+            .query((wp, am), y, r + CONTACT_MARGIN_MM, &self.contact);
+        match found {
+            Ok(Some(c)) => self.touch(c.distance, c.push, velocity),
+            Ok(None) => Vec3::zeros(),
+            Err(_) => {
+                self.search.reset();
+                Vec3::zeros()
             }
         }
-        let tp = am.closest_point(wp, y)?;
-        self.hint = Some(TrueWarm::new(tp.face, tp.uv));
-        Ok(tp)
+    }
+
+    /// The deflection at signed distance `s` (part frame, mm) from the
+    /// true part, pushed along `push` (part frame), with the roughness
+    /// added to the distance.
+    #[inline(never)]
+    fn touch(&mut self, s: f64, push: Vec3, velocity: Vec3) -> Vec3 {
+        let r = self.probe.tip_radius_mm;
+        let rough = gaussian(&mut self.rng, self.part.as_machined.roughness_mm);
+        let n = self.part.pose.dir_to_machine(push);
+        self.probe.deflection(r - (s + rough), n, velocity)
     }
 
     /// Keeps `readings` as the last ones, copying the status unless both
@@ -268,14 +244,6 @@ impl<'a> SimulatedCmm<'a> {
         if !both_ok {
             last.status = readings.status.clone();
         }
-    }
-
-    fn on_edge(&self, face: usize, uv: Vec2) -> bool {
-        self.part.workpiece.faces.get(face).is_none_or(|f| {
-            let ((u0, u1), (v0, v1)) = f.surface.domain();
-            let inside_domain = uv.x > u0 && uv.x < u1 && uv.y > v0 && uv.y < v1;
-            !inside_domain || f.trim.as_ref().is_some_and(|t| !t.contains(uv))
-        })
     }
 
     #[inline(always)]
@@ -335,8 +303,7 @@ impl SimulatedCmm<'_> {
         self.servo
             .index_to(&targets)
             .map_err(|e| self.refused(e, head.len()))?;
-        self.hint = None;
-        self.clearance = 0.0;
+        self.search.reset();
         self.update_mount();
         self.last = self.observe(Vec3::zeros(), MachineStatus::Ok);
         let encoders = self.servo.read_scales(&mut self.rng);

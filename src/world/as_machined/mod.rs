@@ -8,10 +8,11 @@
 mod affine;
 pub mod form;
 mod normal_jet;
+mod trimmed;
 mod validate;
 
 pub use crate::formats::as_machined::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
-use crate::geometry::projection::{minimise_with, Bounds, Foot, WarmStart};
+use crate::geometry::projection::{Bounds, Foot, WarmStart};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions, SurfaceDerivs};
 use crate::math::{Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::{FootHint, Workpiece};
@@ -335,13 +336,7 @@ impl AsMachined {
         uv: Vec2,
     ) -> Result<Foot, ProjectionError> {
         let bounds = face_bounds(wp, face, x)?;
-        minimise_with(
-            |p, out: &mut Jet2| self.jet_into(wp, face, p, out),
-            x,
-            uv,
-            &bounds,
-            &wp.options,
-        )
+        self.trimmed_newton(wp, x, face, uv, &bounds)
     }
 
     #[inline(always)]

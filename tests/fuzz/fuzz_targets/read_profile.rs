@@ -11,7 +11,7 @@ mod common;
 use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
-    let _ = cmm::world::machine::MachineProfile::from_json_file(common::input_file(
+    let _ = cmm::machine::MachineProfile::from_json_file(common::input_file(
         "profile.json",
         data,
     ));

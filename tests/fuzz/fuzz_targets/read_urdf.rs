@@ -12,5 +12,5 @@ use libfuzzer_sys::fuzz_target;
 
 fuzz_target!(|data: &[u8]| {
     let _ =
-        cmm::world::machine::MachineModel::from_urdf_file(common::input_file("machine.urdf", data));
+        cmm::machine::MachineModel::from_urdf_file(common::input_file("machine.urdf", data));
 });

@@ -1,0 +1,402 @@
+//! The contact search's leaves: every face's rational Bezier patches split
+//! until near-flat, and along the trim boundary until small, each with
+//! bounds on the true (as-machined) surface over it: an axis-aligned box
+//! and a slab. Pieces outside a face's trim are left out, so the search
+//! never sees the untrimmed surface beyond a face's boundary.
+use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
+use crate::geometry::projection::Bounds;
+use crate::geometry::{NurbsSurface, Trim};
+use crate::math::{Point3, Vec2, Vec3};
+use crate::world::as_machined::AsMachined;
+use crate::workpiece::{Face, Workpiece};
+
+/// Sizes of the contact leaves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LeafOptions {
+    /// A piece is flat enough when its control points lie within this
+    /// fraction of its box diagonal from the bilinear surface through its
+    /// corner control points (dimensionless).
+    pub flatness: f64,
+    /// Most halvings of one Bezier patch for flatness.
+    pub max_flat_depth: usize,
+    /// A piece crossed by its face's trim boundary is halved until its box
+    /// diagonal is at most this, mm (so that the boxes follow the trimmed
+    /// face closely: no box over a pocket or hole).
+    pub trim_leaf_mm: f64,
+    /// Most halvings of one Bezier patch along a trim boundary.
+    pub max_trim_depth: usize,
+}
+
+impl Default for LeafOptions {
+    fn default() -> Self {
+        LeafOptions {
+            flatness: 0.05,
+            max_flat_depth: 8,
+            trim_leaf_mm: 4.0,
+            max_trim_depth: 16,
+        }
+    }
+}
+
+/// An axis-aligned box.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Aabb {
+    pub(crate) min: Point3,
+    pub(crate) max: Point3,
+}
+
+impl Aabb {
+    /// The empty box.
+    pub(crate) fn empty() -> Aabb {
+        Aabb {
+            min: Point3::from(Vec3::repeat(f64::INFINITY)),
+            max: Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
+        }
+    }
+
+    /// The box of `points`.
+    fn of(points: impl Iterator<Item = Point3>) -> Aabb {
+        points.fold(Aabb::empty(), |b, p| Aabb {
+            min: b.min.inf(&p),
+            max: b.max.sup(&p),
+        })
+    }
+
+    /// The smallest box holding both.
+    pub(crate) fn union(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.inf(&o.min),
+            max: self.max.sup(&o.max),
+        }
+    }
+
+    /// Squared distance from `p` (zero inside).
+    #[inline(always)]
+    pub(crate) fn dist2(&self, p: Point3) -> f64 {
+        let dx = (self.min.x - p.x).max(p.x - self.max.x).max(0.0);
+        let dy = (self.min.y - p.y).max(p.y - self.max.y).max(0.0);
+        let dz = (self.min.z - p.z).max(p.z - self.max.z).max(0.0);
+        dx * dx + dy * dy + dz * dz
+    }
+
+    /// The centre.
+    pub(crate) fn centre(&self) -> Point3 {
+        nalgebra::center(&self.min, &self.max)
+    }
+}
+
+/// The region `lo <= x . normal <= hi` (a unit normal).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Slab {
+    normal: Vec3,
+    lo: f64,
+    hi: f64,
+}
+
+impl Slab {
+    /// Distance from `p` (zero inside).
+    #[inline(always)]
+    fn dist(&self, p: Point3) -> f64 {
+        let s = p.coords.dot(&self.normal);
+        (self.lo - s).max(s - self.hi).max(0.0)
+    }
+}
+
+/// One piece of a face.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Leaf {
+    /// The face.
+    pub(crate) face: usize,
+    /// Its nominal parameter rectangle.
+    pub(crate) bounds: Bounds,
+    /// The true surface over the rectangle lies in this box...
+    pub(crate) aabb: Aabb,
+    /// ... and in this slab.
+    slab: Slab,
+    /// The trim segments (clipped to the rectangle) in
+    /// [`Leaves::segments`]; empty when the rectangle lies inside the trim.
+    pub(crate) segments: std::ops::Range<usize>,
+    /// A 3 x 3 grid of (approximate) true points over the rectangle, for
+    /// Newton's first start.
+    samples: [Point3; 9],
+}
+
+impl Leaf {
+    /// A lower bound of the distance from `p` to the true surface over the
+    /// leaf, mm.
+    #[inline(always)]
+    pub(crate) fn lower_bound(&self, p: Point3) -> f64 {
+        self.aabb.dist2(p).sqrt().max(self.slab.dist(p))
+    }
+
+    /// Whether the trim boundary crosses the leaf.
+    pub(crate) fn crossed(&self) -> bool {
+        !self.segments.is_empty()
+    }
+
+    /// The parameters of the sample nearest to `p`.
+    pub(crate) fn start(&self, p: Point3) -> Vec2 {
+        let mut best = (f64::INFINITY, 4);
+        for (k, s) in self.samples.iter().enumerate() {
+            let d2 = (s - p).norm_squared();
+            if d2 < best.0 {
+                best = (d2, k);
+            }
+        }
+        sample_uv(&self.bounds, best.1)
+    }
+}
+
+/// Parameters of sample `k` of the 3 x 3 grid over `b`.
+fn sample_uv(b: &Bounds, k: usize) -> Vec2 {
+    let (i, j) = ((k / 3) as f64 * 0.5, (k % 3) as f64 * 0.5);
+    Vec2::new(
+        b.lo.x + (b.hi.x - b.lo.x) * i,
+        b.lo.y + (b.hi.y - b.lo.y) * j,
+    )
+}
+
+/// Every face's leaves.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Leaves {
+    pub(crate) leaves: Vec<Leaf>,
+    /// Trim segments (nominal parameters) referred to by the leaves.
+    pub(crate) segments: Vec<(Vec2, Vec2)>,
+}
+
+/// What a face's pieces are bounded with.
+struct FaceContext<'a> {
+    face: usize,
+    surface: &'a NurbsSurface,
+    trim: Option<&'a Trim>,
+    am: &'a AsMachined,
+    /// The form's bound on the face stretched by `T`, mm.
+    inflate: f64,
+    opts: LeafOptions,
+}
+
+impl Leaves {
+    /// The leaves of every face of `wp` as machined by `am`.
+    pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &LeafOptions) -> Leaves {
+        let mut out = Leaves {
+            leaves: Vec::new(),
+            segments: Vec::new(),
+        };
+        for (i, f) in wp.faces.iter().enumerate() {
+            let ctx = FaceContext {
+                face: i,
+                surface: &f.surface,
+                trim: f.trim.as_ref(),
+                am,
+                inflate: am.max_form_height(i) * am.stretch_factor(),
+                opts: *opts,
+            };
+            let segs = boundary_segments(f);
+            for patch in decompose(&f.surface) {
+                let rect = rect_of(&patch);
+                let mine = clip_all(&segs, &rect);
+                ctx.split(patch, mine, 0, &mut out);
+            }
+        }
+        out
+    }
+}
+
+/// The trim segments of a face that do not lie on a side of its parameter
+/// domain (those are the domain's own boundary, which Newton's bounds
+/// hold), clamped to the domain.
+fn boundary_segments(f: &Face) -> Vec<(Vec2, Vec2)> {
+    let Some(t) = f.trim.as_ref() else {
+        return Vec::new();
+    };
+    let ((u0, u1), (v0, v1)) = f.surface.domain();
+    let eps = 1e-9 * (u1 - u0).abs().max(v1 - v0).max(1e-300);
+    let on_side = |a: Vec2, b: Vec2| {
+        let same = |x: f64, y: f64, s: f64| (x - s).abs() <= eps && (y - s).abs() <= eps;
+        same(a.x, b.x, u0) || same(a.x, b.x, u1) || same(a.y, b.y, v0) || same(a.y, b.y, v1)
+    };
+    t.segments()
+        .map(|(a, b)| (f.surface.clamp(a), f.surface.clamp(b)))
+        .filter(|&(a, b)| !on_side(a, b) && (b - a).norm() > eps)
+        .collect()
+}
+
+fn rect_of(patch: &BezierPatch) -> Bounds {
+    Bounds {
+        lo: Vec2::new(patch.u.0, patch.v.0),
+        hi: Vec2::new(patch.u.1, patch.v.1),
+    }
+}
+
+/// The parts of `segs` inside `rect` (Liang-Barsky), leaving out points.
+fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
+    segs.iter().filter_map(|&s| clip(s, rect)).collect()
+}
+
+fn clip((a, b): (Vec2, Vec2), r: &Bounds) -> Option<(Vec2, Vec2)> {
+    let d = b - a;
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d.x, a.x - r.lo.x),
+        (d.x, r.hi.x - a.x),
+        (-d.y, a.y - r.lo.y),
+        (d.y, r.hi.y - a.y),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else if p < 0.0 {
+            t0 = t0.max(q / p);
+        } else {
+            t1 = t1.min(q / p);
+        }
+    }
+    (t0 < t1).then(|| (a + d * t0, a + d * t1))
+}
+
+impl FaceContext<'_> {
+    /// Splits `patch` (crossed by the trim segments `segs`) until flat and,
+    /// where the trim crosses it, small; pushes the pieces on the face.
+    fn split(&self, patch: BezierPatch, segs: Vec<(Vec2, Vec2)>, depth: usize, out: &mut Leaves) {
+        let rect = rect_of(&patch);
+        if segs.is_empty() && self.trim.is_some_and(|t| !t.contains(centre(&rect))) {
+            return;
+        }
+        let points: Vec<Point3> = patch.points().collect();
+        let size = Aabb::of(points.iter().copied());
+        let diag = (size.max - size.min).norm();
+        let flat = deviation(&patch, &points) <= self.opts.flatness * diag;
+        let refine_flat = !flat && depth < self.opts.max_flat_depth;
+        let refine_trim =
+            !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
+        if !(refine_flat || refine_trim) {
+            self.push((&rect, patch.degree), &points, segs, out);
+            return;
+        }
+        let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
+            patch.split_u()
+        } else {
+            patch.split_v()
+        };
+        let (sa, sb) = (clip_all(&segs, &rect_of(&a)), clip_all(&segs, &rect_of(&b)));
+        self.split(a, sa, depth + 1, out);
+        self.split(b, sb, depth + 1, out);
+    }
+
+    /// The leaf of a finished piece with control points `points`.
+    fn push(
+        &self,
+        (rect, degree): (&Bounds, [usize; 2]),
+        points: &[Point3],
+        segs: Vec<(Vec2, Vec2)>,
+        out: &mut Leaves,
+    ) {
+        let mapped: Vec<Point3> = points.iter().map(|&p| self.am.transform_point(p)).collect();
+        let mut aabb = Aabb::of(mapped.iter().copied());
+        let grow = Vec3::repeat(self.inflate);
+        (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
+        let slab = slab_of(&mapped, degree, self.inflate);
+        let samples = std::array::from_fn(|k| {
+            let uv = sample_uv(rect, k);
+            self.am.transform_point(self.surface.point(uv.x, uv.y))
+        });
+        let first = out.segments.len();
+        out.segments.extend(segs);
+        out.leaves.push(Leaf {
+            face: self.face,
+            bounds: *rect,
+            aabb,
+            slab,
+            segments: first..out.segments.len(),
+            samples,
+        });
+    }
+}
+
+fn centre(r: &Bounds) -> Vec2 {
+    (r.lo + r.hi) * 0.5
+}
+
+/// The slab round `points` (a row-major net of the degrees `[p, q]`)
+/// normal to the cross product of its diagonals (the whole space when that
+/// vanishes), widened by `inflate`.
+fn slab_of(points: &[Point3], [p, q]: [usize; 2], inflate: f64) -> Slab {
+    let everywhere = Slab {
+        normal: Vec3::z(),
+        lo: f64::NEG_INFINITY,
+        hi: f64::INFINITY,
+    };
+    let corners = (
+        points.first(),
+        points.last(),
+        points.get(q),
+        points.get(p * (q + 1)),
+    );
+    let (Some(&c00), Some(&c11), Some(&c01), Some(&c10)) = corners else {
+        return everywhere;
+    };
+    let Some(normal) = (c11 - c00).cross(&(c01 - c10)).try_normalize(1e-12) else {
+        return everywhere;
+    };
+    let (lo, hi) = points
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+            let s = p.coords.dot(&normal);
+            (l.min(s), h.max(s))
+        });
+    Slab {
+        normal,
+        lo: lo - inflate,
+        hi: hi + inflate,
+    }
+}
+
+/// Largest distance of the control points from the bilinear surface
+/// through the corner control points, at their uniform parameters.
+fn deviation(patch: &BezierPatch, points: &[Point3]) -> f64 {
+    let [p, q] = patch.degree;
+    let at = |i: usize, j: usize| points.get(i * (q + 1) + j).copied();
+    let (Some(c00), Some(c10), Some(c01), Some(c11)) = (at(0, 0), at(p, 0), at(0, q), at(p, q))
+    else {
+        return 0.0;
+    };
+    let mut worst: f64 = 0.0;
+    for i in 0..=p {
+        for j in 0..=q {
+            let (s, t) = (i as f64 / p.max(1) as f64, j as f64 / q.max(1) as f64);
+            let b = c00.coords * ((1.0 - s) * (1.0 - t))
+                + c10.coords * (s * (1.0 - t))
+                + c01.coords * ((1.0 - s) * t)
+                + c11.coords * (s * t);
+            if let Some(c) = at(i, j) {
+                worst = worst.max((c.coords - b).norm());
+            }
+        }
+    }
+    worst
+}
+
+/// Length of the control net along u (the longest row of differences).
+fn u_extent(patch: &BezierPatch) -> f64 {
+    let [p, q] = patch.degree;
+    (0..=q)
+        .map(|j| {
+            (0..p)
+                .map(|i| (patch.point(i + 1, j) - patch.point(i, j)).norm())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}
+
+/// Length of the control net along v.
+fn v_extent(patch: &BezierPatch) -> f64 {
+    let [p, q] = patch.degree;
+    (0..=p)
+        .map(|i| {
+            (0..q)
+                .map(|j| (patch.point(i, j + 1) - patch.point(i, j)).norm())
+                .sum::<f64>()
+        })
+        .fold(0.0, f64::max)
+}

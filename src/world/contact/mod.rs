@@ -1,0 +1,81 @@
+//! The world's per-cycle contact search: the distance from the stylus ball
+//! centre to the true (as-machined, trimmed) part, at a cost that does not
+//! grow with the number of faces.
+//!
+//! - **Leaves** ([`leaves`]): every face split into near-flat pieces (and
+//!   along its trim boundary into small ones), each bounded on the true
+//!   surface `q = T(p + h n)` by a box and a slab: the nominal control
+//!   points mapped by `T`, widened by the form's largest `|h|` on the face
+//!   times the largest stretch of `T`. Pieces outside a face's trim are
+//!   left out: the part has material only where its trimmed faces are.
+//! - **Broad phase** ([`tree`]): one box tree over all faces' leaves.
+//! - **Free air**: a query remembers a lower bound `L` of the distance at
+//!   the point `a` it was asked at (the nearest leaf bound, or the least
+//!   distance found). By the triangle inequality the distance at `y` is at
+//!   least `L - |y - a|`, so no search runs until the ball centre has moved
+//!   `L - reach` from `a` (measured from the true ball positions, not from
+//!   a speed limit: the bound holds for any motion). `reach` is the tip
+//!   radius plus a margin; the form's deviation is inside the leaf bounds.
+//! - **Near the part**: the leaves within `reach + 2 slack` of a point are
+//!   listed once and serve every query within `slack` of it; of those,
+//!   only the leaves whose bound comes below the best distance so far get
+//!   a Newton iteration on the true surface (warm from their last foot),
+//!   and only a leaf crossed by its trim whose foot leaves the trim gets
+//!   the boundary search over its (clipped) trim segments.
+//! - **Sign**: from the closest foot's outward normal; at a foot on a face
+//!   boundary the sign is that of the face, among those whose distance
+//!   comes within `edge_tie_mm` of the least, whose normal is best aligned
+//!   with the ball's offset from its foot (the adjacent faces' rule for
+//!   the edges and corners of a closed B-rep). A boundary foot with no
+//!   other face near counts as outside (an open sheet's edge).
+mod leaves;
+mod search;
+mod tree;
+
+pub use leaves::LeafOptions;
+pub use search::ContactSearch;
+
+use crate::math::{Point3, Vec2, Vec3};
+
+/// Tolerances of the contact search.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ContactOptions {
+    /// How far (mm) the ball centre may move before the list of leaves
+    /// near it is made again (it holds the leaves within `reach + 2 slack`).
+    pub slack_mm: f64,
+    /// Feet on other faces whose distance comes within this (mm) of the
+    /// least one take part in the sign rule at a face boundary (the gaps
+    /// and overlaps of a B-rep's trimmed faces along their common edges).
+    pub edge_tie_mm: f64,
+    /// How the faces are split into leaves.
+    pub leaves: LeafOptions,
+}
+
+impl Default for ContactOptions {
+    fn default() -> Self {
+        ContactOptions {
+            slack_mm: 0.3,
+            edge_tie_mm: 1e-3,
+            leaves: LeafOptions::default(),
+        }
+    }
+}
+
+/// The closest point of the true part to a query point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct TrueContact {
+    /// Face of the foot.
+    pub face: usize,
+    /// Nominal parameters of the face that map to the foot.
+    pub uv: Vec2,
+    /// The foot on the true surface (part frame), mm.
+    pub point: Point3,
+    /// Signed distance from the query point: positive outside the
+    /// material, mm.
+    pub distance: f64,
+    /// Unit direction in which the surface pushes a ball centred at the
+    /// query point (the outward normal at a foot inside a face).
+    pub push: Vec3,
+    /// Whether the foot lies on a face boundary (an edge of the part).
+    pub edge: bool,
+}

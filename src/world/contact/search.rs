@@ -1,0 +1,326 @@
+//! The per-cycle search state: the free-air bound, the list of leaves near
+//! the ball, the leaves' warm feet, and the near search with its sign rule.
+use super::leaves::{Leaf, Leaves};
+use super::tree::LeafTree;
+use super::{ContactOptions, TrueContact};
+use crate::geometry::projection::{minimise_cached, minimise_with, Foot};
+use crate::geometry::{Jet2, ProjectionError, ProjectionOptions};
+use crate::math::{Point3, Vec2};
+use crate::world::as_machined::AsMachined;
+use crate::workpiece::Workpiece;
+
+/// Leaves whose last foot is kept for a warm start.
+const WARM_SLOTS: usize = 8;
+
+/// One leaf's last foot.
+#[derive(Debug, Clone, Copy)]
+struct WarmFoot {
+    leaf: u32,
+    foot: Foot,
+    /// The query that last used it.
+    stamp: u64,
+}
+
+/// A foot that takes part in the answer.
+#[derive(Debug, Clone, Copy)]
+struct Candidate {
+    face: usize,
+    foot: Foot,
+    edge: bool,
+}
+
+/// The contact search of one simulated machine (see the module docs of
+/// [`super`]).
+#[derive(Debug, Clone)]
+pub struct ContactSearch {
+    leaves: Leaves,
+    tree: LeafTree,
+    opts: ContactOptions,
+    /// A point and a lower bound of the true distance from it, mm.
+    anchor: Option<(Point3, f64)>,
+    /// Where the list of near leaves was made and the bound it was made
+    /// within (mm), and the list.
+    near_at: Option<(Point3, f64)>,
+    near: Vec<u32>,
+    warm: Vec<WarmFoot>,
+    stamp: u64,
+    /// Reused buffers: the near leaves' bounds, the candidates.
+    bounds: Vec<(f64, u32)>,
+    found: Vec<Candidate>,
+}
+
+impl ContactSearch {
+    /// The search for the part `wp` as machined by `am`.
+    pub fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> ContactSearch {
+        let leaves = Leaves::new(wp, am, &opts.leaves);
+        let tree = LeafTree::new(&leaves.leaves);
+        ContactSearch {
+            leaves,
+            tree,
+            opts: *opts,
+            anchor: None,
+            near_at: None,
+            near: Vec::new(),
+            warm: Vec::with_capacity(WARM_SLOTS),
+            stamp: 0,
+            bounds: Vec::new(),
+            found: Vec::new(),
+        }
+    }
+
+    /// Number of leaves over all faces.
+    pub fn leaf_count(&self) -> usize {
+        self.leaves.leaves.len()
+    }
+
+    /// Forgets what earlier queries learnt (the answers stay the same).
+    pub fn reset(&mut self) {
+        self.anchor = None;
+        self.near_at = None;
+        self.warm.clear();
+    }
+
+    /// The closest point of the true part to `y` (part frame) when it comes
+    /// closer than `reach` (mm), else `None` (every point of the part is at
+    /// least `reach` away). `opts` are the Newton tolerances.
+    #[inline(always)]
+    pub fn query(
+        &mut self,
+        (wp, am): (&Workpiece, &AsMachined),
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+    ) -> Result<Option<TrueContact>, ProjectionError> {
+        if let Some((a, floor)) = self.anchor {
+            if floor - (y - a).norm() >= reach {
+                return Ok(None);
+            }
+        }
+        self.near_query((wp, am), y, reach, opts)
+    }
+
+    /// [`Self::query`] once the free-air bound no longer rules out a
+    /// contact.
+    #[inline(never)]
+    fn near_query(
+        &mut self,
+        (wp, am): (&Workpiece, &AsMachined),
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+    ) -> Result<Option<TrueContact>, ProjectionError> {
+        if !y.iter().all(|c| c.is_finite()) {
+            return Err(ProjectionError::NotFinite {
+                x: y.x,
+                y: y.y,
+                z: y.z,
+            });
+        }
+        // The list made at `a` within `listed` holds every leaf whose bound
+        // at `y` is below `listed - |y - a|`: it serves while that is at
+        // least what the search looks at.
+        let needed = reach + self.opts.edge_tie_mm;
+        let fresh = self
+            .near_at
+            .is_some_and(|(a, listed)| listed - (y - a).norm() >= needed);
+        if !fresh {
+            let listed = needed + 2.0 * self.opts.slack_mm;
+            self.near.clear();
+            self.tree
+                .within(&self.leaves.leaves, y, listed, &mut self.near);
+            self.near_at = Some((y, listed));
+            if self.near.is_empty() {
+                let floor = self.tree.nearest(&self.leaves.leaves, y);
+                self.anchor = Some((y, floor));
+                return Ok(None);
+            }
+        }
+        let off_list = self
+            .near_at
+            .map_or(0.0, |(a, listed)| listed - (y - a).norm());
+        let floor = self.search(wp, am, y, reach, opts)?;
+        self.anchor = Some((y, floor.min(off_list)));
+        Ok(self.answer(wp, am, y, reach))
+    }
+
+    /// Fills `self.found` with the feet that may take part in the answer
+    /// (within the edge tie of the least distance below `reach`); returns
+    /// a lower bound of the distance from `y` over the listed leaves.
+    fn search(
+        &mut self,
+        wp: &Workpiece,
+        am: &AsMachined,
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+    ) -> Result<f64, ProjectionError> {
+        let tie = self.opts.edge_tie_mm;
+        self.stamp += 1;
+        self.bounds.clear();
+        self.found.clear();
+        let leaves = &self.leaves.leaves;
+        for &id in &self.near {
+            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(y)) {
+                if b < reach + tie {
+                    self.bounds.push((b, id));
+                }
+            }
+        }
+        self.bounds
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut floor = reach + tie;
+        let mut best = f64::INFINITY;
+        for k in 0..self.bounds.len() {
+            let Some(&(b, id)) = self.bounds.get(k) else {
+                break;
+            };
+            let limit = best.min(reach) + tie;
+            if b >= limit {
+                floor = floor.min(b);
+                break;
+            }
+            let Some(leaf) = self.leaves.leaves.get(id as usize) else {
+                continue;
+            };
+            let warm = (&mut self.warm, self.stamp, id);
+            let foot = leaf_foot((wp, am), leaf, warm, y, opts)?;
+            let d = foot.dist2.sqrt();
+            floor = floor.min(d);
+            if d >= limit {
+                continue;
+            }
+            let face = leaf.face;
+            let on_face =
+                !leaf.crossed() || wp.faces.get(face).is_some_and(|f| f.contains(foot.uv));
+            if on_face {
+                let edge = on_domain_side(wp, face, foot.uv);
+                self.found.push(Candidate { face, foot, edge });
+                best = best.min(d);
+                continue;
+            }
+            // The foot leaves the trim: the leaf's closest point on the
+            // face lies on its trim boundary.
+            let segments = self.leaves.segments.get(leaf.segments.clone());
+            for &seg in segments.unwrap_or_default() {
+                let f = am.closest_on_segment(wp, face, seg, y, opts);
+                let df = f.dist2.sqrt();
+                if df < best.min(reach) + tie {
+                    self.found.push(Candidate {
+                        face,
+                        foot: f,
+                        edge: true,
+                    });
+                    best = best.min(df);
+                }
+            }
+        }
+        Ok(floor.min(best))
+    }
+
+    /// The answer from `self.found`: the closest foot, signed by the sign
+    /// rule at a face boundary.
+    fn answer(
+        &self,
+        wp: &Workpiece,
+        am: &AsMachined,
+        y: Point3,
+        reach: f64,
+    ) -> Option<TrueContact> {
+        let best = self
+            .found
+            .iter()
+            .min_by(|a, b| (a.foot.dist2.total_cmp(&b.foot.dist2)).then(a.face.cmp(&b.face)))?;
+        let tp = am.finish_foot(wp, y, best.face, &best.foot);
+        if tp.distance >= reach {
+            return None;
+        }
+        let away = (y - tp.point).try_normalize(1e-12).unwrap_or(tp.normal);
+        let (distance, push) = if !best.edge {
+            (tp.signed_distance, tp.normal)
+        } else if self.sign_inside(wp, am, y, best) {
+            (-tp.distance, -away)
+        } else {
+            (tp.distance, away)
+        };
+        Some(TrueContact {
+            face: best.face,
+            uv: tp.uv,
+            point: tp.point,
+            distance,
+            push,
+            edge: best.edge,
+        })
+    }
+
+    /// Whether `y` lies inside the material by the sign rule at the
+    /// boundary foot `best`: among the feet on other faces within the edge
+    /// tie of it (and `best` itself), the one whose outward normal is best
+    /// aligned with its offset from `y` decides; with no other face near,
+    /// outside.
+    fn sign_inside(&self, wp: &Workpiece, am: &AsMachined, y: Point3, best: &Candidate) -> bool {
+        let tie = self.opts.edge_tie_mm;
+        let d = best.foot.dist2.sqrt();
+        let near = |c: &&Candidate| c.foot.dist2.sqrt() <= d + tie;
+        if !self.found.iter().filter(near).any(|c| c.face != best.face) {
+            return false;
+        }
+        let mut decisive = (f64::NEG_INFINITY, false);
+        for c in self.found.iter().filter(near) {
+            let tp = am.finish_foot(wp, y, c.face, &c.foot);
+            let offset = y - tp.point;
+            let cos = offset.dot(&tp.normal) / offset.norm().max(1e-300);
+            if cos.abs() > decisive.0 {
+                decisive = (cos.abs(), cos < 0.0);
+            }
+        }
+        decisive.1
+    }
+}
+
+/// Newton on the true surface over `leaf` (number `id`), warm from its
+/// last foot among `warm` when it has one (which `stamp` marks used).
+fn leaf_foot(
+    (wp, am): (&Workpiece, &AsMachined),
+    leaf: &Leaf,
+    (warm, stamp, id): (&mut Vec<WarmFoot>, u64, u32),
+    y: Point3,
+    opts: &ProjectionOptions,
+) -> Result<Foot, ProjectionError> {
+    let face = leaf.face;
+    let eval = |uv: Vec2, out: &mut Jet2| am.true_jet_into(wp, face, uv, out);
+    if let Some(w) = warm.iter_mut().find(|w| w.leaf == id) {
+        w.stamp = stamp;
+        minimise_cached(eval, y, &mut w.foot, &leaf.bounds, opts)?;
+        return Ok(w.foot);
+    }
+    let foot = minimise_with(eval, y, leaf.start(y), &leaf.bounds, opts)?;
+    remember(
+        warm,
+        WarmFoot {
+            leaf: id,
+            foot,
+            stamp,
+        },
+    );
+    Ok(foot)
+}
+
+/// Keeps `w` among the warm feet, in place of the one unused longest.
+fn remember(warm: &mut Vec<WarmFoot>, w: WarmFoot) {
+    if warm.len() < WARM_SLOTS {
+        warm.push(w);
+        return;
+    }
+    if let Some(oldest) = warm.iter_mut().min_by_key(|x| x.stamp) {
+        *oldest = w;
+    }
+}
+
+/// Whether `uv` lies on a side of the parameter domain of `face` (a face
+/// boundary that no trim segment stands for).
+fn on_domain_side(wp: &Workpiece, face: usize, uv: Vec2) -> bool {
+    wp.faces.get(face).is_none_or(|f| {
+        let ((u0, u1), (v0, v1)) = f.surface.domain();
+        !(uv.x > u0 && uv.x < u1 && uv.y > v0 && uv.y < v1)
+    })
+}

@@ -1,0 +1,152 @@
+//! One box tree over every face's leaves (the broad phase of the contact
+//! search): the nearest leaf bound from a point, and the leaves within a
+//! distance of it, at a cost that grows with the depth of the tree, not
+//! with the number of faces.
+use super::leaves::{Aabb, Leaf};
+use crate::math::Point3;
+
+/// Most leaves under one node of the tree.
+const BUCKET: usize = 4;
+
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Node {
+    aabb: Aabb,
+    /// Leaf node: `order[a..b]`; inner node: children `a` and `b`.
+    a: u32,
+    b: u32,
+    leaf: bool,
+}
+
+/// The tree.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct LeafTree {
+    nodes: Vec<Node>,
+    /// Leaf indices, grouped by the tree's leaf nodes.
+    order: Vec<u32>,
+}
+
+impl LeafTree {
+    /// The tree over `leaves` (median splits along the longest side of the
+    /// boxes' centres).
+    pub(crate) fn new(leaves: &[Leaf]) -> LeafTree {
+        let mut tree = LeafTree {
+            nodes: Vec::with_capacity(2 * leaves.len() / BUCKET + 1),
+            order: (0..leaves.len() as u32).collect(),
+        };
+        if !leaves.is_empty() {
+            tree.build(leaves, 0, leaves.len());
+        }
+        tree
+    }
+
+    /// Builds the node over `order[lo..hi]`; returns its index.
+    fn build(&mut self, leaves: &[Leaf], lo: usize, hi: usize) -> u32 {
+        let ids = self.order.get(lo..hi).unwrap_or_default();
+        let box_of = |i: &u32| leaves.get(*i as usize).map_or(Aabb::empty(), |l| l.aabb);
+        let aabb = ids
+            .iter()
+            .map(box_of)
+            .fold(Aabb::empty(), |a, b| a.union(&b));
+        let at = self.nodes.len() as u32;
+        self.nodes.push(Node {
+            aabb,
+            a: lo as u32,
+            b: hi as u32,
+            leaf: true,
+        });
+        if hi - lo <= BUCKET {
+            return at;
+        }
+        let centres = ids.iter().map(|i| box_of(i).centre());
+        let spread = centres.fold(Aabb::empty(), |a, c| a.union(&Aabb { min: c, max: c }));
+        let axis = (spread.max - spread.min).imax();
+        let mid = (lo + hi) / 2;
+        if let Some(slice) = self.order.get_mut(lo..hi) {
+            slice.select_nth_unstable_by(mid - lo, |x, y| {
+                box_of(x).centre()[axis].total_cmp(&box_of(y).centre()[axis])
+            });
+        }
+        let left = self.build(leaves, lo, mid);
+        let right = self.build(leaves, mid, hi);
+        if let Some(n) = self.nodes.get_mut(at as usize) {
+            (n.a, n.b, n.leaf) = (left, right, false);
+        }
+        at
+    }
+
+    /// The least lower bound of the leaves' distances from `p` (infinite
+    /// for no leaf), mm.
+    pub(crate) fn nearest(&self, leaves: &[Leaf], p: Point3) -> f64 {
+        let mut best2 = f64::INFINITY;
+        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
+        if let Some(root) = self.nodes.first() {
+            stack.push((root.aabb.dist2(p), 0));
+        }
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < best2) else {
+                continue;
+            };
+            if node.leaf {
+                for l in self.leaves_of(node, leaves) {
+                    let b = l.lower_bound(p);
+                    best2 = best2.min(b * b);
+                }
+                continue;
+            }
+            let da = self.node_dist2(node.a, p);
+            let db = self.node_dist2(node.b, p);
+            // The nearer child is popped first.
+            let (near, far) = if da <= db {
+                ((da, node.a), (db, node.b))
+            } else {
+                ((db, node.b), (da, node.a))
+            };
+            stack.extend([far, near].into_iter().filter(|c| c.0 < best2));
+        }
+        best2.sqrt()
+    }
+
+    /// Appends to `out` every leaf whose lower bound from `p` is below
+    /// `radius` (in tree order).
+    pub(crate) fn within(&self, leaves: &[Leaf], p: Point3, radius: f64, out: &mut Vec<u32>) {
+        let r2 = radius * radius;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(i) = stack.pop() {
+            let Some(node) = self.nodes.get(i as usize) else {
+                continue;
+            };
+            if node.aabb.dist2(p) >= r2 {
+                continue;
+            }
+            if !node.leaf {
+                stack.extend([node.b, node.a]);
+                continue;
+            }
+            let ids = self.order.get(node.a as usize..node.b as usize);
+            for &id in ids.unwrap_or_default() {
+                if leaves
+                    .get(id as usize)
+                    .is_some_and(|l| l.lower_bound(p) < radius)
+                {
+                    out.push(id);
+                }
+            }
+        }
+    }
+
+    fn node_dist2(&self, i: u32, p: Point3) -> f64 {
+        self.nodes
+            .get(i as usize)
+            .map_or(f64::INFINITY, |n| n.aabb.dist2(p))
+    }
+
+    fn leaves_of<'l>(&'l self, node: &Node, leaves: &'l [Leaf]) -> impl Iterator<Item = &'l Leaf> {
+        let ids = self.order.get(node.a as usize..node.b as usize);
+        ids.unwrap_or_default()
+            .iter()
+            .filter_map(|&i| leaves.get(i as usize))
+    }
+}
