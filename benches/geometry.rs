@@ -120,13 +120,16 @@ fn bench_evaluate(c: &mut Criterion) {
         return;
     };
     let points = near_points(&wp, 500);
-    c.bench_function(&format!("evaluate/nist_ctc_05 ({} faces, per point)", wp.faces.len()), |b| {
-        let mut k = 0;
-        b.iter(|| {
-            k = (k + 1) % points.len();
-            black_box(cmm::evaluate::evaluate_point(&wp, points[k]).ok())
-        })
-    });
+    c.bench_function(
+        &format!("evaluate/nist_ctc_05 ({} faces, per point)", wp.faces.len()),
+        |b| {
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) % points.len();
+                black_box(cmm::evaluate::evaluate_point(&wp, points[k]).ok())
+            })
+        },
+    );
 }
 
 criterion_group! {

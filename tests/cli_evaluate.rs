@@ -230,7 +230,10 @@ fn huge_finite_points_are_rejected_as_out_of_range() {
     ]);
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(2), "{err}");
-    assert!(err.contains("out of range") && err.contains("3.5e201"), "{err}");
+    assert!(
+        err.contains("out of range") && err.contains("3.5e201"),
+        "{err}"
+    );
     assert!(!err.contains("not finite"), "{err}");
     assert!(out.stdout.is_empty());
     // Far but within range: answered.
@@ -256,5 +259,8 @@ fn huge_finite_points_are_rejected_as_out_of_range() {
 fn help_documents_the_exit_codes() {
     let out = cmm(&["evaluate", "--help"]);
     let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("unconfirmed") && text.contains("3 "), "{text}");
+    assert!(
+        text.contains("unconfirmed") && text.contains("3 "),
+        "{text}"
+    );
 }

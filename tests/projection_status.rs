@@ -62,7 +62,10 @@ fn cut_short_searches_answer_every_point_unconfirmed() {
     assert!(unconfirmed > 150, "{unconfirmed} of {}", pts.len());
     assert_eq!(report.unconfirmed(), unconfirmed);
     let csv = report.to_csv();
-    assert_eq!(csv.lines().filter(|l| l.ends_with(",unconfirmed")).count(), unconfirmed);
+    assert_eq!(
+        csv.lines().filter(|l| l.ends_with(",unconfirmed")).count(),
+        unconfirmed
+    );
 }
 
 #[test]
@@ -84,5 +87,8 @@ fn invalid_points_are_errors_naming_the_reason() {
     assert!(nan.unwrap_err().to_string().contains("not finite"));
     let huge = cmm::evaluate::evaluate(&wp, &[Point3::new(3.5e201, 0.0, 0.0)]);
     let msg = huge.unwrap_err().to_string();
-    assert!(msg.contains("out of range") && msg.contains("3.5e201"), "{msg}");
+    assert!(
+        msg.contains("out of range") && msg.contains("3.5e201"),
+        "{msg}"
+    );
 }

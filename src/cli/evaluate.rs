@@ -57,9 +57,11 @@ pub fn run(args: &EvaluateArgs) -> Result<Status, CliError> {
             );
         }
     }
-    Ok(if report.points.iter().all(|p| p.status == PointStatus::Ok) {
-        Status::Pass
-    } else {
-        Status::Incomplete
-    })
+    Ok(
+        if report.points.iter().all(|p| p.status == PointStatus::Ok) {
+            Status::Pass
+        } else {
+            Status::Incomplete
+        },
+    )
 }

@@ -130,8 +130,12 @@ pub(super) fn is_stationary(
     let noise = EVAL_ROUNDING_ULPS * f64::EPSILON * r.norm() * (d.point().coords.norm() + r.norm());
     let tol = opts.stationary_tol_mm.max(noise.sqrt());
     let tangents = [d.su(), d.sv()];
+    // A tangent carries a rounding error of about ulp(|Su| + |Sv|), which
+    // decides its direction where it nearly vanishes (at a pole).
+    let scale = tangents.iter().map(|t| t.norm()).sum::<f64>();
+    let slack = EVAL_ROUNDING_ULPS * f64::EPSILON * scale * r.norm();
     (0..2).all(|k| {
         let s = tangents.get(k).map_or(0.0, |t| t.norm());
-        bounds.pinned(x, g, k) || g[k].abs() <= tol * s
+        bounds.pinned(x, g, k) || g[k].abs() <= tol * s + slack
     })
 }

@@ -5,8 +5,8 @@ use std::collections::BinaryHeap;
 use std::sync::OnceLock;
 
 use super::newton::{Bounds, Foot};
-use super::{check_query, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
 use super::SearchStatus;
+use super::{check_query, closest_on_boundary, Projection, ProjectionError, ProjectionOptions};
 use crate::geometry::{BezierPatch, NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
 

@@ -307,4 +307,3 @@ pub fn check_query(p: Point3) -> Result<(), ProjectionError> {
         Ok(())
     }
 }
-

@@ -256,19 +256,25 @@ fn newton_from<F: Fn(Vec2, &mut Jet2)>(
         let target = bounds.snap(foot.uv + step);
         let delta = target - foot.uv;
         last_step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
-        // A short regularised step says nothing of convergence (the shift
-        // shortens it): only the first-order conditions end the search then.
-        if pure && last_step <= opts.step_tol_mm {
-            foot.iterations = it;
+        foot.iterations = it;
+        // A short step ends the search only where the first-order
+        // conditions hold: a regularised step is shortened by its shift,
+        // and at a pole the gradient along the collapsed edge vanishes, so
+        // that variable may look held at a face before it has moved.
+        if last_step <= opts.step_tol_mm
+            && descent::is_stationary(&foot.d, p, foot.uv, bounds, opts)
+        {
             return SearchStatus::Confirmed;
         }
         if pure && is_final(last_step, full_step, bend_mm(&foot.d, delta), opts) {
             final_step(p, foot, target, it);
-            return SearchStatus::Confirmed;
-        }
-        foot.iterations = it;
-        if !pure && last_step <= opts.step_tol_mm && descent::is_stationary(&foot.d, p, foot.uv, bounds, opts) {
-            return SearchStatus::Confirmed;
+            if descent::is_stationary(&foot.d, p, foot.uv, bounds, opts) {
+                return SearchStatus::Confirmed;
+            }
+            // Not a minimum after all: on from an exact evaluation there.
+            evaluate_at(eval, p, foot, foot.uv, it);
+            full_step = None;
+            continue;
         }
         match descent::newton_line(eval, p, foot, target, bounds, opts) {
             Descent::Full => full_step = Some(last_step),

@@ -64,7 +64,7 @@ impl Best {
             .as_ref()
             .map_or(SearchStatus::Confirmed, |f| f.1.status);
         let doubt = (self.doubt)
-            .filter(|d| !(d.floor >= self.dist2.sqrt()))
+            .filter(|d| d.floor < self.dist2.sqrt() || d.floor.is_nan())
             .map_or(SearchStatus::Confirmed, |d| d.status);
         Searched {
             found: self.found,
