@@ -466,6 +466,7 @@ fn an_interrupt_leaves_no_output_behind() {
         .status();
     if !sent.is_ok_and(|s| s.success()) {
         let _ = child.kill();
+        let _ = child.wait();
         return;
     }
     let o = child.wait_with_output().unwrap();
