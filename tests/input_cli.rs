@@ -442,3 +442,36 @@ fn a_failed_calibration_names_its_machine_and_probe() {
     assert_bad_input(&o, &["built-in bridge CMM", "stylus 500 mm", "travel"]);
     assert!(!dir.path().join("c.json").exists());
 }
+
+#[test]
+fn an_interrupt_leaves_no_output_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args([
+            "scan",
+            &prog("sphere.json"),
+            "--variants",
+            "500",
+            "--out",
+            &s(&out),
+        ])
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(std::time::Duration::from_millis(700));
+    let sent = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status();
+    if !sent.is_ok_and(|s| s.success()) {
+        let _ = child.kill();
+        let _ = child.wait();
+        return;
+    }
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(o.status.code(), Some(130), "{}", stderr(&o));
+    assert!(stderr(&o).contains("interrupted"));
+    let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
+    assert!(left.is_empty(), "left behind: {left:?}");
+}
