@@ -27,7 +27,7 @@ pub fn deg_to_rad(deg: f64) -> f64 {
 }
 
 /// Rotation matrix `Rz(rz) * Ry(ry) * Rx(rx)` about the fixed axes, angles in
-/// degrees, as used by placements and as-machined transforms (DESIGN.md 6.2).
+/// degrees, as used by placements and as-machined transforms (the as-machined format).
 ///
 /// ```
 /// let r = cmm::math::rotation_xyz_deg([0.0, 0.0, 90.0]);

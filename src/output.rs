@@ -1,6 +1,6 @@
 //! Writing output files atomically: temporary files beside the targets,
 //! then renames, so that an interrupted or failed run never leaves a
-//! half-written file behind (DESIGN.md 7).
+//! half-written file behind (the quality bar).
 //!
 //! An [`OutputSet`] is written as one unit: every file goes to a temporary
 //! name first, and only when all of them are on disk are they renamed into

@@ -1,4 +1,4 @@
-//! Reading measured points from CSV (DESIGN.md 5): a header line naming
+//! Reading measured points from CSV (the command-line interface): a header line naming
 //! `x,y,z` (more columns allowed, in any order), then one point per line.
 //!
 //! Every error names the file, the 1-based line and the reason.

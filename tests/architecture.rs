@@ -120,7 +120,11 @@ fn source_refs() -> Refs {
     rust_files(&src, &mut files);
     let mut refs = Refs::new();
     for f in files {
-        let rel = f.strip_prefix(&src).unwrap_or(&f).to_string_lossy().replace('\\', "/");
+        let rel = f
+            .strip_prefix(&src)
+            .unwrap_or(&f)
+            .to_string_lossy()
+            .replace('\\', "/");
         if rel == "lib.rs" || rel == "main.rs" {
             continue;
         }
@@ -157,7 +161,9 @@ fn violations(refs: &Refs) -> Vec<String> {
             }
         }
         if module == "host" && names.contains("formats::as_machined") {
-            out.push(format!("{file} (host) names the scenario's as-machined types"));
+            out.push(format!(
+                "{file} (host) names the scenario's as-machined types"
+            ));
         }
         if module == "seam" {
             for n in names.iter().filter(|n| !SEAM_MAY.contains(&n.as_str())) {
@@ -245,27 +251,73 @@ fn tree(files: &[(&str, &str)]) -> Refs {
 #[test]
 fn the_checker_sees_each_kind_of_broken_rule() {
     let ok = [
-        ("host/modes/scan.rs", "use crate::seam::Cmm;\nuse super::Tracker;"),
-        ("world/cmm.rs", "use crate::seam::Cmm; use crate::workpiece::Workpiece;"),
-        ("app/run.rs", "use crate::world::cmm::SimulatedCmm; use crate::host::modes;"),
-        ("evaluate/truth.rs", "use crate::world::as_machined::AsMachined;"),
-        ("seam/mod.rs", "use crate::math::Vec3; // crate::world in a comment"),
+        (
+            "host/modes/scan.rs",
+            "use crate::seam::Cmm;\nuse super::Tracker;",
+        ),
+        (
+            "world/cmm.rs",
+            "use crate::seam::Cmm; use crate::workpiece::Workpiece;",
+        ),
+        (
+            "app/run.rs",
+            "use crate::world::cmm::SimulatedCmm; use crate::host::modes;",
+        ),
+        (
+            "evaluate/truth.rs",
+            "use crate::world::as_machined::AsMachined;",
+        ),
+        (
+            "seam/mod.rs",
+            "use crate::math::Vec3; // crate::world in a comment",
+        ),
     ];
     assert_eq!(violations(&tree(&ok)), Vec::<String>::new());
     let fixture = [
         ("workpiece/mod.rs", "use crate::geometry::Plane;"),
-        ("geometry/projection/tests.rs", "use crate::workpiece::examples;"),
+        (
+            "geometry/projection/tests.rs",
+            "use crate::workpiece::examples;",
+        ),
     ];
     assert_eq!(violations(&tree(&fixture)), Vec::<String>::new());
     let broken: [(&str, &str, &str); 8] = [
-        ("host/inspect/run.rs", "use crate::world::cmm::SimulatedCmm;", "names the world"),
-        ("cli/scan.rs", "use crate::{app, world::as_machined};", "names the world"),
-        ("world/cmm.rs", "fn f() { crate::host::modes::x() }", "names host"),
-        ("host/path/x.rs", "use crate::formats::as_machined::AsMachinedSpec;", "scenario"),
-        ("seam/mod.rs", "use crate::host::modes::Measured;", "(seam) names host"),
-        ("machine/mod.rs", "use super::world::dynamics::Servo;", "names world"),
+        (
+            "host/inspect/run.rs",
+            "use crate::world::cmm::SimulatedCmm;",
+            "names the world",
+        ),
+        (
+            "cli/scan.rs",
+            "use crate::{app, world::as_machined};",
+            "names the world",
+        ),
+        (
+            "world/cmm.rs",
+            "fn f() { crate::host::modes::x() }",
+            "names host",
+        ),
+        (
+            "host/path/x.rs",
+            "use crate::formats::as_machined::AsMachinedSpec;",
+            "scenario",
+        ),
+        (
+            "seam/mod.rs",
+            "use crate::host::modes::Measured;",
+            "(seam) names host",
+        ),
+        (
+            "machine/mod.rs",
+            "use super::world::dynamics::Servo;",
+            "names world",
+        ),
         ("geometry/a.rs", "use crate::workpiece::Face;", "cycle"),
-        ("workpiece/near/tests.rs", "use crate::world::as_machined::X;", "names the world"),
+        (
+            "workpiece/near/tests.rs",
+            "use crate::world::as_machined::X;",
+            "names the world",
+        ),
     ];
     for (file, text, expect) in broken {
         let mut files = ok.to_vec();

@@ -1,4 +1,4 @@
-//! Probe vectors per probe-head orientation (seed 003): the iterative
+//! Probe vectors per probe-head orientation (JP2902285B2): the iterative
 //! inverse correction against closed forms and an independent Newton solve,
 //! the nominal head model against vectors worked out by hand, per-orientation
 //! calibration against the simulator's truth, the quick 4-point measurement

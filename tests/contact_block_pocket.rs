@@ -7,8 +7,8 @@ mod common;
 
 use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec3};
-use cmm::world::as_machined::{AsMachined, AsMachinedSpec};
 use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece, WorkpieceFile};
+use cmm::world::as_machined::{AsMachined, AsMachinedSpec};
 use cmm::world::cmm::contact_options;
 use cmm::world::contact::{ContactOptions, ContactSearch};
 use common::*;
@@ -291,10 +291,10 @@ fn form_terms_act_on_the_trimmed_face() {
 /// solid (the free-air bound must never skip a contact).
 #[test]
 fn the_machine_feels_no_lid_and_meets_the_floor() {
-    use cmm::seam::Cmm;
-    use cmm::program::Pose;
-    use cmm::world::cmm::{SimulatedCmm, TruePart};
     use cmm::machine::{MachineModel, MachineProfile};
+    use cmm::program::Pose;
+    use cmm::seam::Cmm;
+    use cmm::world::cmm::{SimulatedCmm, TruePart};
     use cmm::world::probe::TrueProbe;
     let wp = block_with_pocket();
     let am = AsMachined::nominal();

@@ -9,8 +9,8 @@ mod common;
 
 use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec2, Vec3};
-use cmm::world::as_machined::AsMachined;
 use cmm::workpiece::{Face, Workpiece};
+use cmm::world::as_machined::AsMachined;
 use cmm::world::cmm::contact_options;
 use cmm::world::contact::{ContactOptions, ContactSearch};
 use common::*;

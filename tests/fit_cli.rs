@@ -1,4 +1,4 @@
-//! `cmm fit` run as a program: JSON keys of DESIGN.md 6.6, text output,
+//! `cmm fit` run as a program: JSON keys of the cmm-fit/1 format, text output,
 //! probe compensation, --out, and exit 2 with a message for bad input.
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

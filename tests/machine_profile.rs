@@ -1,5 +1,5 @@
 //! Machine profile JSON: defaults, JSON-path errors, `ideal()`, and the
-//! geometric error at the stylus tip against hand computations (seed 003).
+//! geometric error at the stylus tip against hand computations (JP2902285B2).
 use cmm::machine::{ErrorPolynomial, GeometricErrors, MachineProfile, ProfileError, Stacking};
 use cmm::math::Vec3;
 

@@ -1,6 +1,6 @@
 //! The simulated CMM and the error-correcting scan, end to end with an ideal
 //! machine: points on the true surface, the right failures, the right
-//! corrections (issues 3 and 4).
+//! corrections.
 mod common;
 
 use cmm::app::{load, run_program, RunOptions};

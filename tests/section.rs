@@ -2,9 +2,9 @@
 mod common;
 
 use cmm::geometry::section::section_surface;
-use cmm::workpiece::section_faces;
 use cmm::geometry::{Plane, SectionOptions};
 use cmm::math::{Point3, Vec3};
+use cmm::workpiece::section_faces;
 use common::*;
 
 fn plane(o: [f64; 3], n: [f64; 3]) -> Plane {

@@ -61,7 +61,7 @@ pub fn scenario(
 }
 
 /// Replaces every part's as-machined part by the one in `file` (an
-/// `as_machined` object, DESIGN.md 6.2).
+/// `as_machined` object, the as-machined format).
 pub fn override_as_machined(parts: &mut [SimulatedPart], file: &Path) -> Result<(), ProgramError> {
     let text = crate::jsonfile::read_text(file).map_err(|source| ProgramError::Io {
         file: file.to_path_buf(),

@@ -1,4 +1,4 @@
-//! CAD import (issue 8): a focused STEP and IGES reader that turns B-rep
+//! CAD import: a focused STEP and IGES reader that turns B-rep
 //! faces into trimmed NURBS [`SurfaceSpec`]s of a [`WorkpieceFile`].
 //!
 //! Entry point: [`import`] (dispatch on `.step`/`.stp`/`.iges`/`.igs`, any

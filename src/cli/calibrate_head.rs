@@ -1,5 +1,5 @@
 //! `cmm calibrate-probe --head-angles "A,B;A,B;..."`: probe vectors per
-//! probe-head orientation (seed 003).
+//! probe-head orientation (JP2902285B2).
 use super::calibrate::{summary, CalibrateArgs};
 use super::{CliError, Status};
 use crate::app::calibrate::simulate::{ProbeTruth, SimulatedSetup};

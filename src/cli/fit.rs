@@ -1,6 +1,6 @@
 //! `cmm fit`: fit a geometric element to a point CSV file and print the
 //! parameters, residual statistics and form error (text, or JSON as in
-//! DESIGN.md 6.6).
+//! the cmm-fit/1 format).
 use std::path::PathBuf;
 
 use serde_json::{json, Map, Value};
@@ -176,7 +176,7 @@ fn vec(v: &Vec3) -> Value {
     json!([v.x, v.y, v.z])
 }
 
-/// The element's parameters under the DESIGN.md 6.6 keys.
+/// The element's parameters under the the cmm-fit/1 format keys.
 fn element_fields(e: &Element) -> Vec<(&'static str, Value)> {
     match e {
         Element::Line(l) | Element::Line2d(l) => {

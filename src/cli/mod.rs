@@ -53,7 +53,7 @@ pub enum Command {
     ExampleWorkpieces(examples::ExamplesArgs),
 }
 
-/// How a successful run ended; maps to the exit codes of DESIGN.md 5.
+/// How a successful run ended; maps to the exit codes of the command-line interface.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Status {
     /// Everything measured and in tolerance (exit 0).
@@ -157,7 +157,7 @@ pub enum CliError {
 }
 
 impl CliError {
-    /// Exit code: 2 for bad usage or bad input (DESIGN.md 5).
+    /// Exit code: 2 for bad usage or bad input (the command-line interface).
     pub fn exit_code(&self) -> u8 {
         2
     }

@@ -43,7 +43,7 @@ pub struct ScanArgs {
     /// Corrections learned across parts: read before, updated after.
     #[arg(long)]
     pub corrections: Option<PathBuf>,
-    /// The true part's deviations (an `as_machined` object, DESIGN.md 6.2)
+    /// The true part's deviations (an `as_machined` object, the as-machined format)
     /// from this JSON file instead of the programs' own.
     #[arg(long)]
     pub as_machined: Option<PathBuf>,

@@ -1,5 +1,5 @@
 //! Measured points to their deviations from the design: the nominal foot
-//! over the feature's faces and the signed distance (DESIGN.md 6.3). Needs
+//! over the feature's faces and the signed distance (the cmm-report/1 format). Needs
 //! the design data only, so it works the same for a simulated and a real
 //! machine; `true_deviation_mm` is filled in afterwards by [`super::truth`]
 //! in a simulated run (NaN until then).

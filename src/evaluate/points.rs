@@ -1,5 +1,5 @@
 //! Deviation of points from the nominal surfaces (`cmm evaluate`,
-//! DESIGN.md 6.5): global closest point over all faces and the signed
+//! the cmm-evaluate/1 format): global closest point over all faces and the signed
 //! distance, positive where material lies outside the design.
 //!
 //! Every valid point gets an answer: the best point the search found,

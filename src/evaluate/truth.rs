@@ -73,7 +73,9 @@ fn true_deviation(
     let Ok(true_foot) = truth.closest_point_tracked(wp, p, known, hint) else {
         return f64::NAN;
     };
-    let q = frames.reported.to_part(frames.world.to_machine(true_foot.point));
+    let q = frames
+        .reported
+        .to_part(frames.world.to_machine(true_foot.point));
     let mut nominal_hint = None;
     (wp.closest_point_tracked(q, 0..wp.faces.len(), &mut nominal_hint))
         .map_or(f64::NAN, |f| f.projection.signed_distance)

@@ -18,7 +18,6 @@
 //! Conventions: see [`element`] for directions and residual signs; all
 //! lengths are mm. Every fit centres the data on the centroid first.
 mod algebraic;
-mod probe_radius;
 pub mod element;
 mod error;
 mod frame;
@@ -28,15 +27,16 @@ pub mod minimum_zone;
 mod model;
 mod options;
 mod parallel;
+mod probe_radius;
 mod zone;
 
-pub use probe_radius::{compensate_probe, Side};
 pub use element::{
     form_error, residual_stats, Circle, Cone, Cylinder, Element, Line, Plane, ResidualStats, Sphere,
 };
 pub use error::FitError;
 pub use frame::canonical_sign;
 pub use options::FitOptions;
+pub use probe_radius::{compensate_probe, Side};
 
 use crate::math::Point3;
 

@@ -1,4 +1,4 @@
-//! The `as_machined` block of a part program (DESIGN.md 6.2): serde types.
+//! The `as_machined` block of a part program (the as-machined format): serde types.
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 

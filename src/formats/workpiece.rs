@@ -1,4 +1,4 @@
-//! The `cmm-workpiece/1` file format (DESIGN.md 6.1): serde types, from which
+//! The `cmm-workpiece/1` file format (the cmm-workpiece/1 format): serde types, from which
 //! the JSON Schema (`cmm schema workpiece`) is generated too.
 //!
 //! These types only describe the file; [`crate::workpiece::Workpiece::from_file`] turns

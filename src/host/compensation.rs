@@ -1,4 +1,4 @@
-//! Geometric error compensation at the stylus tip (seed 003), host side.
+//! Geometric error compensation at the stylus tip (JP2902285B2), host side.
 //!
 //! The host is given the machine's error map — the 21 geometric error terms
 //! from the machine's own calibration (laser interferometer, squares,
@@ -13,7 +13,7 @@
 //! machine's error map is assumed to be exactly right; a real map has its
 //! own uncertainty, which this does not model.
 //!
-//! The **iterative inverse** (seed 003, figure 3) finds the scale position
+//! The **iterative inverse** (JP2902285B2, figure 3) finds the scale position
 //! `s` at which the ball of probe vector `P` sits at a wanted (corrected)
 //! position `t`: start with `y = t`, evaluate `c = y + delta(y - P, P)`,
 //! step `y += t - c`, until every component of the step is at most
@@ -142,7 +142,7 @@ impl ErrorMap {
     }
 
     /// A ball position corrected with probe vector `old` turned into the one
-    /// the same scale readings give with `new` (seed 003: undo the old
+    /// the same scale readings give with `new` (JP2902285B2: undo the old
     /// correction by the iterative inverse, apply the new one).
     pub fn recompensate(
         &self,

@@ -8,9 +8,9 @@
 //!
 //! - [`path`]: ball-centre paths from nominal section points (offset by
 //!   `r - Ep`, parametric cubic curve segments) and speed planning on the
-//!   control cycle (seeds 000, 001, 004).
+//!   control cycle (JP6484108B2, active-scanning speed planning and multi-axis timing).
 //! - [`probe_correction`]: condition-dependent correction of the probe's
-//!   deflection readings from a calibration (seed 002).
+//!   deflection readings from a calibration (condition-dependent probe correction).
 //! - [`compensation`]: the machine's geometric error map applied at the
 //!   stylus tip through the probe vector, and its iterative inverse (seed
 //!   003).

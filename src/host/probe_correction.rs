@@ -16,7 +16,7 @@
 //!   rotation axis `a = normalize(d x t)` of the local motion (`t` = commanded
 //!   velocity across the deflection): plane XY for axis z, XZ for y, YZ for
 //!   x; counter-clockwise when `a` points along the positive axis. The three
-//!   planes' tilts are blended with weights `a_k^2` (seed 002, equation 9,
+//!   planes' tilts are blended with weights `a_k^2` (condition-dependent probe correction, equation 9,
 //!   weighs by the motion's amplitude per axis in the same spirit).
 use crate::math::{Mat3, Vec3};
 

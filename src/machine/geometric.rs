@@ -1,4 +1,4 @@
-//! The 21 geometric error terms of a three-axis machine (seed 003) and their
+//! The 21 geometric error terms of a three-axis machine (JP2902285B2) and their
 //! effect at the stylus tip.
 //!
 //! Per linear axis X, Y, Z: a scale error (along the axis), two
@@ -9,7 +9,7 @@
 //! Y). Each is a polynomial in that axis's own position. Plus three
 //! squareness angles. 6 x 3 + 3 = 21.
 //!
-//! Effect at the tip (seed 003, equation 1): `delta = sum_i (e_i + theta_i x
+//! Effect at the tip (JP2902285B2, equation 1): `delta = sum_i (e_i + theta_i x
 //! C_iA)`, with `e_i` the translation error and `theta_i` the rotation
 //! error of axis `i`, and `C_iA = C_iB + P` the lever arm from the axis's
 //! fulcrum `C_i` to the tip `A` (via the spindle reference point `B` and the

@@ -184,7 +184,7 @@ impl MachineProfile {
     /// terms, for nominal linear axis positions `xyz` = X, Y, Z in mm (see
     /// [`super::MachineModel::linear_xyz`]) and the probe vector (mm, from the
     /// spindle reference point to the tip). Rotational errors act through the
-    /// lever arm (seed 003); see [`super::geometric`].
+    /// lever arm (JP2902285B2); see [`super::geometric`].
     pub fn geometric_error(&self, xyz: [f64; 3], probe_vector: &Vec3) -> Vec3 {
         self.geometric.displacement(xyz, probe_vector)
     }

@@ -1,4 +1,4 @@
-//! The `cmm-program/1` part-program format (DESIGN.md 6.4): serde types,
+//! The `cmm-program/1` part-program format (the cmm-program/1 format): serde types,
 //! from which `cmm schema program` is generated. Unknown keys are rejected.
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};

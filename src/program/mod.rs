@@ -1,4 +1,4 @@
-//! Part programs (`cmm-program/1`, DESIGN.md 6.4): reading, validation
+//! Part programs (`cmm-program/1`, the cmm-program/1 format): reading, validation
 //! against the workpiece and the machine, and the resolved [`Program`] the
 //! inspection runs. Everything is checked before anything is measured; every
 //! error names the file, the JSON path and the reason.

@@ -4,9 +4,9 @@ use std::path::{Path, PathBuf};
 use super::format::{FeatureSpec, ProgramFile, PROGRAM_FORMAT};
 use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, ScanSettings};
 use crate::formats::as_machined::AsMachinedSpec;
-use crate::workpiece::section_faces;
 use crate::geometry::{Plane, SectionOptions};
 use crate::math::{rotation_xyz_deg, Point3, Vec3};
+use crate::workpiece::section_faces;
 use crate::workpiece::Workpiece;
 
 /// Machine travel used to check that the part can be reached, mm

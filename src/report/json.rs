@@ -1,4 +1,4 @@
-//! `report.json` (DESIGN.md 6.3): the model serialised by serde.
+//! `report.json` (the cmm-report/1 format): the model serialised by serde.
 
 use super::model::Report;
 

@@ -1,4 +1,4 @@
-//! The inspection report (`cmm-report/1`, DESIGN.md 6.3): the data every
+//! The inspection report (`cmm-report/1`, the cmm-report/1 format): the data every
 //! writer renders. Field order is the JSON key order; output is
 //! deterministic for the same inputs and seed (apart from `wall_time_s`).
 use serde::Serialize;

@@ -237,8 +237,8 @@ pub fn to_json(wp: &WorkpieceFile) -> String {
 /// its normal by a known smooth deviation of up to 0.03 mm.
 pub fn blade_points_csv() -> String {
     use crate::geometry::{Plane, SectionOptions};
-    use crate::workpiece::section_faces;
     use crate::math::{Point3, Vec3};
+    use crate::workpiece::section_faces;
     let mut out = String::from("id,x,y,z\n");
     let Ok(wp) = super::Workpiece::from_file(&blade(), "blade.json".as_ref()) else {
         return out;

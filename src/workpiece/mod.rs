@@ -1,5 +1,5 @@
 //! Workpieces: the part's nominal design data as named NURBS faces, read
-//! from `cmm-workpiece/1` files (DESIGN.md 6.1), and the global closest-point
+//! from `cmm-workpiece/1` files (the cmm-workpiece/1 format), and the global closest-point
 //! query over all faces.
 
 pub mod examples;

@@ -168,7 +168,7 @@ impl<'a> SimulatedCmm<'a> {
     /// the stylus vector carried through the URDF chain (linear axes, then
     /// the probe head when there is one), plus the displacement of the 21
     /// geometric error terms acting through the effective probe vector
-    /// (spindle reference point `B` to the ball, seed 003).
+    /// (spindle reference point `B` to the ball, JP2902285B2).
     fn ball_centre(&self, q: &[f64]) -> Point3 {
         let xyz = Point3::from(self.linear.xyz(q));
         let ball = xyz + self.mounted_probe;

@@ -19,7 +19,7 @@ use crate::world::as_machined::AsMachined;
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
 use crate::world::probe::TrueProbe;
 
-/// Orientation (`rotate_deg`, DESIGN.md 6.2) of the sphere workpiece on the
+/// Orientation (`rotate_deg`, the as-machined format) of the sphere workpiece on the
 /// machine. The NURBS sphere is a surface of revolution whose parametric
 /// poles make closest-point projection ill-conditioned within about 1 deg;
 /// turning them to the horizontal at azimuth 22.5 deg keeps them at least

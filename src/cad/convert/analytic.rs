@@ -9,8 +9,8 @@ use super::arc::Arc;
 use super::revolve::{bilinear_plane, revolve, Profile};
 use crate::cad::geom::{angle, Frame};
 use crate::cad::geom::{EPS_LENGTH_MM, EPS_PARAM};
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Point3, Vec3};
 use std::f64::consts::FRAC_PI_2;
 
 /// A surface whose points map analytically to "natural" parameters, from

@@ -3,8 +3,8 @@
 use super::arc::Arc;
 use crate::cad::geom::Frame;
 use crate::cad::nurbs::{control_points, weights, NurbsCurve};
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Point3, Vec3};
 
 /// A profile curve in local frame coordinates, swept about the frame's z axis.
 #[derive(Debug, Clone, PartialEq)]

@@ -12,8 +12,8 @@ use super::revolve::{extrude, revolve, Profile};
 use crate::cad::geom::EPS_LENGTH_MM;
 use crate::cad::geom::{angle, closest_on, Frame};
 use crate::cad::nurbs::NurbsCurve;
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Point3, Vec3};
 
 /// A swept surface with a NURBS profile.
 #[derive(Debug, Clone, PartialEq)]

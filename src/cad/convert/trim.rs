@@ -3,8 +3,8 @@
 //! parameterisation (see [`NaturalSurface::natural`]).
 use super::analytic::{AxisMap, NaturalSurface};
 use crate::cad::geom::EPS_UV;
-use crate::math::Point3;
 use crate::formats::workpiece::{SurfaceSpec, TrimSpec};
+use crate::math::Point3;
 use std::f64::consts::{PI, TAU};
 
 /// One sampled boundary loop of a face, in traversal order.

@@ -10,8 +10,8 @@ use crate::cad::convert::swept::Swept;
 use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
 use crate::cad::error::CadResult;
 use crate::cad::options::ImportOptions;
-use crate::math::Point3;
 use crate::formats::workpiece::{SurfaceSpec, TrimSpec};
+use crate::math::Point3;
 
 /// A converted face: the surface (name empty), why it has no trim (when
 /// `spec.trim` is `None`) and the surface entity type.

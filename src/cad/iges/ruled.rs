@@ -13,8 +13,8 @@ use super::entities::{Affine, Fields, Model};
 use super::surfaces::curve_nurbs;
 use crate::cad::error::CadResult;
 use crate::cad::nurbs::{control_points, new_curve, weights, NurbsCurve};
-use crate::math::Point3;
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::Point3;
 
 /// Knots closer than this (relative to the domain length) are the same knot.
 const KNOT_SNAP: f64 = 1e-10;

@@ -12,8 +12,8 @@ use crate::cad::convert::revolve::{extrude, revolve, Profile};
 use crate::cad::error::CadResult;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Point3, Vec3};
 use std::f64::consts::{FRAC_PI_2, TAU};
 
 /// A surface entity converted to model space.

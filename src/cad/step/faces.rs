@@ -12,8 +12,8 @@ use crate::cad::convert::trim::{analytic_face, Extent, LoopPoints};
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::NurbsCurve;
 use crate::cad::options::ImportOptions;
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::{SurfaceSpec, TrimSpec};
+use crate::math::{Point3, Vec3};
 
 /// A converted face.
 #[derive(Debug, Clone, PartialEq)]

@@ -6,9 +6,9 @@ use crate::cad::geom::{closest_on, Curve};
 use crate::cad::nurbs::{breaks, NurbsCurve};
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
+use crate::formats::workpiece::TrimSpec;
 use crate::geometry::NurbsSurface;
 use crate::math::Point3;
-use crate::formats::workpiece::TrimSpec;
 
 type P2 = [f64; 2];
 

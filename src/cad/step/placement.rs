@@ -6,8 +6,8 @@ use super::access::{has_record, Ctx};
 use super::curves::{direction, placement, point, Space};
 use crate::cad::error::CadResult;
 use crate::cad::geom::{Frame, EPS_DIRECTION};
-use crate::math::{Mat3, Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Mat3, Point3, Vec3};
 
 /// An affine map `p -> linear * p + shift` (mm); rigid for placements.
 #[derive(Debug, Clone, Copy, PartialEq)]

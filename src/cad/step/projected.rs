@@ -9,10 +9,10 @@ use super::topology::{edge_ends, initial_segments, Bound, EdgeEnds, FaceData};
 use crate::cad::geom::Curve;
 use crate::cad::options::ImportOptions;
 use crate::cad::sample::adaptive;
+use crate::formats::workpiece::TrimSpec;
 use crate::geometry::projection::project_from;
 use crate::geometry::{NurbsSurface, Projection, ProjectionIndex, ProjectionOptions};
 use crate::math::{Point3, Vec2};
-use crate::formats::workpiece::TrimSpec;
 
 type P2 = [f64; 2];
 

@@ -10,8 +10,8 @@ use crate::cad::error::CadResult;
 use crate::cad::geom::EPS_DIRECTION;
 use crate::cad::geom::{Curve, Frame};
 use crate::cad::nurbs::{new_curve, NurbsCurve};
-use crate::math::{Point3, Vec3};
 use crate::formats::workpiece::SurfaceSpec;
+use crate::math::{Point3, Vec3};
 use std::f64::consts::TAU;
 
 /// A surface as read from the file.

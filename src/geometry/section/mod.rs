@@ -14,9 +14,9 @@ mod march;
 mod refine;
 mod stitch;
 
+use crate::geometry::Trim;
 use crate::geometry::{NurbsSurface, Plane};
 use crate::math::{Point3, Vec2, Vec3};
-use crate::geometry::Trim;
 
 /// Tolerances of section computation (lengths in mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -122,7 +122,11 @@ pub struct FaceRef<'a> {
 
 /// Section of `faces`, stitched across faces and seams into maximal curves
 /// (closed where they close).
-pub fn section_faces(faces: &[FaceRef<'_>], plane: &Plane, opts: &SectionOptions) -> Vec<SectionCurve> {
+pub fn section_faces(
+    faces: &[FaceRef<'_>],
+    plane: &Plane,
+    opts: &SectionOptions,
+) -> Vec<SectionCurve> {
     let branches: Vec<SectionCurve> = faces
         .iter()
         .flat_map(|f| section_face(f, plane, opts))

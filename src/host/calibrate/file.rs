@@ -1,4 +1,4 @@
-//! The probe calibration file `cmm-probe-cal/1` (DESIGN.md 6.7).
+//! The probe calibration file `cmm-probe-cal/1` (the cmm-probe-cal/1 format).
 //!
 //! ```json
 //! { "format": "cmm-probe-cal/1", "probe_vector_mm": [x, y, z],

@@ -1,5 +1,5 @@
 //! Per head orientation entries of `cmm-probe-cal/1` (added keys; the
-//! top-level keys of DESIGN.md 6.7 keep meaning the reference orientation).
+//! top-level keys of the cmm-probe-cal/1 format keep meaning the reference orientation).
 //!
 //! ```json
 //! "orientations": [

@@ -1,4 +1,4 @@
-//! Probe calibration on a reference sphere (seeds 002, 003;
+//! Probe calibration on a reference sphere (condition-dependent probe correction and JP2902285B2;
 //! `cmm calibrate-probe`).
 //!
 //! The host side ([`calibrate`]) measures the sphere through the
@@ -8,7 +8,7 @@
 //! radius and the condition-dependent deflection correction
 //! ([`crate::host::probe_correction`]). With the machine's geometric error
 //! map ([`crate::host::compensation`]) every reading is corrected through
-//! the probe vector (seed 003). On a machine with a probe head,
+//! the probe vector (JP2902285B2). On a machine with a probe head,
 //! [`orientation`] calibrates the reference orientation in full and every
 //! further one from a few points around its predicted sphere centre (seed
 //! 003's iterative inverse). [`simulate`] and [`simulate_head`] set up the
@@ -258,7 +258,7 @@ pub fn calibrate(
 
 /// [`calibrate`] on a machine whose geometric errors the host corrects
 /// with `map`: every reading's scales are corrected through the probe
-/// vector (seed 003), first the nominal one, then — once solved — the
+/// vector (JP2902285B2), first the nominal one, then — once solved — the
 /// calibrated one, and the model is solved again.
 pub fn calibrate_compensated(
     cmm: &mut dyn Machine,

@@ -1,5 +1,5 @@
 //! Probe vectors per probe-head orientation with one sphere measurement
-//! each (seed 003).
+//! each (JP2902285B2).
 //!
 //! The reference orientation is calibrated in full ([`super::calibrate`]).
 //! For every other orientation the host
@@ -17,7 +17,7 @@
 //!    probe vector `P = P_pred + (known centre - fitted centre)`, tip radius
 //!    `= fitted radius - sphere radius`;
 //! 5. turns the ball centres corrected with `P_pred` into those the new
-//!    vector gives (seed 003's inverse then forward correction,
+//!    vector gives (JP2902285B2's inverse then forward correction,
 //!    [`ErrorMap::recompensate`]) and fits again: the result is what
 //!    measuring the sphere a second time with the new vector would give.
 //!
@@ -36,7 +36,7 @@ use crate::math::{Mat3, Point3, Vec3};
 /// Where the sphere is touched at a further orientation.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PointPattern {
-    /// The pole and `points - 1` points at `polar_deg` around it (seed 003:
+    /// The pole and `points - 1` points at `polar_deg` around it (JP2902285B2:
     /// 4 points).
     Cap,
     /// The full 25-point pattern of ISO 10360-5 around the pole (for

@@ -1,5 +1,5 @@
 //! Where the reference sphere is probed: the 25-point pattern of
-//! ISO 10360-5 and the circle scans of seed 002.
+//! ISO 10360-5 and the circle scans of condition-dependent probe correction.
 //!
 //! ISO 10360-5 (probing error `P[Form.Sph.1x25]`) spreads 25 points over the
 //! hemisphere facing the stylus: 1 at the pole; 4 evenly spaced at 22.5 deg
@@ -80,7 +80,7 @@ pub fn iso_25_around(pole: &Vec3) -> Vec<Vec3> {
         .collect()
 }
 
-/// `count` probing directions for a quick sphere measurement (seed 003
+/// `count` probing directions for a quick sphere measurement (JP2902285B2
 /// uses 4): the pole, then `count - 1` points at `polar_deg` from it. They
 /// are spread evenly around the pole, starting upwards, over no more of the
 /// ring than keeps every point at least `min_elevation_deg` above the

@@ -6,7 +6,7 @@
 //! around the centre `c` seen with the nominal probe vector (`R` the known
 //! sphere radius, `r` the effective tip radius). Gauss-Newton on the
 //! orthogonal distances finds `c`, `r` and `E`; the probe vector is
-//! `P = P0 + (known sphere position - c)` (seed 003: the centre seen from
+//! `P = P0 + (known sphere position - c)` (JP2902285B2: the centre seen from
 //! the probe mount against the sphere's known position). The number of
 //! gain terms is limited by the number of distinct deflections measured.
 //! Normal tilts per plane and direction then come from the angle between

@@ -1,4 +1,4 @@
-//! Geometric correction (seed 000): compare touch points with the design
+//! Geometric correction (JP6484108B2): compare touch points with the design
 //! data of a planar section and pick the simplest of a menu of corrections
 //! (offset, translation, rotation, scale, combinations) whose residuals are
 //! all small.

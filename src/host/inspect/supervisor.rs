@@ -1,4 +1,4 @@
-//! Error-correcting design-value scanning (seed 000) of one section curve:
+//! Error-correcting design-value scanning (JP6484108B2) of one section curve:
 //! active scanning; on a trajectory error a geometric correction from touch
 //! points (flag 0) or an autonomous correction (flag 1, or when no simple
 //! model fits); a bounded number of autonomous corrections.

@@ -1,4 +1,4 @@
-//! Measuring modes (seed 000): touch points, passive and active
+//! Measuring modes (JP6484108B2): touch points, passive and active
 //! design-value scanning, autonomous scanning, and the moves between them.
 //! Every attempt ends with exactly one [`Outcome`] and its machine time.
 

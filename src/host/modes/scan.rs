@@ -1,4 +1,4 @@
-//! Design-value scanning along a planned ball-centre path (seed 000):
+//! Design-value scanning along a planned ball-centre path (JP6484108B2):
 //! passive (follow the path, fail on lost contact or over-deflection) and
 //! active (`V = Gf Vf + Ge Ve + Gc Vc2`: follow the path, hold the deflection
 //! along the measured normal, correct sideways only; fail when the

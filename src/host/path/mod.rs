@@ -3,10 +3,10 @@
 //! From the nominal section points with outward normals `(x, y, z, i, j, k)`
 //! the host offsets every point along its normal by `r - Ep` (ball radius
 //! minus the wanted deflection) and joins the offset points into a chain of
-//! parametric cubic curve segments (PCC, seed 000): a C2 cubic spline with
+//! parametric cubic curve segments (PCC, JP6484108B2): a C2 cubic spline with
 //! chord-length parameterisation ([`BallPath`]). Speeds are planned per
 //! segment from an effective radius (curvature radius and chord-angle
-//! radius, seed 001), limited by lateral and tangential acceleration, and
+//! radius, active-scanning speed planning), limited by lateral and tangential acceleration, and
 //! sampled on the control cycle ([`SpeedPlan`], [`MotionProfile`]).
 //!
 //! All lengths are mm, times s, speeds mm/s, accelerations mm/s^2.

@@ -1,4 +1,4 @@
-//! Offsetting nominal points along their normals (seed 000: by `r - Ep`)
+//! Offsetting nominal points along their normals (JP6484108B2: by `r - Ep`)
 //! and validating the result.
 
 use super::{PathError, PathOptions};

@@ -2,7 +2,7 @@
 //! tangential acceleration at every cycle boundary.
 //!
 //! Every cycle has one constant acceleration, so speed changes happen on
-//! cycle boundaries only (seed 001). Each cycle takes the largest
+//! cycle boundaries only (active-scanning speed planning). Each cycle takes the largest
 //! acceleration in `[-a_tan, a_tan]` (to the resolution of a bisection in
 //! `accel_search_iters` steps) that keeps the state under the speed
 //! limits: the segment's `v_max`, the joint speeds (at every joint crossed

@@ -1,4 +1,4 @@
-//! Effective radius of a path segment (seed 001): the smaller of the
+//! Effective radius of a path segment (active-scanning speed planning): the smaller of the
 //! curvature radius over the segment and a radius derived from the angle
 //! between this segment's chord and the next segment's chord.
 //!

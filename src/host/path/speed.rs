@@ -1,5 +1,5 @@
-//! Speed planning per segment (seed 001) and its motion profile on the
-//! control cycle (seeds 001, 004).
+//! Speed planning per segment (active-scanning speed planning) and its motion profile on the
+//! control cycle (active-scanning speed planning and multi-axis timing).
 //!
 //! Per segment `i`: `R_eff = min(R_curv, R_angle)` with `R_curv` the
 //! smallest curvature radius over the segment and `R_angle` the chord-angle

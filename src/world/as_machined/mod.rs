@@ -1,4 +1,4 @@
-//! The as-machined part (DESIGN.md 6.2), known only to the simulated world:
+//! The as-machined part (the as-machined format), known only to the simulated world:
 //! for a nominal point `p` with outward normal `n`,
 //! `q(p) = T(p + h(p) n(p))` with `h` the sum of the form terms and `T` an
 //! affine transform. Distances to it are exact to the Newton tolerance

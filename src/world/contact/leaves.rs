@@ -7,8 +7,8 @@ use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
 use crate::geometry::projection::Bounds;
 use crate::geometry::{NurbsSurface, Trim};
 use crate::math::{Point3, Vec2, Vec3};
-use crate::world::as_machined::AsMachined;
 use crate::workpiece::{Face, Workpiece};
+use crate::world::as_machined::AsMachined;
 
 /// Sizes of the contact leaves.
 #[derive(Debug, Clone, Copy, PartialEq)]

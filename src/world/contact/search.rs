@@ -6,8 +6,8 @@ use super::{ContactOptions, TrueContact};
 use crate::geometry::projection::{minimise_cached, minimise_with, Foot};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions};
 use crate::math::{Point3, Vec2};
-use crate::world::as_machined::AsMachined;
 use crate::workpiece::Workpiece;
+use crate::world::as_machined::AsMachined;
 
 /// Leaves whose last foot is kept for a warm start.
 const WARM_SLOTS: usize = 8;
