@@ -164,7 +164,10 @@ pub(super) fn failed(
         "{machine}{profile}: probe tip {} mm, stylus {} mm, sphere {} mm{hint}",
         setup.tip_diameter_mm, setup.stylus_length_mm, args.sphere_diameter
     );
-    CliError::Calibration { machine, source }
+    CliError::Calibration {
+        machine,
+        source: Box::new(source),
+    }
 }
 
 /// A machine with a probe head needs `--head-angles`: its head joints put

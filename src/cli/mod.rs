@@ -144,7 +144,7 @@ pub enum CliError {
         /// the probe that were calibrated.
         machine: String,
         /// Why it failed.
-        source: crate::app::calibrate::simulate::SimulatedCalError,
+        source: Box<crate::app::calibrate::simulate::SimulatedCalError>,
     },
     /// A point file could not be fitted.
     #[error("{file}: {source}")]

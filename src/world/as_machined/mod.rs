@@ -10,6 +10,8 @@ pub mod form;
 mod normal_jet;
 mod trimmed;
 mod validate;
+#[cfg(test)]
+mod walk_tests;
 
 pub use crate::formats::as_machined::{AsMachinedSpec, FormTerm, Scale, TransformSpec};
 use crate::geometry::projection::{Bounds, Foot, WarmStart};
