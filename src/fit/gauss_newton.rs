@@ -180,8 +180,13 @@ impl<M: Model + Sync> State<M> {
     /// when the damped system was singular (damping raised). Convergence is
     /// judged on the undamped Gauss-Newton step, never on a damped one.
     fn advance(&mut self, points: &[Vec3], extent: f64, tol: f64) -> Option<(f64, bool)> {
+        // The size reported is that of the undamped (Gauss-Newton) step,
+        // the one convergence is judged on, even when a damped step is
+        // taken instead.
+        let mut undamped = None;
         if let Some(gn) = solve_step(&self.ne, M::SHAPE + 1, 0.0) {
             let size = step_size_mm::<M>(&gn, extent);
+            undamped = Some(size);
             let reduction = -(0..=M::SHAPE).map(|k| self.ne.g[k] * gn[k]).sum::<f64>();
             let trial = self.model.step(&gn);
             if trial.is_finite() && size <= tol {
@@ -196,7 +201,7 @@ impl<M: Model + Sync> State<M> {
                 return Some((size, false));
             }
         }
-        self.damped(points, extent)
+        (self.damped(points, extent)).map(|(damped, done)| (undamped.unwrap_or(damped), done))
     }
 
     /// A Levenberg-Marquardt step, kept only if the cost does not rise.
