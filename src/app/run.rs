@@ -21,7 +21,8 @@ use crate::host::modes::{FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
-use crate::math::{Point3, Vec3};
+use crate::math::Vec3;
+use crate::program::limits::start_position;
 use crate::program::Program;
 use crate::report::{
     AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict, REPORT_FORMAT,
@@ -95,9 +96,6 @@ pub enum RunError {
         source: SimError,
     },
 }
-
-/// Clearance above the part's highest point for moves, mm.
-const CLEARANCE_MM: f64 = 10.0;
 
 /// Runs every feature and evaluates the points; also returns what was
 /// learned per (feature, curve).
@@ -332,28 +330,6 @@ pub fn probe_calibration(
             program: program.name.clone(),
             source,
         })
-}
-
-/// Ball-centre start above the middle of the part and the clearance height.
-fn start_position(program: &Program) -> (Point3, f64) {
-    let pts: Vec<Point3> = program
-        .workpiece
-        .faces
-        .iter()
-        .flat_map(|f| {
-            f.surface
-                .homogeneous_points()
-                .iter()
-                .map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w))
-        })
-        .map(|p| program.placement.to_machine(p))
-        .collect();
-    let n = pts.len().max(1) as f64;
-    let centre = pts.iter().fold(Vec3::zeros(), |a, p| a + p.coords) / n;
-    let top = pts.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max)
-        + program.probe.tip_radius_mm
-        + CLEARANCE_MM;
-    (Point3::new(centre.x, centre.y, top), top)
 }
 
 /// The program with its placement replaced by the best-fit alignment (when

@@ -125,15 +125,11 @@ fn check_surface_list(
 /// the tip radius), mm: the clearance the measuring run starts at.
 pub const START_CLEARANCE_MM: f64 = 10.0;
 
-/// The run starts with the ball centred over the part's control points,
-/// [`START_CLEARANCE_MM`] above the highest one (plus the tip radius), the
-/// stylus vertical: ball and stylus top must both lie inside the travel
-/// `[lo, hi]` (machine coordinates, mm), else the machine cannot start.
-pub(super) fn check_start(
-    program: &super::Program,
-    lo: [f64; 3],
-    hi: [f64; 3],
-) -> Result<(), ProgramError> {
+/// Where a measuring run starts: the ball centre over the middle of the
+/// part's control points, [`START_CLEARANCE_MM`] above the highest one
+/// (plus the tip radius), machine coordinates, mm; and that height, the
+/// clearance height of moves between measurements.
+pub fn start_position(program: &super::Program) -> (crate::math::Point3, f64) {
     use crate::math::{Point3, Vec3};
     let pts: Vec<Point3> = program
         .workpiece
@@ -152,7 +148,19 @@ pub(super) fn check_start(
     let top = pts.iter().map(|p| p.z).fold(f64::NEG_INFINITY, f64::max)
         + program.probe.tip_radius_mm
         + START_CLEARANCE_MM;
-    let ball = Point3::new(centre.x, centre.y, top);
+    (Point3::new(centre.x, centre.y, top), top)
+}
+
+/// The run starts at [`start_position`] with the stylus vertical: ball and
+/// stylus top must both lie inside the travel `[lo, hi]` (machine
+/// coordinates, mm), else the machine cannot start.
+pub(super) fn check_start(
+    program: &super::Program,
+    lo: [f64; 3],
+    hi: [f64; 3],
+) -> Result<(), ProgramError> {
+    use crate::math::{Point3, Vec3};
+    let (ball, _) = start_position(program);
     let stylus_top = ball + Vec3::z() * program.probe.stylus_length_mm;
     let inside = |q: Point3| (0..3).all(|k| q[k] >= lo[k] && q[k] <= hi[k]);
     if inside(ball) && inside(stylus_top) {
