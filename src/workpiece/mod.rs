@@ -6,6 +6,8 @@ pub mod examples;
 pub use crate::formats::workpiece as format;
 mod near;
 mod section;
+#[cfg(test)]
+pub(crate) use near::walk as walk_support;
 mod validate;
 
 use std::path::{Path, PathBuf};

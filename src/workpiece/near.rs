@@ -21,6 +21,8 @@ mod hint;
 mod reach;
 #[cfg(test)]
 mod tests;
+#[cfg(test)]
+pub(crate) mod walk;
 
 impl Workpiece {
     /// [`Self::closest_point_among`] for a query near an earlier one:
