@@ -77,6 +77,18 @@ pub struct ProbeSpec {
     /// Stylus length from the probe mount to the ball centre, mm.
     #[serde(default = "default_stylus")]
     pub stylus_length_mm: f64,
+    /// Diameter of the stylus shaft (stem) between the ball and the probe
+    /// mount, mm; default two thirds of the tip diameter (2 mm for a 3 mm
+    /// ball, as on common M2/M3 styli).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub shaft_diameter_mm: Option<f64>,
+    /// Diameter of the probe body above the probe mount, mm (a cylinder;
+    /// default 25, a scanning probe's body).
+    #[serde(default = "default_body_diameter")]
+    pub body_diameter_mm: f64,
+    /// Length of the probe body above the probe mount, mm (default 80).
+    #[serde(default = "default_body_length")]
+    pub body_length_mm: f64,
     /// Probe calibration file (`cmm-probe-cal/1`), relative to the program.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<String>,
@@ -88,12 +100,21 @@ fn default_tip() -> f64 {
 fn default_stylus() -> f64 {
     50.0
 }
+fn default_body_diameter() -> f64 {
+    25.0
+}
+fn default_body_length() -> f64 {
+    80.0
+}
 
 impl Default for ProbeSpec {
     fn default() -> Self {
         ProbeSpec {
             tip_diameter_mm: default_tip(),
             stylus_length_mm: default_stylus(),
+            shaft_diameter_mm: None,
+            body_diameter_mm: default_body_diameter(),
+            body_length_mm: default_body_length(),
             calibration: None,
         }
     }

@@ -79,6 +79,12 @@ pub struct ProbeSetup {
     pub tip_radius_mm: f64,
     /// Stylus length, mm.
     pub stylus_length_mm: f64,
+    /// Radius of the stylus shaft, mm.
+    pub shaft_radius_mm: f64,
+    /// Radius of the probe body, mm.
+    pub body_radius_mm: f64,
+    /// Length of the probe body above the probe mount, mm.
+    pub body_length_mm: f64,
     /// Calibration file, resolved against the program's folder.
     pub calibration: Option<PathBuf>,
 }

@@ -206,11 +206,30 @@ fn probe(cx: &Ctx, spec: &ProgramFile) -> Result<ProbeSetup, ProgramError> {
         }
         None => None,
     };
+    let (shaft, body, body_length) = probe_body(cx, spec, d)?;
     Ok(ProbeSetup {
         tip_radius_mm: 0.5 * d,
         stylus_length_mm: l,
+        shaft_radius_mm: 0.5 * shaft,
+        body_radius_mm: 0.5 * body,
+        body_length_mm: body_length,
         calibration,
     })
+}
+
+/// Shaft diameter, body diameter and body length of the probe block, mm:
+/// the shaft no thicker than the ball (it would touch before the ball).
+fn probe_body(cx: &Ctx, spec: &ProgramFile, tip: f64) -> Result<(f64, f64, f64), ProgramError> {
+    let p = &spec.probe;
+    let shaft_path = "$.probe.shaft_diameter_mm";
+    let shaft = cx.positive(
+        p.shaft_diameter_mm.unwrap_or(tip * 2.0 / 3.0),
+        tip,
+        shaft_path.into(),
+    )?;
+    let body = cx.positive(p.body_diameter_mm, 500.0, "$.probe.body_diameter_mm".into())?;
+    let length = cx.positive(p.body_length_mm, 1000.0, "$.probe.body_length_mm".into())?;
+    Ok((shaft, body, length))
 }
 
 fn faces_of(

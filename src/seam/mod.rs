@@ -25,6 +25,38 @@ pub enum MachineStatus {
         /// Deflection magnitude reached, mm.
         deflection_mm: f64,
     },
+    /// A part of the probe other than the stylus ball struck the part (the
+    /// probe's crash protection); the machine halted.
+    Collision {
+        /// Which part of the probe.
+        probe_part: ProbePart,
+        /// Where the contact is, machine coordinates, mm.
+        at: Point3,
+        /// Speed of the probe mount when it struck, mm/s.
+        speed_mm_s: f64,
+    },
+}
+
+/// The parts of a probe that can strike a workpiece.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProbePart {
+    /// The stylus ball.
+    Ball,
+    /// The stylus shaft between the ball and the probe.
+    Shaft,
+    /// The probe body above the stylus.
+    Body,
+}
+
+impl ProbePart {
+    /// Lower-case name used in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProbePart::Ball => "ball",
+            ProbePart::Shaft => "shaft",
+            ProbePart::Body => "body",
+        }
+    }
 }
 
 /// What the machine reports each control cycle (machine coordinates, mm).

@@ -215,6 +215,7 @@ fn geometric(
         points: Vec::new(),
         machine_time_s: 0.0,
         max_trajectory_error_mm: 0.0,
+        collision: None,
     };
     for (k, &i) in picks.iter().enumerate() {
         let d = design[i];
@@ -239,8 +240,9 @@ fn geometric(
             touched.push(d);
             measured.push(ctx.pose.to_part(m.point));
             attempt.points.push(*m);
-        } else if a.outcome == Outcome::AxisLimit {
+        } else if matches!(a.outcome, Outcome::AxisLimit | Outcome::Collision) {
             attempt.outcome = a.outcome;
+            attempt.collision = a.collision.or(attempt.collision);
         }
     }
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;

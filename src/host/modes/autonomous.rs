@@ -55,7 +55,7 @@ fn touch_down(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Approach);
+    tr.enter(cmm, Phase::Approach);
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= task.deflection_mm {
             return Ok(());
@@ -76,7 +76,7 @@ fn follow(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Autonomous);
+    tr.enter(cmm, Phase::Autonomous);
     let (o, pn) = task.plane;
     let mut dir = task.direction;
     let start = tr.ball_undeflected();

@@ -33,7 +33,7 @@ pub fn direct_move(
     if clear {
         waypoints.push(target);
     }
-    cmm.note_phase(Phase::Position);
+    tr.enter(cmm, Phase::Position);
     travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)?;
     Ok(clear)
 }

@@ -14,8 +14,10 @@ pub use motion::{move_through, move_to, recover, reposition, Tracker};
 pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
 pub use touch::{touch_point, touch_start};
 
+use crate::host::observe::Phase;
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
+use crate::seam::ProbePart;
 
 /// How a measuring attempt ended.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize)]
@@ -31,8 +33,25 @@ pub enum Outcome {
     OverDeflection,
     /// An axis reached its travel limit.
     AxisLimit,
-    /// Stopped for another reason (cycle budget exhausted).
+    /// The probe struck the part: the shaft or the body at any time, or
+    /// the ball during a move that does not measure ([`Collision`] says
+    /// where).
+    Collision,
+    /// Stopped for another reason (cycle budget exhausted, no clear route).
     Aborted,
+}
+
+/// Where and how the probe struck the part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Collision {
+    /// Which part of the probe.
+    pub probe_part: ProbePart,
+    /// Where, machine coordinates, mm.
+    pub at: Point3,
+    /// Speed when it struck, mm/s.
+    pub speed_mm_s: f64,
+    /// What the software was doing.
+    pub phase: Phase,
 }
 
 /// What the host knows about its probe (nominal or calibrated).
@@ -127,6 +146,8 @@ pub struct Attempt {
     pub machine_time_s: f64,
     /// Largest |trajectory error| seen, mm (0 for modes without a path).
     pub max_trajectory_error_mm: f64,
+    /// Where the probe struck the part, when the outcome is a collision.
+    pub collision: Option<Collision>,
 }
 
 /// Gains, speeds and thresholds of the measuring modes (mm, s).

@@ -6,11 +6,11 @@
 //! [`CORNER_BLEND_MM`] and brakes as late as the acceleration allows. A
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
-use super::{HostProbe, Measured, ModeOptions, Outcome};
+use super::{Collision, HostProbe, Measured, ModeOptions, Outcome};
 use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
-use crate::seam::{Cmm, MachineStatus, Readings};
+use crate::seam::{Cmm, MachineStatus, ProbePart, Readings};
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
 /// points taken at a pitch.
@@ -28,6 +28,10 @@ pub struct Tracker {
     last_point: Option<Point3>,
     /// Whether the probe's deflection correction is not the identity.
     corrected: bool,
+    /// What the software is doing (the phase last entered).
+    pub phase: Phase,
+    /// Where the probe struck the part, once it has.
+    pub collision: Option<Collision>,
 }
 
 impl Tracker {
@@ -42,7 +46,28 @@ impl Tracker {
             command: Vec3::zeros(),
             last_point: None,
             corrected: probe.correction != DeflectionCorrection::identity(),
+            phase: Phase::Idle,
+            collision: None,
         }
+    }
+
+    /// Enters `phase`: tells the machine's observer and remembers it.
+    pub fn enter(&mut self, cmm: &mut dyn Machine, phase: Phase) {
+        self.phase = phase;
+        cmm.note_phase(phase);
+    }
+
+    /// Records a collision of `probe_part` at `at` (machine, mm) in the
+    /// current phase and returns its outcome.
+    pub fn struck(&mut self, probe_part: ProbePart, at: Point3, speed_mm_s: f64) -> Outcome {
+        let phase = self.phase;
+        self.collision = Some(Collision {
+            probe_part,
+            at,
+            speed_mm_s,
+            phase,
+        });
+        Outcome::Collision
     }
 
     /// Undeflected ball centre from the scales, machine coordinates.
@@ -74,6 +99,11 @@ impl Tracker {
             MachineStatus::Ok => None,
             MachineStatus::AxisLimit { .. } => Some(Outcome::AxisLimit),
             MachineStatus::ProbeOverrange { .. } => Some(Outcome::OverDeflection),
+            MachineStatus::Collision {
+                probe_part,
+                at,
+                speed_mm_s,
+            } => Some(self.struck(probe_part, at, speed_mm_s)),
         }
     }
 
@@ -125,7 +155,7 @@ pub fn move_to(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Position);
+    tr.enter(cmm, Phase::Position);
     travel(cmm, tr, &[target], speed, 0.0, opts)
 }
 
@@ -139,7 +169,7 @@ pub fn move_through(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Position);
+    tr.enter(cmm, Phase::Position);
     travel(cmm, tr, waypoints, speed, 0.0, opts)
 }
 
@@ -158,7 +188,7 @@ pub fn reposition(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let away = free_stylus(cmm, tr, opts)?;
-    cmm.note_phase(Phase::Position);
+    tr.enter(cmm, Phase::Position);
     let here = away.unwrap_or_else(|| tr.ball_undeflected());
     let mut waypoints: Vec<Point3> = away.into_iter().collect();
     waypoints.extend(detour(here, target, approach, opts));
@@ -213,7 +243,7 @@ pub(super) fn free_stylus(
     let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
         return Ok(None);
     };
-    cmm.note_phase(Phase::Retract);
+    tr.enter(cmm, Phase::Retract);
     for _ in 0..opts.max_cycles {
         if tr.deflection() < opts.contact_mm * 0.5 {
             return Ok(Some(tr.ball_undeflected() + dir * opts.standoff_mm));

@@ -99,10 +99,10 @@ fn approach(
     reposition(cmm, tr, scan_start(path, ep, opts), n0, opts)?;
     if kind == ScanKind::Passive {
         move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
-        cmm.note_phase(Phase::Scan);
+        tr.enter(cmm, Phase::Scan);
         return Ok(());
     }
-    cmm.note_phase(Phase::Approach);
+    tr.enter(cmm, Phase::Approach);
     let reach = 2.0 * (ep + opts.standoff_mm) + 2.0;
     let from = tr.ball_undeflected();
     for _ in 0..opts.max_cycles {
@@ -213,7 +213,7 @@ fn active(
     opts: &ModeOptions,
     max_dl: &mut f64,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Scan);
+    tr.enter(cmm, Phase::Scan);
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
     let mut cursor = 0;

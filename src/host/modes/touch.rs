@@ -21,7 +21,7 @@ pub fn touch_point(
         .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());
-            cmm.note_phase(Phase::Retract);
+            tr.enter(cmm, Phase::Retract);
             travel(cmm, &mut tr, &[start], opts.rapid_speed_mm_s, 0.0, opts)
         });
     finish(tr, outcome)
@@ -41,7 +41,7 @@ fn approach(
     reach: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    cmm.note_phase(Phase::Touch);
+    tr.enter(cmm, Phase::Touch);
     let from = tr.ball_undeflected();
     let v = -normal * opts.approach_speed_mm_s;
     for _ in 0..opts.max_cycles {
@@ -62,6 +62,7 @@ pub(super) fn finish(tr: Tracker, result: Result<(), Outcome>) -> Attempt {
     Attempt {
         outcome: result.err().unwrap_or(super::Outcome::Completed),
         machine_time_s: tr.elapsed(),
+        collision: tr.collision,
         points: tr.points,
         max_trajectory_error_mm: 0.0,
     }
