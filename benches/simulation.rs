@@ -97,7 +97,14 @@ fn scan_once(sp: &SimulatedPart, model: &MachineModel, path: &BallPath, plan: &S
         trajectory_tolerance_mm: 1.5,
     };
     let modes = ModeOptions::default();
-    design_value_scan(&mut Unobserved(&mut sim), host, path, plan, targets, &modes);
+    design_value_scan(
+        &mut Unobserved(&mut sim),
+        (host, None),
+        path,
+        plan,
+        targets,
+        &modes,
+    );
     (sim.readings().time_s / sim.cycle_s()).round() as u64
 }
 

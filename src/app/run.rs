@@ -13,7 +13,7 @@ use crate::evaluate::nominal::point_reports;
 use crate::evaluate::truth::{fill_true_deviations, Frames};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::inspect::align::{align, AlignOptions};
-use crate::host::inspect::clearance::{ClearanceOptions, PartClearance};
+use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
 use crate::host::inspect::LearnedSet;
@@ -232,6 +232,10 @@ fn measure_program<'p>(
         pose: aligned.placement,
         stylus: -host_probe.probe_vector,
         tip_radius_mm: host_probe.tip_radius_mm,
+        body: Some(ProbeBody {
+            radius_mm: aligned.probe.body_radius_mm,
+            length_mm: aligned.probe.body_length_mm,
+        }),
         opts: opts.clearance,
     };
     let run = Run {

@@ -20,6 +20,7 @@ fn attempt(mode: AttemptMode, outcome: Outcome, time: f64, points: usize) -> Att
         machine_time_s: time,
         points,
         max_trajectory_error_mm: 0.01,
+        collision: None,
     }
 }
 

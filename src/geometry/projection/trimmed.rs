@@ -15,33 +15,17 @@ pub(crate) fn closest_on_boundary(
 ) -> Result<Option<Foot>, ProjectionError> {
     let mut best: Option<Foot> = None;
     let mut bound = best_dist2;
-    for (a, b) in trim.segments() {
-        let (a, b) = (surface.clamp(a), surface.clamp(b));
-        if segment_lower_bound2(surface, a, b, p) >= bound {
+    for c in trim.chords(surface) {
+        if c.lower_bound2(p) >= bound {
             continue;
         }
-        let foot = minimise_on_segment(surface, a, b, p, opts);
+        let foot = minimise_on_segment(surface, c.a, c.b, p, opts);
         if foot.dist2 < bound {
             bound = foot.dist2;
             best = Some(foot);
         }
     }
     Ok(best)
-}
-
-/// A cheap lower bound of the squared distance from `p` to the image of the
-/// segment: the distance to the chord minus a generous bulge allowance.
-fn segment_lower_bound2(surface: &NurbsSurface, a: Vec2, b: Vec2, p: Point3) -> f64 {
-    let (pa, pb, pm) = (
-        surface.point(a.x, a.y),
-        surface.point(b.x, b.y),
-        surface.point(0.5 * (a.x + b.x), 0.5 * (a.y + b.y)),
-    );
-    let chord = pb - pa;
-    let t = ((p - pa).dot(&chord) / chord.norm_squared().max(1e-300)).clamp(0.0, 1.0);
-    let d = (p - (pa + chord * t)).norm();
-    let bulge = 4.0 * (pm - (pa + chord * 0.5)).norm() + 1e-9;
-    (d - bulge).max(0.0).powi(2)
 }
 
 fn foot_at(surface: &NurbsSurface, uv: Vec2, p: Point3) -> (Foot, SurfaceDerivs) {

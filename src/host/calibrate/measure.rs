@@ -84,7 +84,7 @@ pub fn touch_pattern(
     for (index, n) in dirs.iter().enumerate() {
         let a = touch_point(
             cmm,
-            probe,
+            (probe, None),
             centre + n * radius,
             *n,
             opts.touch_search_mm,
@@ -143,7 +143,7 @@ fn scan(
         trajectory_tolerance_mm: opts.trajectory_tolerance_mm,
     };
     let modes = modes(opts, &probe);
-    let a = design_value_scan(cmm, probe, &path, &plan, targets, &modes);
+    let a = design_value_scan(cmm, (probe, None), &path, &plan, targets, &modes);
     if a.outcome != Outcome::Completed {
         return Err(failed(a.outcome));
     }

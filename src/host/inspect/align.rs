@@ -50,7 +50,7 @@ pub fn align(
             nominal.to_machine(p.point),
             nominal.dir_to_machine(p.normal),
         );
-        let a = touch_point(cmm, probe, m, n, opts.search_mm, modes);
+        let a = touch_point(cmm, (probe, None), m, n, opts.search_mm, modes);
         match (a.outcome, a.points.first()) {
             (Outcome::Completed, Some(hit)) => measured.push(hit.point),
             (o, _) => {

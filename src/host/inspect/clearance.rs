@@ -49,6 +49,10 @@ pub struct ClearanceOptions {
     /// move called clear may come that much closer than the ball radius
     /// plus the margin (`step_mm` must stay below that distance).
     pub step_mm: f64,
+    /// The smaller margin of routes that the full one leaves no way for
+    /// (into narrow bores and pockets), mm: still above the as-machined
+    /// part's deviation from the design that a program tolerates.
+    pub tight_margin_mm: f64,
 }
 
 impl Default for ClearanceOptions {
@@ -56,8 +60,19 @@ impl Default for ClearanceOptions {
         ClearanceOptions {
             margin_mm: 4.0,
             step_mm: 2.0,
+            tight_margin_mm: 1.0,
         }
     }
+}
+
+/// The probe body above the stylus: a cylinder from the probe mount on,
+/// along the stylus (away from the ball).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProbeBody {
+    /// Radius, mm.
+    pub radius_mm: f64,
+    /// Length above the probe mount, mm.
+    pub length_mm: f64,
 }
 
 /// The nominal part on the machine, with the probe's ball and stylus.
@@ -70,6 +85,8 @@ pub struct PartClearance<'w> {
     pub stylus: Vec3,
     /// Ball radius, mm.
     pub tip_radius_mm: f64,
+    /// The probe body (`None`: the stylus only).
+    pub body: Option<ProbeBody>,
     /// Margins.
     pub opts: ClearanceOptions,
 }
@@ -391,16 +408,47 @@ impl PartClearance<'_> {
     }
 }
 
+impl PartClearance<'_> {
+    /// The area the probe body sweeps when the ball centre moves from
+    /// `from` to `to` (machine), in part coordinates.
+    fn body_swept(&self, from: Point3, to: Point3, body: &ProbeBody) -> Option<Piece> {
+        let up = self.stylus.try_normalize(1e-12)?;
+        Some(self.swept(from + self.stylus, to + self.stylus)).map(|p| Piece {
+            b: self.pose.to_part(from + self.stylus + up * body.length_mm) - p.origin,
+            ..p
+        })
+    }
+
+    /// Whether the ball, the stylus and the body keep `margin` (mm) from
+    /// the part on the move from `from` to `to` (machine).
+    fn probe_clear(&self, from: Point3, to: Point3, margin: f64) -> bool {
+        let step = self.opts.step_mm.max(MIN_STEP_MM);
+        let finite = |p: &Piece| p.corners().iter().all(|c| c.iter().all(|x| x.is_finite()));
+        let stylus = self.swept(from, to);
+        let stylus_clear =
+            finite(&stylus) && self.area_clear(stylus, self.tip_radius_mm + margin, step);
+        stylus_clear
+            && self.body.is_none_or(|body| {
+                let area = self.body_swept(from, to, &body);
+                area.is_some_and(|a| {
+                    finite(&a) && self.area_clear(a, body.radius_mm + margin, step)
+                })
+            })
+    }
+}
+
 impl FreeSpace for PartClearance<'_> {
     fn segment_clear(&self, from: Point3, to: Point3) -> bool {
-        let step = self.opts.step_mm.max(MIN_STEP_MM);
-        let need = self.tip_radius_mm + self.opts.margin_mm;
-        let swept = self.swept(from, to);
-        let finite = swept
-            .corners()
-            .iter()
-            .all(|c| c.iter().all(|x| x.is_finite()));
-        finite && self.area_clear(swept, need, step)
+        self.probe_clear(from, to, self.opts.margin_mm)
+    }
+
+    fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {
+        let margin = if tight {
+            self.opts.tight_margin_mm
+        } else {
+            self.opts.margin_mm
+        };
+        self.probe_clear(from, to, margin)
     }
 }
 

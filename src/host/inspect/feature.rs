@@ -112,10 +112,10 @@ pub fn measure_feature(
                     program.placement.to_machine(p.point),
                     program.placement.dir_to_machine(p.normal),
                 );
-                let a = touch_point(cmm, probe, m, n, 6.0, modes);
+                let a = touch_point(cmm, (probe, free), m, n, 6.0, modes);
                 let ok = a.outcome == Outcome::Completed;
                 let pts = a.points.clone();
-                res.record(AttemptMode::Points, a);
+                res.record(AttemptMode::Points, a, &program.placement);
                 res.complete &= ok;
                 res.points.extend(pts);
             }

@@ -20,7 +20,7 @@ use crate::host::modes::{Attempt, FreeSpace, HostProbe, Measured, ModeOptions, O
 use crate::host::observe::Machine;
 use crate::math::Vec3;
 use crate::program::{Pose, ScanSettings};
-use record::{AttemptMode, AttemptReport, CorrectionReport};
+use record::{AttemptMode, AttemptReport, CollisionReport, CorrectionReport};
 
 /// What one feature's measurement needs.
 pub struct CurveCtx<'c> {
@@ -101,14 +101,21 @@ pub struct CurveResult {
 
 impl CurveResult {
     /// Records an attempt; scans (not touch points) set the final points.
-    pub fn record(&mut self, mode: AttemptMode, attempt: Attempt) -> Outcome {
+    pub fn record(&mut self, mode: AttemptMode, attempt: Attempt, pose: &Pose) -> Outcome {
         let outcome = attempt.outcome;
+        if outcome == Outcome::Blocked {
+            self.notes.push(format!(
+                "{} not started: no route to its start is clear of the part",
+                crate::formats::serde_name(&mode)
+            ));
+        }
         self.attempts.push(AttemptReport {
             mode,
             outcome,
             machine_time_s: attempt.machine_time_s,
             points: attempt.points.len(),
             max_trajectory_error_mm: attempt.max_trajectory_error_mm,
+            collision: attempt.collision.map(|c| CollisionReport::new(&c, pose)),
         });
         if mode.is_scan() {
             self.complete = outcome == Outcome::Completed;

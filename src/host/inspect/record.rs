@@ -2,7 +2,8 @@
 //! corrections made between them, and the alignment.
 use serde::Serialize;
 
-use crate::host::modes::Outcome;
+use crate::host::modes::{Collision, Outcome};
+use crate::program::Pose;
 
 /// What kind of feature was measured.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
@@ -41,7 +42,7 @@ pub struct AttemptReport {
     /// How the attempt measured.
     pub mode: AttemptMode,
     /// `completed`, `trajectory_error`, `lost_contact`, `over_deflection`,
-    /// `axis_limit` or `aborted`.
+    /// `axis_limit`, `collision` or `aborted`.
     pub outcome: Outcome,
     /// Machine time of the attempt, s.
     pub machine_time_s: f64,
@@ -49,6 +50,34 @@ pub struct AttemptReport {
     pub points: usize,
     /// Largest |trajectory error| seen, mm.
     pub max_trajectory_error_mm: f64,
+    /// Where the probe struck the part (outcome `collision`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionReport>,
+}
+
+/// Where and how the probe struck the part, as reported.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct CollisionReport {
+    /// `ball`, `shaft` or `body`.
+    pub probe_part: &'static str,
+    /// Where, part coordinates, mm.
+    pub at_mm: [f64; 3],
+    /// Speed when it struck, mm/s.
+    pub speed_mm_s: f64,
+    /// What the software was doing (`position`, `retract`, `scan`, ...).
+    pub phase: &'static str,
+}
+
+impl CollisionReport {
+    /// The report of `c` (machine coordinates) on a part placed by `pose`.
+    pub fn new(c: &Collision, pose: &Pose) -> CollisionReport {
+        CollisionReport {
+            probe_part: c.probe_part.name(),
+            at_mm: pose.to_part(c.at).into(),
+            speed_mm_s: c.speed_mm_s,
+            phase: c.phase.name(),
+        }
+    }
 }
 
 /// A correction of the feature's design data between attempts.

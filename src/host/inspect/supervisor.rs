@@ -147,7 +147,14 @@ fn design_attempt(
     };
     let t0 = ctx.cmm.readings().time_s;
     position(ctx, scan_start(path, targets.deflection_mm, &ctx.modes));
-    let mut attempt = design_value_scan(ctx.cmm, ctx.probe, path, plan, targets, &ctx.modes);
+    let mut attempt = design_value_scan(
+        ctx.cmm,
+        (ctx.probe, ctx.free),
+        path,
+        plan,
+        targets,
+        &ctx.modes,
+    );
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let gap_limit = ctx.supervisor.max_gap_pitches * targets.pitch_mm;
     let gap = largest_gap(&attempt.points);
@@ -162,7 +169,7 @@ fn design_attempt(
     } else {
         AttemptMode::Passive
     };
-    res.record(mode, attempt)
+    res.record(mode, attempt, &ctx.pose)
 }
 
 /// The largest distance between consecutive points, mm (0 for fewer than
@@ -229,7 +236,7 @@ fn geometric(
         }
         let a = touch_point(
             ctx.cmm,
-            ctx.probe,
+            (ctx.probe, ctx.free),
             p,
             n,
             ctx.supervisor.touch_search_mm,
@@ -246,7 +253,7 @@ fn geometric(
         }
     }
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
-    res.record(AttemptMode::Points, attempt);
+    res.record(AttemptMode::Points, attempt, &ctx.pose);
     let fit = fit_correction(
         &touched,
         &measured,
@@ -292,6 +299,20 @@ fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: u
         waypoints.push(ctx.pose.to_machine(d.point + d.normal * clear));
     }
     let mut tr = Tracker::new(ctx.cmm, ctx.probe);
+    if let Some(free) = ctx.free {
+        // Along the outside only where that is clear; the touch point's
+        // own repositioning routes around the part otherwise.
+        let mut from = tr.ball_undeflected();
+        let clear = waypoints.iter().all(|&w| {
+            let ok = free.segment_clear_with(from, w, true);
+            from = w;
+            ok
+        });
+        if !clear {
+            let _ = recover(ctx.cmm, &mut tr, &ctx.modes);
+            return;
+        }
+    }
     let moved = recover(ctx.cmm, &mut tr, &ctx.modes).and_then(|_| {
         move_through(
             ctx.cmm,
@@ -340,10 +361,11 @@ fn autonomous_attempt(
     let task = autonomous_task(ctx, design, closed)?;
     let t0 = ctx.cmm.readings().time_s;
     position(ctx, autonomous_start(ctx.probe, &task, &ctx.modes));
-    let mut attempt = autonomous_scan(ctx.cmm, ctx.probe, &task, &ctx.modes);
+    let mut attempt = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let points = attempt.points.clone();
-    (res.record(AttemptMode::Autonomous, attempt) == Outcome::Completed).then_some(points)
+    (res.record(AttemptMode::Autonomous, attempt, &ctx.pose) == Outcome::Completed)
+        .then_some(points)
 }
 
 /// Replaces the design data by an autonomous scan's surface points.

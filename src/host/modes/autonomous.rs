@@ -3,7 +3,7 @@
 //! stay in the plane. Closes on its start for a closed section; stops at the
 //! section end for an open one.
 use super::touch::finish;
-use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 
@@ -31,11 +31,11 @@ pub struct AutonomousTask {
 /// Runs an autonomous scan.
 pub fn autonomous_scan(
     cmm: &mut dyn Machine,
-    probe: HostProbe,
+    (probe, free): (HostProbe, Option<&dyn FreeSpace>),
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free);
     let above = autonomous_start(probe, task, opts);
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))

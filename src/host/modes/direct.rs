@@ -12,6 +12,13 @@ pub trait FreeSpace {
     /// with its ball centre going from `from` to `to` (machine
     /// coordinates) without touching the part.
     fn segment_clear(&self, from: Point3, to: Point3) -> bool;
+
+    /// The same with the full clearance margin, or with the tight one
+    /// (`tight`) that routes through narrow openings use.
+    fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {
+        let _ = tight;
+        self.segment_clear(from, to)
+    }
 }
 
 /// Moves straight to `target` (ball centre, ending at rest) when the line

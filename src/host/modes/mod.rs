@@ -5,12 +5,13 @@
 mod autonomous;
 mod direct;
 mod motion;
+mod route;
 mod scan;
 mod touch;
 
 pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask};
 pub use direct::{direct_move, FreeSpace};
-pub use motion::{move_through, move_to, recover, reposition, Tracker};
+pub use motion::{approach_to, move_through, move_to, recover, reposition, Tracker};
 pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
 pub use touch::{touch_point, touch_start};
 
@@ -37,8 +38,12 @@ pub enum Outcome {
     /// the ball during a move that does not measure ([`Collision`] says
     /// where).
     Collision,
-    /// Stopped for another reason (cycle budget exhausted, no clear route).
+    /// Stopped for another reason (cycle budget exhausted).
     Aborted,
+    /// Not started: no route to the start point is clear of the part (as
+    /// the design data knows it). Reported as `aborted`.
+    #[serde(rename = "aborted")]
+    Blocked,
 }
 
 /// Where and how the probe struck the part.

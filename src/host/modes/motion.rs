@@ -6,7 +6,7 @@
 //! [`CORNER_BLEND_MM`] and brakes as late as the acceleration allows. A
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
-use super::{Collision, HostProbe, Measured, ModeOptions, Outcome};
+use super::{route, Collision, FreeSpace, HostProbe, Measured, ModeOptions, Outcome};
 use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
@@ -14,7 +14,7 @@ use crate::seam::{Cmm, MachineStatus, ProbePart, Readings};
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
 /// points taken at a pitch.
-pub struct Tracker {
+pub struct Tracker<'f> {
     /// What the host knows about the probe (fixed for the tracker's life).
     probe: HostProbe,
     /// Latest readings.
@@ -32,11 +32,14 @@ pub struct Tracker {
     pub phase: Phase,
     /// Where the probe struck the part, once it has.
     pub collision: Option<Collision>,
+    /// Free space around the part: repositioning routes around the part
+    /// (`None`: over the clearance height unchecked).
+    free: Option<&'f dyn FreeSpace>,
 }
 
-impl Tracker {
+impl<'f> Tracker<'f> {
     /// Starts tracking from the machine's current readings.
-    pub fn new(cmm: &dyn Cmm, probe: HostProbe) -> Tracker {
+    pub fn new(cmm: &dyn Cmm, probe: HostProbe) -> Tracker<'f> {
         let now = cmm.readings();
         Tracker {
             probe,
@@ -48,7 +51,14 @@ impl Tracker {
             corrected: probe.correction != DeflectionCorrection::identity(),
             phase: Phase::Idle,
             collision: None,
+            free: None,
         }
+    }
+
+    /// The same, routing its repositioning moves clear of the part that
+    /// `free` describes.
+    pub fn avoiding(self, free: Option<&'f dyn FreeSpace>) -> Tracker<'f> {
+        Tracker { free, ..self }
     }
 
     /// Enters `phase`: tells the machine's observer and remembers it.
@@ -191,8 +201,16 @@ pub fn reposition(
     tr.enter(cmm, Phase::Position);
     let here = away.unwrap_or_else(|| tr.ball_undeflected());
     let mut waypoints: Vec<Point3> = away.into_iter().collect();
-    waypoints.extend(detour(here, target, approach, opts));
-    waypoints.push(target);
+    match tr.free {
+        Some(free) => {
+            let route = route::plan(free, here, target, approach, opts);
+            waypoints.extend(route.ok_or(Outcome::Blocked)?);
+        }
+        None => {
+            waypoints.extend(detour(here, target, approach, opts));
+            waypoints.push(target);
+        }
+    }
     travel(
         cmm,
         tr,
@@ -201,6 +219,20 @@ pub fn reposition(
         opts.approach_speed_mm_s,
         opts,
     )
+}
+
+/// Moves the undeflected ball centre to `target` in a straight line at up
+/// to `speed` as part of an approach: contact on the way is expected (a
+/// passive scan's start lies inside the surface by the deflection).
+pub fn approach_to(
+    cmm: &mut dyn Machine,
+    tr: &mut Tracker,
+    target: Point3,
+    speed: f64,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    tr.enter(cmm, Phase::Approach);
+    travel(cmm, tr, &[target], speed, 0.0, opts)
 }
 
 /// Waypoints over the clearance height from `here` to the point outside
@@ -274,6 +306,7 @@ pub(super) fn travel(
     let max_dv = a * cmm.cycle_s();
     let mut v_prev = tr.command;
     let mut k = 0;
+    let mut guard = Guard::new(tr, opts);
     for _ in 0..opts.max_cycles {
         let here = tr.ball_undeflected();
         while k + 1 < waypoints.len()
@@ -299,9 +332,39 @@ pub(super) fn travel(
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
+        guard.check(tr, opts)?;
         v_prev = v;
     }
     Err(Outcome::Aborted)
+}
+
+/// The ball's collision watch of a move that does not measure: once the
+/// stylus is free (at the start, or after backing off a surface), any
+/// deflection above the contact threshold is a collision of the ball.
+/// Approaches (contact expected) are not watched.
+struct Guard {
+    watching: bool,
+    free: bool,
+}
+
+impl Guard {
+    fn new(tr: &Tracker, opts: &ModeOptions) -> Guard {
+        Guard {
+            watching: matches!(tr.phase, Phase::Position | Phase::Retract),
+            free: tr.deflection() < opts.contact_mm,
+        }
+    }
+
+    fn check(&mut self, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
+        let touching = tr.deflection() >= opts.contact_mm;
+        if self.watching && self.free && touching {
+            let at = tr.measured().map_or(tr.ball_undeflected(), |m| m.point);
+            let speed = tr.command.norm();
+            return Err(tr.struck(ProbePart::Ball, at, speed));
+        }
+        self.free |= !touching;
+        Ok(())
+    }
 }
 
 /// Whether a move with the last waypoint `err` away has ended.

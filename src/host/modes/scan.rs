@@ -3,8 +3,9 @@
 //! active (`V = Gf Vf + Ge Ve + Gc Vc2`: follow the path, hold the deflection
 //! along the measured normal, correct sideways only; fail when the
 //! trajectory error `dL` leaves its tolerance).
+use super::motion::approach_to;
 use super::touch::finish;
-use super::{move_to, reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::host::path::{
     BallPath, PathLocation, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan,
@@ -64,13 +65,13 @@ impl ScanPlan {
 /// passive or active as planned.
 pub fn design_value_scan(
     cmm: &mut dyn Machine,
-    probe: HostProbe,
+    (probe, free): (HostProbe, Option<&dyn FreeSpace>),
     path: &BallPath,
     plan: &ScanPlan,
     targets: ScanTargets,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free);
     let mut max_dl = 0.0;
     let kind = plan.kind();
     let result =
@@ -98,7 +99,7 @@ fn approach(
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
     reposition(cmm, tr, scan_start(path, ep, opts), n0, opts)?;
     if kind == ScanKind::Passive {
-        move_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
+        approach_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
         tr.enter(cmm, Phase::Scan);
         return Ok(());
     }

@@ -1,7 +1,7 @@
 //! Touch-point measurement: approach along the nominal normal until the
 //! deflection reaches the trigger, record, retract.
 use super::motion::travel;
-use super::{reposition, Attempt, HostProbe, ModeOptions, Outcome, Tracker};
+use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 
@@ -9,13 +9,13 @@ use crate::math::{Point3, Vec3};
 /// normal `normal`. Contact is searched up to `search_mm` past the nominal.
 pub fn touch_point(
     cmm: &mut dyn Machine,
-    probe: HostProbe,
+    (probe, free): (HostProbe, Option<&dyn FreeSpace>),
     nominal: Point3,
     normal: Vec3,
     search_mm: f64,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free);
     let start = touch_start(probe, nominal, normal, opts);
     let outcome = reposition(cmm, &mut tr, start, normal, opts)
         .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))

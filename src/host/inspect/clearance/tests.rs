@@ -21,6 +21,7 @@ fn sphere_clearance(wp: &Workpiece) -> PartClearance<'_> {
         },
         stylus: Vec3::new(0.0, 0.0, 10.0),
         tip_radius_mm: 1.5,
+        body: None,
         opts: ClearanceOptions::default(),
     }
 }
@@ -105,6 +106,7 @@ fn blade_clearance(wp: &Workpiece, pose: Pose) -> PartClearance<'_> {
         pose,
         stylus: Vec3::new(0.0, 0.0, 50.0),
         tip_radius_mm: 1.5,
+        body: None,
         opts: ClearanceOptions::default(),
     }
 }
@@ -130,6 +132,7 @@ fn with_program<T>(name: &str, check: impl FnOnce(&PartClearance) -> T) -> T {
         pose: program.placement,
         stylus: Vec3::new(0.0, 0.0, program.probe.stylus_length_mm),
         tip_radius_mm: program.probe.tip_radius_mm,
+        body: None,
         opts: ClearanceOptions::default(),
     })
 }

@@ -1,0 +1,143 @@
+//! Collision-free routes between measurements, from the design data.
+//!
+//! A route from where the probe is to a probing start point (ball centre)
+//! that arrives along the approach direction is a list of straight legs,
+//! each checked with the probe's ball, stylus and body against the nominal
+//! part ([`FreeSpace`]). The candidates, tried in order, the first whose
+//! every leg is clear taken:
+//! 1. straight to the target, when it is within the standoff;
+//! 2. straight to an entry point outside the target, then in;
+//! 3. up to the clearance height, across, down to an entry point and in,
+//!    for entry points farther and nearer along the approach direction
+//!    (a bore or a pocket is entered inside its opening: the entry point
+//!    sits over the target, not beyond the wall) and finally right above
+//!    the target.
+//!
+//! All candidates are tried first with the full clearance margin, then with
+//! the tight one (narrow openings). When none is clear the move is refused
+//! ([`Outcome::Blocked`](super::Outcome::Blocked)): the software never
+//! drives the probe on a path it knows to hit the part.
+use super::{FreeSpace, ModeOptions};
+use crate::math::{Point3, Vec3};
+
+/// Distances of the entry points from the target along the approach
+/// direction, mm, farthest first (0: straight above the target).
+const ENTRY_MM: [f64; 5] = [15.0, 10.0, 5.0, 2.0, 0.0];
+
+/// Waypoints (after `here`, ending on `target`) of a clear route, or `None`
+/// when no candidate is clear. `clearance_z` is the machine z of the
+/// clearance height (`None`: straight moves only).
+pub fn plan(
+    free: &dyn FreeSpace,
+    here: Point3,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Option<Vec<Point3>> {
+    let candidates = candidates(here, target, approach, opts);
+    [false, true].into_iter().find_map(|tight| {
+        candidates
+            .iter()
+            .find(|c| legs_clear(free, here, c, tight))
+            .cloned()
+    })
+}
+
+/// The candidate routes in the order they are tried.
+fn candidates(
+    here: Point3,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Vec<Vec<Point3>> {
+    let mut out = Vec::new();
+    if (here - target).norm() <= opts.standoff_mm {
+        out.push(vec![target]);
+    }
+    let entries = ENTRY_MM.map(|d| target + approach * d);
+    out.extend(entries.iter().map(|&e| vec![e, target]));
+    if let Some(z) = opts.clearance_z_mm {
+        let top = z.max(here.z);
+        let up = Point3::new(here.x, here.y, top);
+        out.extend(entries.iter().map(|&e| {
+            let over = Point3::new(e.x, e.y, top.max(e.z));
+            vec![up, over, e, target]
+        }));
+    }
+    for route in &mut out {
+        route.dedup_by(|a, b| (*a - *b).norm() < 1e-9);
+    }
+    out
+}
+
+/// Whether every leg of `route` from `here` is clear.
+fn legs_clear(free: &dyn FreeSpace, here: Point3, route: &[Point3], tight: bool) -> bool {
+    let mut from = here;
+    route.iter().all(|&to| {
+        let clear = (to - from).norm() < 1e-9 || free.segment_clear_with(from, to, tight);
+        from = to;
+        clear
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Free space outside a vertical hole of radius `r_hole` through a
+    /// slab `z in [0, 10]`, for a point probe (no stylus): an independent
+    /// analytic obstacle.
+    struct Slab {
+        r_hole: f64,
+    }
+
+    impl FreeSpace for Slab {
+        fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+            (0..=200).all(|k| {
+                let p = from + (to - from) * (k as f64 / 200.0);
+                let inside_slab = (0.0..=10.0).contains(&p.z);
+                !inside_slab || p.xy().coords.norm() < self.r_hole
+            })
+        }
+    }
+
+    fn opts() -> ModeOptions {
+        ModeOptions {
+            clearance_z_mm: Some(30.0),
+            ..ModeOptions::default()
+        }
+    }
+
+    #[test]
+    fn enters_a_hole_inside_its_opening() {
+        // Target on the hole's wall (r = 4 of a 6 mm hole), approach
+        // towards the axis: the 15 mm and 10 mm entry points lie beyond
+        // the far wall; the route comes down inside the hole.
+        let free = Slab { r_hole: 6.0 };
+        let target = Point3::new(4.0, 0.0, 5.0);
+        let here = Point3::new(40.0, 0.0, 20.0);
+        let route = plan(&free, here, target, -Vec3::x(), &opts()).expect("a route");
+        let entry = route[route.len() - 2];
+        assert!(entry.xy().coords.norm() < 6.0, "entry {entry:?}");
+        assert!(legs_clear(&free, here, &route, false));
+        assert_eq!(route.last(), Some(&target));
+    }
+
+    #[test]
+    fn refuses_a_target_inside_a_closed_cavity() {
+        // A point under the slab with no hole: no route reaches it.
+        let free = Slab { r_hole: 0.0 };
+        let target = Point3::new(0.0, 0.0, -5.0);
+        let here = Point3::new(40.0, 0.0, 20.0);
+        assert_eq!(plan(&free, here, target, -Vec3::z(), &opts()), None);
+    }
+
+    #[test]
+    fn goes_straight_when_nothing_is_in_the_way() {
+        let free = Slab { r_hole: 100.0 };
+        let target = Point3::new(4.0, 0.0, 5.0);
+        let here = Point3::new(10.0, 0.0, 5.0);
+        let route = plan(&free, here, target, Vec3::x(), &opts()).expect("a route");
+        assert_eq!(route.len(), 2, "{route:?}");
+    }
+}
