@@ -46,6 +46,7 @@ fn clear_moves_keep_the_margin_and_refused_ones_do_not() {
         },
         stylus: Vec3::new(0.0, 0.0, 10.0),
         tip_radius_mm: 1.5,
+        shaft_radius_mm: 1.0,
         body: None,
         opts,
     };

@@ -9,6 +9,7 @@
 
 pub mod batch;
 pub mod calibrate;
+pub mod reach;
 mod run;
 
 use std::path::Path;

@@ -13,7 +13,7 @@ use crate::evaluate::nominal::point_reports;
 use crate::evaluate::truth::{fill_true_deviations, Frames};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::inspect::align::{align, AlignOptions};
-use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
+use crate::host::inspect::clearance::ClearanceOptions;
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
 use crate::host::inspect::LearnedSet;
@@ -227,17 +227,7 @@ fn measure_program<'p>(
         Ok(a) => a,
         Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
-    let free = PartClearance {
-        workpiece: &aligned.workpiece,
-        pose: aligned.placement,
-        stylus: -host_probe.probe_vector,
-        tip_radius_mm: host_probe.tip_radius_mm,
-        body: Some(ProbeBody {
-            radius_mm: aligned.probe.body_radius_mm,
-            length_mm: aligned.probe.body_length_mm,
-        }),
-        opts: opts.clearance,
-    };
+    let free = super::reach::part_clearance(&aligned, host_probe, opts.clearance);
     let run = Run {
         program: &aligned,
         probe: host_probe,
@@ -396,6 +386,6 @@ fn overall(features: &[FeatureReport]) -> Verdict {
 }
 
 /// The stylus vector of the program's probe (straight down), mm.
-fn probe_vector(program: &Program) -> Vec3 {
+pub(super) fn probe_vector(program: &Program) -> Vec3 {
     Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm)
 }

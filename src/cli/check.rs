@@ -15,11 +15,19 @@ pub struct CheckArgs {
 
 /// Runs `cmm check`.
 pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
+    let mut status = Status::Pass;
     for path in &args.programs {
         // The scenario is validated too (a program's `as_machined` block).
         let program = crate::app::load(path)?.program;
+        let unreachable = crate::app::reach::unreachable_features(&program);
+        let verdict = if unreachable.is_empty() {
+            "ok"
+        } else {
+            status = Status::Incomplete;
+            "not measurable as programmed"
+        };
         let mut lines = vec![format!(
-            "{}: ok: program '{}', workpiece '{}' ({} surfaces), {} features",
+            "{}: {verdict}: program '{}', workpiece '{}' ({} surfaces), {} features",
             path.display(),
             program.name,
             program.workpiece.name,
@@ -29,9 +37,12 @@ pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
         for f in &program.features {
             lines.push(format!("  {}", describe(f)));
         }
+        for (name, k, why) in unreachable {
+            lines.push(format!("  {name} [{k}]: not reachable: {why}"));
+        }
         super::say(&(lines.join("\n") + "\n"))?;
     }
-    Ok(Status::Pass)
+    Ok(status)
 }
 
 fn describe(f: &Feature) -> String {

@@ -78,8 +78,8 @@ pub struct ProbeSpec {
     #[serde(default = "default_stylus")]
     pub stylus_length_mm: f64,
     /// Diameter of the stylus shaft (stem) between the ball and the probe
-    /// mount, mm; default two thirds of the tip diameter (2 mm for a 3 mm
-    /// ball, as on common M2/M3 styli).
+    /// mount, mm; default half the tip diameter (a 3 mm ball on a 1.5 mm
+    /// stem, as on common M2 styli).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub shaft_diameter_mm: Option<f64>,
     /// Diameter of the probe body above the probe mount, mm (a cylinder;

@@ -223,7 +223,7 @@ fn probe_body(cx: &Ctx, spec: &ProgramFile, tip: f64) -> Result<(f64, f64, f64),
     let p = &spec.probe;
     let shaft_path = "$.probe.shaft_diameter_mm";
     let shaft = cx.positive(
-        p.shaft_diameter_mm.unwrap_or(tip * 2.0 / 3.0),
+        p.shaft_diameter_mm.unwrap_or(tip * 0.5),
         tip,
         shaft_path.into(),
     )?;

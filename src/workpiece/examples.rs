@@ -131,19 +131,22 @@ const PRESSURE: [[f64; 2]; 8] = [
     [60., 0.],
 ];
 
-/// Span stations of the blade (z, twist in degrees, chord scale).
+/// Span stations of the blade (z, twist in degrees, chord scale). The
+/// blade tapers without a twist: every section lies inside the ones below
+/// it, so a vertical stylus reaches all of its surface (a twisted blade
+/// overhangs its own sections near the edges and needs a tilted stylus).
 const STATIONS: [(f64, f64, f64); 6] = [
     (0., 0., 1.0),
-    (20., 3., 0.96),
-    (40., 6., 0.92),
-    (60., 9., 0.88),
-    (80., 12., 0.84),
-    (100., 15., 0.8),
+    (20., 0., 0.96),
+    (40., 0., 0.92),
+    (60., 0., 0.88),
+    (80., 0., 0.84),
+    (100., 0., 0.8),
 ];
 
 /// A turbine-blade-like loft: two bicubic surfaces (pressure and suction
 /// side) meeting tangentially at the leading and trailing edges, 100 mm span,
-/// twisted and tapered; every z-section is a closed smooth profile.
+/// tapered; every z-section is a closed smooth profile.
 pub fn blade() -> WorkpieceFile {
     let side = |name: &str, poly: &[[f64; 2]; 8], reversed: bool| SurfaceSpec {
         name: name.into(),

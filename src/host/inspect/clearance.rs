@@ -29,6 +29,7 @@
 use crate::host::modes::FreeSpace;
 use crate::math::{Point3, Vec3};
 use crate::program::Pose;
+use crate::seam::ProbePart;
 use crate::workpiece::{FootHint, Workpiece};
 
 /// Smallest sampling step the check accepts, mm (a floor for a zero or
@@ -53,6 +54,10 @@ pub struct ClearanceOptions {
     /// (into narrow bores and pockets), mm: still above the as-machined
     /// part's deviation from the design that a program tolerates.
     pub tight_margin_mm: f64,
+    /// Free distance the shaft and the body keep from the part while the
+    /// ball measures, mm (the shaft runs close beside a bore's wall: the
+    /// ball radius less the shaft radius).
+    pub posture_margin_mm: f64,
 }
 
 impl Default for ClearanceOptions {
@@ -61,12 +66,18 @@ impl Default for ClearanceOptions {
             margin_mm: 4.0,
             step_mm: 2.0,
             tight_margin_mm: 1.0,
+            posture_margin_mm: 0.1,
         }
     }
 }
 
 /// The probe body above the stylus: a cylinder from the probe mount on,
-/// along the stylus (away from the ball).
+/// along the stylus (away from the ball). The check takes the points
+/// within its radius of its axis from one radius above the mount to its
+/// top (a capsule whose lower cap ends at the mount): the cylinder's flat
+/// end holds no more than that cap below its rim, so the check never
+/// refuses a posture for the part lying just below the body, and leaves
+/// out only the ring between the cap and the flat end's rim.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProbeBody {
     /// Radius, mm.
@@ -85,6 +96,8 @@ pub struct PartClearance<'w> {
     pub stylus: Vec3,
     /// Ball radius, mm.
     pub tip_radius_mm: f64,
+    /// Stylus shaft radius, mm.
+    pub shaft_radius_mm: f64,
     /// The probe body (`None`: the stylus only).
     pub body: Option<ProbeBody>,
     /// Margins.
@@ -311,14 +324,32 @@ impl PartClearance<'_> {
     /// closer than the required distance; projection failures count as
     /// touching (0).
     fn distance_bound(&self, q: Point3, check: &mut AreaCheck) -> f64 {
-        let faces = self.workpiece.faces.iter().zip(&mut check.leaves);
-        let bounds = faces.map(|(f, hint)| {
-            let (d, nearest) = f.index.box_distance_near(q, *hint);
-            *hint = nearest;
-            d
-        });
+        // Each face's root box first; a face's leaf boxes are searched only
+        // when its root box comes nearer than the nearest leaf box found so
+        // far (the face met last first): the root distance bounds the rest.
+        let faces = &self.workpiece.faces;
         check.bounds.clear();
-        check.bounds.extend(bounds);
+        check
+            .bounds
+            .extend(faces.iter().map(|f| f.index.lower_bound(q)));
+        let mut best = f64::INFINITY;
+        let first = check.near_face.min(faces.len().saturating_sub(1));
+        let order = (0..faces.len()).map(|k| (first + k) % faces.len());
+        for i in order {
+            let (Some(f), Some(hint), Some(b)) = (
+                faces.get(i),
+                check.leaves.get_mut(i),
+                check.bounds.get_mut(i),
+            ) else {
+                continue;
+            };
+            if *b >= best {
+                continue;
+            }
+            let (d, nearest) = f.index.box_distance_near(q, *hint);
+            (*hint, *b) = (nearest, d);
+            best = best.min(d);
+        }
         let bound = check.bounds.iter().copied().fold(f64::INFINITY, f64::min);
         if bound >= check.need {
             return bound;
@@ -412,9 +443,9 @@ impl PartClearance<'_> {
     /// The area the probe body sweeps when the ball centre moves from
     /// `from` to `to` (machine), in part coordinates.
     fn body_swept(&self, from: Point3, to: Point3, body: &ProbeBody) -> Option<Piece> {
-        let up = self.stylus.try_normalize(1e-12)?;
-        Some(self.swept(from + self.stylus, to + self.stylus)).map(|p| Piece {
-            b: self.pose.to_part(from + self.stylus + up * body.length_mm) - p.origin,
+        let (bottom, top) = body_axis(self.stylus, body)?;
+        Some(self.swept(from + bottom, to + bottom)).map(|p| Piece {
+            b: self.pose.to_part(from + top) - p.origin,
             ..p
         })
     }
@@ -437,9 +468,66 @@ impl PartClearance<'_> {
     }
 }
 
+impl PartClearance<'_> {
+    /// Whether the shaft (`body`: false) or the body standing with the
+    /// ball centre at `ball` (machine) keeps the posture margin.
+    fn standing_clear(&self, ball: Point3, body: bool) -> bool {
+        let step = self.opts.step_mm.max(MIN_STEP_MM);
+        let margin = self.opts.posture_margin_mm;
+        let piece = |origin: Point3, b: Vec3| Piece {
+            origin: self.pose.to_part(origin),
+            a: Vec3::zeros(),
+            b: self.pose.to_part(origin + b) - self.pose.to_part(origin),
+            rim: Rim {
+                path: true,
+                start: true,
+                end: true,
+            },
+        };
+        let finite = ball.iter().all(|x| x.is_finite());
+        match (body, self.body, self.stylus.try_normalize(1e-12)) {
+            (false, _, _) => {
+                finite
+                    && self.area_clear(
+                        piece(ball, self.stylus),
+                        self.shaft_radius_mm + margin,
+                        step,
+                    )
+            }
+            (true, Some(b), Some(_)) => match body_axis(self.stylus, &b) {
+                Some((bottom, top)) => {
+                    let area = piece(ball + bottom, top - bottom);
+                    finite && self.area_clear(area, b.radius_mm + margin, step)
+                }
+                None => true,
+            },
+            (true, _, _) => true,
+        }
+    }
+}
+
+/// The body's checked axis from the ball centre, mm: from one body radius
+/// above the probe mount to the body's top (`None`: no stylus direction,
+/// or a body no longer than its radius, which the stylus check covers).
+fn body_axis(stylus: Vec3, body: &ProbeBody) -> Option<(Vec3, Vec3)> {
+    let up = stylus.try_normalize(1e-12)?;
+    let (bottom, top) = (body.radius_mm, body.length_mm);
+    (top > bottom).then(|| (stylus + up * bottom, stylus + up * top))
+}
+
 impl FreeSpace for PartClearance<'_> {
     fn segment_clear(&self, from: Point3, to: Point3) -> bool {
         self.probe_clear(from, to, self.opts.margin_mm)
+    }
+
+    fn posture(&self, ball: Point3) -> Option<ProbePart> {
+        if !self.standing_clear(ball, false) {
+            Some(ProbePart::Shaft)
+        } else if !self.standing_clear(ball, true) {
+            Some(ProbePart::Body)
+        } else {
+            None
+        }
     }
 
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {

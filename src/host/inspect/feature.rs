@@ -1,6 +1,7 @@
 //! One feature of a program measured on the machine, with the
 //! supervisor's corrections and fallbacks.
 use super::correction::DesignPoint;
+use super::reach::{Reach, Unreachable};
 use super::record::{AttemptMode, FeatureKind};
 use super::supervisor::{scan_curve, SupervisorOptions};
 use super::{CurveCtx, CurveResult, LearnedSet};
@@ -75,6 +76,15 @@ pub fn measure_feature(
                             normal: p.normal,
                         })
                         .collect();
+                    let reach = free.map(|free| Reach {
+                        free,
+                        pose: program.placement,
+                        probe,
+                        modes,
+                    });
+                    if let Some(Err(u)) = reach.map(|r| r.curve(&design)) {
+                        return not_measured(u);
+                    }
                     let key = (name.clone(), k);
                     let learned = known
                         .iter()
@@ -108,6 +118,21 @@ pub fn measure_feature(
                 ..CurveResult::default()
             };
             for p in points {
+                let reach = free.map(|free| Reach {
+                    free,
+                    pose: program.placement,
+                    probe,
+                    modes,
+                });
+                let d = DesignPoint {
+                    point: p.point,
+                    normal: p.normal,
+                };
+                if let Some(Err(u)) = reach.map(|r| r.touch(&d)) {
+                    res.notes.push(format!("touch point not measured: {u}"));
+                    res.complete = false;
+                    continue;
+                }
                 let (m, n) = (
                     program.placement.to_machine(p.point),
                     program.placement.dir_to_machine(p.normal),
@@ -132,5 +157,13 @@ pub fn measure_feature(
         faces,
         tolerance,
         kind,
+    }
+}
+
+/// The result of a curve the probe cannot measure.
+fn not_measured(why: Unreachable) -> CurveResult {
+    CurveResult {
+        notes: vec![format!("not measured: {why}")],
+        ..CurveResult::default()
     }
 }

@@ -10,6 +10,7 @@ pub mod correction;
 pub mod feature;
 pub mod learned;
 pub mod prepared;
+pub mod reach;
 pub mod record;
 pub mod supervisor;
 

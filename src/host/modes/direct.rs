@@ -5,6 +5,7 @@ use super::motion::{free_stylus, travel};
 use super::{HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::Point3;
+use crate::seam::ProbePart;
 
 /// Free space around the part, as the measuring software knows it.
 pub trait FreeSpace {
@@ -18,6 +19,13 @@ pub trait FreeSpace {
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {
         let _ = tight;
         self.segment_clear(from, to)
+    }
+
+    /// The part of the probe (other than the ball) that would strike the
+    /// part with the ball centre at `ball` (machine coordinates), if any.
+    fn posture(&self, ball: Point3) -> Option<ProbePart> {
+        let _ = ball;
+        None
     }
 }
 

@@ -43,6 +43,20 @@ pub fn plan(
     })
 }
 
+/// Whether a route comes to `target` from the clearance height straight
+/// above it (the start of a feature's measuring, wherever the probe is
+/// before it: every route goes over the clearance height at worst).
+pub fn route_from_above(
+    free: &dyn FreeSpace,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> bool {
+    let z = opts.clearance_z_mm.unwrap_or(target.z).max(target.z);
+    let above = Point3::new(target.x, target.y, z);
+    plan(free, above, target, approach, opts).is_some()
+}
+
 /// The candidate routes in the order they are tried.
 fn candidates(
     here: Point3,

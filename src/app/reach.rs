@@ -1,0 +1,72 @@
+//! Whether the probe can measure a program's features, from the design
+//! data alone (`cmm check`; the scan checks each feature the same way
+//! before measuring it).
+use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
+use crate::host::inspect::correction::DesignPoint;
+use crate::host::inspect::reach::{Reach, Unreachable};
+use crate::host::modes::{HostProbe, ModeOptions};
+use crate::program::limits::start_position;
+use crate::program::{Feature, Program};
+
+/// The nominal part's free space for the probe `probe` of `program`.
+pub fn part_clearance<'p>(
+    program: &'p Program,
+    probe: HostProbe,
+    opts: ClearanceOptions,
+) -> PartClearance<'p> {
+    PartClearance {
+        workpiece: &program.workpiece,
+        pose: program.placement,
+        stylus: -probe.probe_vector,
+        tip_radius_mm: probe.tip_radius_mm,
+        shaft_radius_mm: program.probe.shaft_radius_mm,
+        body: Some(ProbeBody {
+            radius_mm: program.probe.body_radius_mm,
+            length_mm: program.probe.body_length_mm,
+        }),
+        opts,
+    }
+}
+
+/// Every feature (name, section curve index or touch point index) that the
+/// program's nominal probe cannot measure, and why.
+pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachable)> {
+    let probe = HostProbe::nominal(
+        super::run::probe_vector(program),
+        program.probe.tip_radius_mm,
+    );
+    let free = part_clearance(program, probe, ClearanceOptions::default());
+    let modes = ModeOptions {
+        clearance_z_mm: Some(start_position(program).1),
+        ..ModeOptions::default()
+    };
+    let reach = Reach {
+        free: &free,
+        pose: program.placement,
+        probe,
+        modes: &modes,
+    };
+    let design = |point, normal| DesignPoint { point, normal };
+    let mut out = Vec::new();
+    for f in &program.features {
+        match f {
+            Feature::Section { name, curves, .. } => {
+                for (k, c) in curves.iter().enumerate() {
+                    let pts: Vec<DesignPoint> =
+                        c.points.iter().map(|p| design(p.point, p.normal)).collect();
+                    if let Err(u) = reach.curve(&pts) {
+                        out.push((name.clone(), k, u));
+                    }
+                }
+            }
+            Feature::Touch { name, points, .. } => {
+                for (k, p) in points.iter().enumerate() {
+                    if let Err(u) = reach.touch(&design(p.point, p.normal)) {
+                        out.push((name.clone(), k, u));
+                    }
+                }
+            }
+        }
+    }
+    out
+}

@@ -1,0 +1,122 @@
+//! Whether the probe can measure a feature, from the design data: standing
+//! at the points of its ball path with the stylus shaft and the probe body
+//! clear of the part, and with a clear route from the clearance height to
+//! where its measuring starts. A feature that fails is not measured (a
+//! real machine would crash or measure the wrong surface); `cmm check`
+//! names it.
+use std::fmt;
+
+use super::correction::DesignPoint;
+use crate::host::modes::{route_from_above, FreeSpace, HostProbe, ModeOptions};
+use crate::math::Point3;
+use crate::program::Pose;
+use crate::seam::ProbePart;
+
+/// Spacing of the ball-path points whose posture is checked, mm.
+const POSTURE_STEP_MM: f64 = 2.0;
+
+/// Why a feature cannot be measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Unreachable {
+    /// With the ball centre at `ball` (part coordinates, mm) this part of
+    /// the probe would be inside the part or too close to it.
+    Strikes {
+        /// The part of the probe.
+        probe_part: ProbePart,
+        /// Ball centre, part coordinates, mm.
+        ball: Point3,
+    },
+    /// No route from the clearance height to the start point `start`
+    /// (ball centre, part coordinates, mm) is clear of the part.
+    NoRoute {
+        /// Ball centre at the start, part coordinates, mm.
+        start: Point3,
+    },
+}
+
+impl fmt::Display for Unreachable {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Unreachable::Strikes { probe_part, ball } => write!(
+                f,
+                "the probe's {} would strike the part with the ball centre at ({:.3}, {:.3}, {:.3})",
+                probe_part.name(),
+                ball.x,
+                ball.y,
+                ball.z
+            ),
+            Unreachable::NoRoute { start } => write!(
+                f,
+                "no route from the clearance height to the start ({:.3}, {:.3}, {:.3}) is clear of the part",
+                start.x, start.y, start.z
+            ),
+        }
+    }
+}
+
+/// What the check needs.
+#[derive(Clone, Copy)]
+pub struct Reach<'a> {
+    /// The nominal part's free space.
+    pub free: &'a dyn FreeSpace,
+    /// Part to machine.
+    pub pose: Pose,
+    /// The probe as the host knows it.
+    pub probe: HostProbe,
+    /// Standoff and clearance height.
+    pub modes: &'a ModeOptions,
+}
+
+impl Reach<'_> {
+    /// Whether a scan along `design` (part coordinates) can be measured:
+    /// the probe's posture every [`POSTURE_STEP_MM`] along the ball path,
+    /// and the route to its start.
+    pub fn curve(&self, design: &[DesignPoint]) -> Result<(), Unreachable> {
+        let Some(first) = design.first() else {
+            return Ok(());
+        };
+        self.start(first)?;
+        let mut last: Option<Point3> = None;
+        for d in design {
+            let ball = self.ball(d);
+            if last.is_some_and(|l| (ball - l).norm() < POSTURE_STEP_MM) {
+                continue;
+            }
+            last = Some(ball);
+            self.posture(ball)?;
+        }
+        self.posture(design.last().map_or(self.ball(first), |d| self.ball(d)))
+    }
+
+    /// Whether a touch point at `d` (part coordinates) can be measured.
+    pub fn touch(&self, d: &DesignPoint) -> Result<(), Unreachable> {
+        self.start(d)?;
+        self.posture(self.ball(d))
+    }
+
+    /// The ball centre touching the design at `d`, part coordinates.
+    fn ball(&self, d: &DesignPoint) -> Point3 {
+        d.point + d.normal * self.probe.tip_radius_mm
+    }
+
+    fn posture(&self, ball: Point3) -> Result<(), Unreachable> {
+        match self.free.posture(self.pose.to_machine(ball)) {
+            Some(probe_part) => Err(Unreachable::Strikes { probe_part, ball }),
+            None => Ok(()),
+        }
+    }
+
+    /// The route to the approach start outside `d`.
+    fn start(&self, d: &DesignPoint) -> Result<(), Unreachable> {
+        let standoff = self.probe.tip_radius_mm + self.modes.standoff_mm;
+        let start = d.point + d.normal * standoff;
+        let (at, n) = (
+            self.pose.to_machine(start),
+            self.pose.dir_to_machine(d.normal),
+        );
+        match route_from_above(self.free, at, n, self.modes) {
+            true => Ok(()),
+            false => Err(Unreachable::NoRoute { start }),
+        }
+    }
+}
