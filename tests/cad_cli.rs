@@ -368,13 +368,26 @@ fn part_program_may_name_a_step_workpiece() {
         "format": "cmm-program/1", "name": "io1", "workpiece": s(&src),
         "placement": { "translate_mm": [350, 500, 150], "rotate_deg": [0, 0, 0] },
         "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
-        "features": [ { "name": "mid", "type": "section_scan",
+        // The flange's outer cylinder (its two halves, by the names
+        // `cmm import` gives) where the plane z = 40 cuts it.
+        "features": [ { "name": "flange", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 40], "normal": [0, 0, 1] },
+            "surfaces": ["face1", "face20"], "tolerance_mm": [-0.1, 0.1] },
+          // The part is a flanged ring lying on its side (axis along x):
+          // at z = 5 the plane cuts its bore, which a vertical stylus
+          // cannot enter.
+          { "name": "low", "type": "section_scan",
             "plane": { "origin_mm": [0, 0, 5], "normal": [0, 0, 1] },
             "tolerance_mm": [-0.1, 0.1] } ]
     });
     std::fs::write(&prog, text.to_string()).unwrap();
     let run = cmm(&["check", s(&prog)]);
     let stdout = String::from_utf8_lossy(&run.stdout);
-    assert_eq!(run.status.code(), Some(0), "{stdout}");
+    assert_eq!(run.status.code(), Some(3), "{stdout}");
     assert!(stdout.contains("(29 surfaces)"), "{stdout}");
+    assert!(!stdout.contains("flange ["), "{stdout}");
+    assert!(
+        stdout.contains("low [") && stdout.contains("not reachable"),
+        "{stdout}"
+    );
 }

@@ -67,7 +67,7 @@ fn calibrate(out: &Path, extra: &[&str]) {
 fn calibration_file_and_blade_scan_error_drops() {
     let dir = tempfile::tempdir().unwrap();
     let cal = dir.path().join("probe-cal.json");
-    calibrate(&cal, &["--seed", "3"]);
+    calibrate(&cal, &["--seed", "3", "--stylus-length", "100"]);
     let file = json(&cal);
     assert_eq!(file["format"], "cmm-probe-cal/1");
     for key in ["probe_vector_mm", "sphere_center_mm"] {
@@ -102,7 +102,17 @@ fn calibration_under_other_conditions_still_helps() {
     // the two is also the other direction.
     for dirn in ["cw", "ccw"] {
         let cal = dir.path().join(format!("{dirn}.json"));
-        calibrate(&cal, &["--deflections", "0.2", "--directions", dirn]);
+        calibrate(
+            &cal,
+            &[
+                "--deflections",
+                "0.2",
+                "--directions",
+                dirn,
+                "--stylus-length",
+                "100",
+            ],
+        );
         let err = rms_error(&scan(&program, Some(&cal), &dir.path().join(dirn)));
         assert!(err < 0.7 * nominal, "{dirn}: {nominal} -> {err} mm");
     }
@@ -171,13 +181,13 @@ fn simulation_truth_is_accepted_and_ignored() {
 fn program_probe_calibration_is_used_and_checked() {
     let dir = tempfile::tempdir().unwrap();
     let cal = dir.path().join("cal.json");
-    calibrate(&cal, &["--ideal"]);
+    calibrate(&cal, &["--ideal", "--stylus-length", "100"]);
     let text = std::fs::read_to_string(repo("part-programs/blade-z60.json")).unwrap();
     let wp = s(&repo("workpieces/blade.json"));
     let with_cal = |name: &str| {
         text.replace("../workpieces/blade.json", &wp).replace(
-            "\"stylus_length_mm\": 50 }",
-            &format!("\"stylus_length_mm\": 50, \"calibration\": \"{name}\" }}"),
+            "\"stylus_length_mm\": 100 }",
+            &format!("\"stylus_length_mm\": 100, \"calibration\": \"{name}\" }}"),
         )
     };
     let program = dir.path().join("p.json");

@@ -13,7 +13,7 @@ fn program(as_machined: Value, features: Value) -> Value {
         "format": "cmm-program/1", "name": "t",
         "workpiece": common::repo("workpieces/blade.json").to_string_lossy(),
         "placement": { "translate_mm": [350, 500, 150], "rotate_deg": [0, 0, 0] },
-        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
         "as_machined": as_machined,
         "features": features
     })

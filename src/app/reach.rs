@@ -2,6 +2,7 @@
 //! data alone (`cmm check`; the scan checks each feature the same way
 //! before measuring it).
 use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
+use crate::host::inspect::corners::{reachable_points, CornerOptions};
 use crate::host::inspect::correction::DesignPoint;
 use crate::host::inspect::reach::{Reach, Unreachable};
 use crate::host::modes::{HostProbe, ModeOptions};
@@ -54,6 +55,8 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
                 for (k, c) in curves.iter().enumerate() {
                     let pts: Vec<DesignPoint> =
                         c.points.iter().map(|p| design(p.point, p.normal)).collect();
+                    let (r, opts) = (probe.tip_radius_mm, CornerOptions::default());
+                    let pts = reachable_points(&pts, c.closed, &program.workpiece, r, &opts);
                     if let Err(u) = reach.curve(&pts) {
                         out.push((name.clone(), k, u));
                     }

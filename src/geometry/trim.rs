@@ -15,6 +15,58 @@ pub struct Trim {
     /// The loop edges' images on the trimmed surface, made on first use
     /// (a trim belongs to one surface).
     chords: OnceLock<Vec<Chord>>,
+    /// The loop edges by bands of `v`, made on first use.
+    bands: OnceLock<Bands>,
+}
+
+/// Fewer loop edges than this are tested one by one in [`Trim::contains`].
+const BANDED_EDGES: usize = 32;
+
+/// The loop edges sorted into equal bands of `v`: an edge is in every band
+/// its `v` range meets, so the edges that a horizontal ray at some `v` can
+/// cross are all in that `v`'s band.
+#[derive(Debug, Clone, Default)]
+struct Bands {
+    v0: f64,
+    /// Band height (positive).
+    dv: f64,
+    bands: Vec<Vec<(Vec2, Vec2)>>,
+}
+
+impl Bands {
+    fn new(trim: &Trim) -> Bands {
+        let n = trim.segments().count();
+        let count = ((n as f64).sqrt() * 2.0).ceil().max(1.0) as usize;
+        let (v0, span) = (trim.lo.y, trim.hi.y - trim.lo.y);
+        let dv = if span > 0.0 { span / count as f64 } else { 1.0 };
+        let mut bands = Bands {
+            v0,
+            dv,
+            bands: vec![Vec::new(); count],
+        };
+        for (a, b) in trim.segments() {
+            let (k0, k1) = (bands.band(a.y.min(b.y)), bands.band(a.y.max(b.y)));
+            for band in bands.bands.get_mut(k0..=k1).into_iter().flatten() {
+                band.push((a, b));
+            }
+        }
+        bands
+    }
+
+    /// The band of `v` (clamped to the bands; monotone in `v`).
+    fn band(&self, v: f64) -> usize {
+        let k = ((v - self.v0) / self.dv).floor();
+        (k.max(0.0) as usize).min(self.bands.len().saturating_sub(1))
+    }
+
+    /// Number of edges crossed by the ray from `p` towards +u.
+    fn crossings(&self, p: Vec2) -> usize {
+        let edges = self
+            .bands
+            .get(self.band(p.y))
+            .map_or(&[][..], |b| b.as_slice());
+        edges.iter().filter(|&&(a, b)| crosses(a, b, p)).count()
+    }
 }
 
 impl PartialEq for Trim {
@@ -86,6 +138,7 @@ impl Trim {
             lo,
             hi,
             chords: OnceLock::new(),
+            bands: OnceLock::new(),
         }
     }
 
@@ -101,7 +154,12 @@ impl Trim {
         if uv.x < self.lo.x || uv.x > self.hi.x || uv.y < self.lo.y || uv.y > self.hi.y {
             return false;
         }
-        let crossings: usize = self.loops.iter().map(|l| crossings(l, uv)).sum();
+        let edges: usize = self.loops.iter().map(Vec::len).sum();
+        let crossings: usize = if edges < BANDED_EDGES {
+            self.loops.iter().map(|l| crossings(l, uv)).sum()
+        } else {
+            self.bands.get_or_init(|| Bands::new(self)).crossings(uv)
+        };
         crossings % 2 == 1
     }
 
@@ -121,13 +179,53 @@ impl Trim {
 /// Number of loop edges crossed by the ray from `p` towards +u.
 fn crossings(l: &[Vec2], p: Vec2) -> usize {
     (0..l.len())
-        .filter(|&k| {
-            let (a, b) = (l[k], l[(k + 1) % l.len()]);
-            if (a.y > p.y) == (b.y > p.y) {
-                return false;
-            }
-            let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
-            p.x < x
-        })
+        .filter(|&k| crosses(l[k], l[(k + 1) % l.len()], p))
         .count()
+}
+
+/// Whether the edge `a`-`b` crosses the ray from `p` towards +u.
+fn crosses(a: Vec2, b: Vec2, p: Vec2) -> bool {
+    if (a.y > p.y) == (b.y > p.y) {
+        return false;
+    }
+    let x = a.x + (p.y - a.y) / (b.y - a.y) * (b.x - a.x);
+    p.x < x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// A regular `n`-gon of radius `r` about `c`, counter-clockwise.
+    fn polygon(n: usize, r: f64, c: [f64; 2]) -> Vec<[f64; 2]> {
+        (0..n)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / n as f64;
+                [c[0] + r * a.cos(), c[1] + r * a.sin()]
+            })
+            .collect()
+    }
+
+    /// Inside a convex counter-clockwise polygon: left of every edge.
+    fn inside_convex(poly: &[[f64; 2]], p: Vec2) -> bool {
+        (0..poly.len()).all(|k| {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            (b[0] - a[0]) * (p.y - a[1]) - (b[1] - a[1]) * (p.x - a[0]) > 0.0
+        })
+    }
+
+    #[test]
+    fn banded_containment_agrees_with_half_planes() {
+        // 300 + 120 edges: the banded test (at least BANDED_EDGES edges).
+        let outer = polygon(300, 1.0, [0.5, 0.5]);
+        let hole = polygon(120, 0.3, [0.7, 0.4]);
+        let trim = Trim::new(&outer, std::slice::from_ref(&hole));
+        let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(5);
+        for _ in 0..20_000 {
+            let p = Vec2::new(rng.random::<f64>(), rng.random::<f64>()) * 2.4 - Vec2::repeat(0.7);
+            let want = inside_convex(&outer, p) && !inside_convex(&hole, p);
+            assert_eq!(trim.contains(p), want, "{p:?}");
+        }
+    }
 }

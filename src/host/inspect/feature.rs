@@ -1,5 +1,6 @@
 //! One feature of a program measured on the machine, with the
 //! supervisor's corrections and fallbacks.
+use super::corners::{reachable_points, CornerOptions};
 use super::correction::DesignPoint;
 use super::reach::{Reach, Unreachable};
 use super::record::{AttemptMode, FeatureKind};
@@ -76,6 +77,16 @@ pub fn measure_feature(
                             normal: p.normal,
                         })
                         .collect();
+                    let r = probe.tip_radius_mm;
+                    let corners = CornerOptions::default();
+                    let design =
+                        reachable_points(&design, c.closed, &program.workpiece, r, &corners);
+                    if design.len() < 2 {
+                        return CurveResult {
+                            notes: vec!["not measured: narrower than the ball".into()],
+                            ..CurveResult::default()
+                        };
+                    }
                     let reach = free.map(|free| Reach {
                         free,
                         pose: program.placement,

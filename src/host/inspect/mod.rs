@@ -6,6 +6,7 @@
 
 pub mod align;
 pub mod clearance;
+pub mod corners;
 pub mod correction;
 pub mod feature;
 pub mod learned;
