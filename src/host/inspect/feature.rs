@@ -93,9 +93,15 @@ pub fn measure_feature(
                         probe,
                         modes,
                     });
-                    if let Some(Err(u)) = reach.map(|r| r.curve(&design)) {
-                        return not_measured(u);
-                    }
+                    // No route: not started (the repositioning would refuse
+                    // it). A probe that would strike the part on the way is
+                    // noted and the scan runs: the machine's own collision
+                    // stop ends it where it strikes.
+                    let warning = match reach.map(|r| r.curve(&design)) {
+                        Some(Err(u @ Unreachable::NoRoute { .. })) => return not_measured(u),
+                        Some(Err(u)) => Some(format!("{u}")),
+                        _ => None,
+                    };
                     let key = (name.clone(), k);
                     let learned = known
                         .iter()
@@ -112,7 +118,8 @@ pub fn measure_feature(
                         learned,
                         free,
                     };
-                    let res = scan_curve(&mut ctx, design, c.closed, settings.mode);
+                    let mut res = scan_curve(&mut ctx, design, c.closed, settings.mode);
+                    res.notes.extend(warning);
                     if let Some(l) = &res.learned {
                         learned_out.push((key, l.clone()));
                     }
@@ -139,10 +146,14 @@ pub fn measure_feature(
                     point: p.point,
                     normal: p.normal,
                 };
-                if let Some(Err(u)) = reach.map(|r| r.touch(&d)) {
-                    res.notes.push(format!("touch point not measured: {u}"));
-                    res.complete = false;
-                    continue;
+                match reach.map(|r| r.touch(&d)) {
+                    Some(Err(u @ Unreachable::NoRoute { .. })) => {
+                        res.notes.push(format!("touch point not measured: {u}"));
+                        res.complete = false;
+                        continue;
+                    }
+                    Some(Err(u)) => res.notes.push(format!("touch point: {u}")),
+                    _ => {}
                 }
                 let (m, n) = (
                     program.placement.to_machine(p.point),

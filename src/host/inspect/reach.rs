@@ -1,9 +1,10 @@
 //! Whether the probe can measure a feature, from the design data: standing
 //! at the points of its ball path with the stylus shaft and the probe body
 //! clear of the part, and with a clear route from the clearance height to
-//! where its measuring starts. A feature that fails is not measured (a
-//! real machine would crash or measure the wrong surface); `cmm check`
-//! names it.
+//! where its measuring starts. A curve or touch point without a route is
+//! not measured; one whose probe would strike the part is noted (the
+//! machine's collision stop ends its scan where it strikes); `cmm check`
+//! names both.
 use std::fmt;
 
 use super::correction::DesignPoint;

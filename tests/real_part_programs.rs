@@ -1,0 +1,167 @@
+//! The example programs on real CAD parts (NIST CTC 05, the ABC lamp),
+//! run as a CMM programmer would: `cmm check`, then `cmm scan --ideal`
+//! with a motion trace. References are independent of the measuring code:
+//! the true surface (`true_deviation_mm`, the world's own distance), the
+//! section lengths `cmm check` prints, and the part's geometry as drawn in
+//! its STEP file (a tube of radius 152.4 mm whose bore of radius 127 mm is
+//! a cavity open only at the bottom).
+mod common;
+
+use std::process::{Command, Output};
+
+use common::repo;
+use serde_json::Value;
+
+fn cmm(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+fn s(p: &std::path::Path) -> &str {
+    p.to_str().unwrap()
+}
+
+fn scan_ideal(program: &str, out: &std::path::Path) -> (Value, String) {
+    let trace = out.join("trace.csv");
+    let run = cmm(&[
+        "scan",
+        s(&repo(program)),
+        "--ideal",
+        "--quiet",
+        "--out",
+        s(out),
+        "--trace",
+        s(&trace),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let trace = std::fs::read_to_string(trace).unwrap();
+    (serde_json::from_str(&report).unwrap(), trace)
+}
+
+/// Every cycle of the trace in the phase `position` reads no deflection:
+/// the probe touched nothing while positioning.
+fn positioning_touches_nothing(trace: &str) {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
+    let mut positioning = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[phase] != "position" {
+            continue;
+        }
+        positioning += 1;
+        for k in [dx, dy, dz] {
+            assert_eq!(f[k].parse::<f64>().unwrap(), 0.0, "{line}");
+        }
+    }
+    assert!(positioning > 1000, "{positioning} positioning cycles");
+}
+
+/// With `--ideal` every point's deviation is its true deviation (0.5 um),
+/// and each scanned section is covered at its pitch (90 % of its length).
+fn exact_and_covered(report: &Value, lengths_mm: &[(&str, f64)]) {
+    for f in report["features"].as_array().unwrap() {
+        assert_eq!(f["status"], "pass", "{}", f["name"]);
+        for p in f["points"].as_array().unwrap() {
+            let e = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+            assert!(e.abs() <= 5e-4, "{}: {e} mm", f["name"]);
+        }
+    }
+    for &(name, length) in lengths_mm {
+        let f = (report["features"].as_array().unwrap().iter())
+            .find(|f| f["name"] == name)
+            .unwrap();
+        let n = f["points"].as_array().unwrap().len() as f64;
+        assert!(
+            n >= 0.9 * length / 0.5,
+            "{name}: {n} points over {length} mm"
+        );
+    }
+}
+
+#[test]
+fn nist_ctc05_program_measures_every_feature_exactly() {
+    let check = cmm(&["check", s(&repo("part-programs/nist-ctc05.json"))]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let out = tempfile::tempdir().unwrap();
+    let (report, trace) = scan_ideal("part-programs/nist-ctc05.json", out.path());
+    // Section lengths: 2 pi 152.4 (the tube), 2 pi 31.75 (the column).
+    let tube = std::f64::consts::TAU * 152.4;
+    let column = std::f64::consts::TAU * 31.75;
+    exact_and_covered(
+        &report,
+        &[
+            ("tube-z100", tube),
+            ("tube-z75", tube),
+            ("column-z400", column),
+        ],
+    );
+    positioning_touches_nothing(&trace);
+}
+
+#[test]
+fn abc_lamp_program_measures_every_feature_exactly() {
+    let out = tempfile::tempdir().unwrap();
+    let (report, trace) = scan_ideal("part-programs/abc-lamp.json", out.path());
+    exact_and_covered(&report, &[]);
+    positioning_touches_nothing(&trace);
+}
+
+#[test]
+fn a_bore_open_only_below_is_not_reachable_from_above() {
+    // The CTC 05 section at z = 100 of every face: the tube's outside and
+    // its bore, a cavity closed above (the tube's top at z = 127).
+    let dir = tempfile::tempdir().unwrap();
+    let prog = dir.path().join("bore.json");
+    let text = serde_json::json!({
+        "format": "cmm-program/1", "name": "bore",
+        "workpiece": s(&repo("workpieces/nist-ctc05.stp")),
+        "placement": { "translate_mm": [400, 400, -60], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "features": [ { "name": "z100", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 100], "normal": [0, 0, 1] },
+            "tolerance_mm": [-0.1, 0.1] } ]
+    });
+    std::fs::write(&prog, text.to_string()).unwrap();
+    let check = cmm(&["check", s(&prog)]);
+    let stdout = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(3), "{stdout}");
+    let unreachable: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.contains("not reachable"))
+        .collect();
+    assert_eq!(unreachable.len(), 1, "{stdout}");
+    assert!(unreachable[0].contains("no route"), "{stdout}");
+    // The scan measures the outside and leaves the bore unmeasured,
+    // without touching the part while positioning.
+    let out = dir.path().join("out");
+    let trace = dir.path().join("t.csv");
+    let run = cmm(&[
+        "scan",
+        s(&prog),
+        "--ideal",
+        "--quiet",
+        "--out",
+        s(&out),
+        "--trace",
+        s(&trace),
+    ]);
+    assert_eq!(run.status.code(), Some(3), "{run:?}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "incomplete");
+    let notes = f["notes"].to_string();
+    assert!(notes.contains("not measured: no route"), "{notes}");
+    for p in f["points"].as_array().unwrap() {
+        let m = &p["measured"];
+        let r = m[0].as_f64().unwrap().hypot(m[1].as_f64().unwrap());
+        assert!((r - 152.4).abs() < 0.01, "a point at r = {r}");
+    }
+    positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
+}
