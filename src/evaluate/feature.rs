@@ -40,8 +40,7 @@ fn deviation_report(
     } = measured;
     // A feature that measured no point has not been measured.
     let complete = results.iter().all(|r| r.complete) && !points.is_empty();
-    let in_tol = points
-        .iter()
+    let in_tol = (points.iter().filter(|p| p.on_surface()))
         .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);
     let status = match (complete, in_tol) {
         (false, _) => Verdict::Incomplete,
@@ -60,7 +59,9 @@ fn deviation_report(
             .iter()
             .flat_map(|r| r.corrections.iter().cloned())
             .collect(),
-        deviation_mm: Stats::of(points.iter().map(|p| p.deviation_mm)),
+        deviation_mm: Stats::of(
+            (points.iter().filter(|p| p.on_surface())).map(|p| p.deviation_mm),
+        ),
         tolerance_mm: Tolerance { lower, upper },
         notes: results
             .iter()

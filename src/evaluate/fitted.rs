@@ -52,6 +52,7 @@ fn kind(e: FitElement) -> (ElementKind, &'static str) {
 
 /// Fits and checks; `None` when there are no points.
 pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> {
+    let points: Vec<&PointReport> = points.iter().filter(|p| p.on_surface()).collect();
     let measured: Vec<Point3> = points.iter().map(|p| Point3::from(p.measured)).collect();
     let nominal: Vec<Point3> = points.iter().map(|p| Point3::from(p.nominal)).collect();
     if measured.is_empty() {

@@ -51,6 +51,18 @@ pub struct PointReport {
     pub deviation_mm: f64,
     /// The same for the true surface point nearest the measured one, mm.
     pub true_deviation_mm: f64,
+    /// Measured while the ball rolled over an edge of the design (the
+    /// measured normal far from the design's at the nominal point): left
+    /// out of the feature's deviations, verdict and fit.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub edge: bool,
+}
+
+impl PointReport {
+    /// Whether the point counts for the feature's deviations and fit.
+    pub fn on_surface(&self) -> bool {
+        !self.edge
+    }
 }
 
 /// One feature's result.

@@ -15,7 +15,8 @@ use rayon::prelude::*;
 use super::model::PointReport;
 use crate::host::modes::Measured;
 use crate::program::Pose;
-use crate::workpiece::{FootHint, Workpiece};
+use crate::math::Vec3;
+use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 
 /// Measured points per evaluation chunk: large enough that the cold start
 /// of each chunk's first search costs little, small enough to share the
@@ -25,6 +26,34 @@ pub const CHUNK_POINTS: usize = 32;
 /// Deviation of every measured point (machine frame, `pose` maps the part
 /// to the machine) from the nominal surfaces `faces`. A point whose foot
 /// cannot be found is left out.
+/// A point whose nominal point lies on an edge of its face (the trim or
+/// the surface's boundary) and whose measured normal (the ball's
+/// deflection, part frame) turns from the face's normal there by more than
+/// 10 degrees was measured with the ball rolling over the edge: its
+/// deviation says nothing of either face. A surface keeps the two within a
+/// few degrees (the probe's friction leans the deflection by about 2), and
+/// a deformed part's slopes away from the edges do not count.
+const EDGE_COS: f64 = 0.984_807_753_012_208; // cos(10 deg)
+
+/// How close (in the surface's parameters) a foot lies to its face's
+/// boundary to count as on it: the boundary searches put their feet on it.
+const ON_BOUNDARY_UV: f64 = 1e-9;
+
+fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: Vec3) -> bool {
+    if measured_normal.dot(&nominal.projection.normal) >= EDGE_COS {
+        return false;
+    }
+    let Some(face) = wp.faces.get(nominal.face) else {
+        return false;
+    };
+    let uv = nominal.projection.uv;
+    let ((u0, u1), (v0, v1)) = face.surface.domain();
+    let on_domain = [uv.x - u0, u1 - uv.x, uv.y - v0, v1 - uv.y]
+        .iter()
+        .any(|d| d.abs() <= ON_BOUNDARY_UV);
+    on_domain || face.trim.as_ref().is_some_and(|t| t.distance(uv) <= ON_BOUNDARY_UV)
+}
+
 pub fn point_reports(
     workpiece: &Workpiece,
     pose: &Pose,
@@ -80,13 +109,15 @@ fn point_report(
     } else {
         let listed = faces.iter().copied();
         wp.closest_point_tracked(p, listed, &mut hints.faces).ok()?
-    }
-    .projection;
+    };
+    let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal);
+    let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),
         nominal: nominal.point.into(),
         normal: nominal.normal.into(),
         deviation_mm: nominal.signed_distance,
         true_deviation_mm: f64::NAN,
+        edge,
     })
 }

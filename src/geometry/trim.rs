@@ -163,6 +163,17 @@ impl Trim {
         crossings % 2 == 1
     }
 
+    /// The distance in `(u, v)` from `uv` to the nearest loop edge.
+    pub fn distance(&self, uv: Vec2) -> f64 {
+        self.segments()
+            .map(|(a, b)| {
+                let e = b - a;
+                let t = ((uv - a).dot(&e) / e.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+                (uv - (a + e * t)).norm()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
     /// Whether the parameter rectangle `[lo, hi]` can touch the face.
     pub fn may_touch(&self, lo: Vec2, hi: Vec2) -> bool {
         lo.x <= self.hi.x && hi.x >= self.lo.x && lo.y <= self.hi.y && hi.y >= self.lo.y

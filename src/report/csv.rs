@@ -49,6 +49,7 @@ mod tests {
             normal: [0.0, 0.0, 1.0],
             deviation_mm: 0.1,
             true_deviation_mm: -2.5e-7,
+            edge: false,
         };
         let fields = point_fields(&point);
         assert_eq!(fields, "1.0,2.0,3.0,4.0,5.0,6.0,0.0,0.0,1.0,0.1,-2.5e-7");
