@@ -27,7 +27,11 @@
 //! - **Limits**: the descent finds the least distance of the cylinder
 //!   near each seed (the leaves are near-flat pieces, over which it has
 //!   one minimum); a seed within [`CollisionOptions::seed_merge_mm`] of an
-//!   earlier one is not descended from, its leaf's bound counts instead.
+//!   earlier one is not descended from (the distance descended is that of
+//!   the whole part, so a descent from it would start in the basin of the
+//!   earlier one). The leaves' boxes bound the whole of a leaf crossed by
+//!   its trim, over a hole too: they only choose the seeds, the descent's
+//!   point queries honour the trims.
 use super::search::{Cursor, PartIndex};
 use super::shapes::Cylinder;
 use super::tree::Shape;
@@ -55,7 +59,7 @@ pub struct CollisionOptions {
     /// Most steps of one descent.
     pub max_steps: usize,
     /// A seed this close (mm) to an earlier one of the same check is not
-    /// descended from.
+    /// descended from (it would start in the same basin).
     pub seed_merge_mm: f64,
     /// The point queries of the exact check look this far (mm); a seed
     /// further from the part counts with its leaf's bound.
@@ -202,11 +206,10 @@ impl PartCheck {
             let on_box = x.sup(&leaf.aabb.min).inf(&leaf.aabb.max);
             let seed = cyl.closest(on_box);
             let merge = self.opts.seed_merge_mm;
-            let bound = seg.leaf_bound(leaf) - cyl.radius;
             if self.seeds.iter().any(|s| (s - seed).norm() < merge) {
-                floor = floor.min(bound);
                 continue;
             }
+            let bound = seg.leaf_bound(leaf) - cyl.radius;
             self.seeds.push(seed);
             match self.descend(ix, part, cyl, seed, opts)? {
                 Ok(Some(d)) => floor = floor.min(d - self.opts.tolerance_mm),
