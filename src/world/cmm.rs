@@ -9,7 +9,7 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
-use super::collision::ProbeCollisions;
+use super::collision::{ProbeCollisions, Stylus};
 use super::contact::{CollisionOptions, ContactOptions, ContactSearch};
 use super::dynamics::{Servo, ServoError};
 use super::noise::gaussian;
@@ -100,8 +100,8 @@ pub struct SimulatedCmm<'a> {
     /// The true probe vector carried by `mount` (fixed while the head is
     /// locked), mm.
     mounted_probe: Vec3,
-    /// The mount-to-ball vector turned by `mount` (machine coordinates), mm.
-    stylus: Vec3,
+    /// The stylus turned by `mount` (machine coordinates).
+    stylus: Stylus,
     /// The collision checks of the stylus shaft and the probe body.
     collisions: ProbeCollisions,
     /// Whether `mount` turns anything (a head indexed away from zero).
@@ -142,8 +142,7 @@ impl<'a> SimulatedCmm<'a> {
         let geometric = profile.geometric != GeometricErrors::default();
         let rest_reading = probe.response(Vec3::zeros());
         let contact_opts = ContactOptions::default();
-        let collisions =
-            ProbeCollisions::new(&probe, &contact_opts, &CollisionOptions::default());
+        let collisions = ProbeCollisions::new(&probe, &contact_opts, &CollisionOptions::default());
         let mut sim = SimulatedCmm {
             part,
             model,
@@ -158,7 +157,7 @@ impl<'a> SimulatedCmm<'a> {
             geometric,
             mount: Iso3::identity(),
             mounted_probe: Vec3::zeros(),
-            stylus: Vec3::zeros(),
+            stylus: Stylus::new(Vec3::zeros()),
             collisions,
             turned: false,
             rest_reading,
@@ -201,7 +200,7 @@ impl<'a> SimulatedCmm<'a> {
         let linear = Iso3::translation(xyz[0], xyz[1], xyz[2]);
         self.mount = linear.inverse() * self.tip_pose(q);
         self.mounted_probe = (self.mount * Point3::from(self.probe.probe_vector)).coords;
-        self.stylus = self.mount.rotation * self.probe.probe_vector;
+        self.stylus = Stylus::new(self.mount.rotation * self.probe.probe_vector);
         self.turned = self.mount.rotation != UnitQuaternion::identity();
     }
 
@@ -262,7 +261,7 @@ impl<'a> SimulatedCmm<'a> {
         let d = self.contact(ball, velocity);
         let struck = self.collisions.check(
             (&self.search, &self.part),
-            (ball, d, self.stylus),
+            (ball, d, &self.stylus),
             &self.contact,
         );
         let status = if let Some((probe_part, strike)) = struck {

@@ -10,12 +10,33 @@
 //! first.
 use super::cmm::TruePart;
 use super::contact::{
-    ContactOptions, ContactSearch, CollisionOptions, Cylinder, PartCheck, PartIndex, Strike,
+    CollisionOptions, ContactOptions, ContactSearch, Cylinder, PartCheck, PartIndex, Strike,
 };
 use super::probe::{ProbeShape, TrueProbe};
 use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::math::{Point3, Vec3};
 use crate::seam::ProbePart;
+
+/// The stylus as mounted (fixed while the head is locked), machine
+/// coordinates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stylus {
+    /// The mount-to-ball vector, mm.
+    pub to_ball: Vec3,
+    /// The unit vector from the ball to the mount.
+    pub up: Vec3,
+}
+
+impl Stylus {
+    /// The stylus of the mount-to-ball vector `to_ball` (along -z when it
+    /// has no length).
+    pub fn new(to_ball: Vec3) -> Stylus {
+        Stylus {
+            to_ball,
+            up: (-to_ball).try_normalize(1e-12).unwrap_or(Vec3::z()),
+        }
+    }
+}
 
 /// The collision checks of one simulated probe.
 #[derive(Debug, Clone)]
@@ -56,21 +77,20 @@ impl ProbeCollisions {
 
     /// The probe part in the material and where it strikes (part frame),
     /// for the undeflected ball centre `ball`, the true deflection `d` and
-    /// the mount-to-ball vector `stylus` (machine coordinates, mm).
+    /// the stylus (machine coordinates, mm).
     #[inline(always)]
     pub fn check(
         &mut self,
         (search, part): (&ContactSearch, &TruePart<'_>),
-        (ball, d, stylus): (Point3, Vec3, Vec3),
+        (ball, d, stylus): (Point3, Vec3, &Stylus),
         opts: &ProjectionOptions,
     ) -> Option<(ProbePart, Strike)> {
-        let up = (-stylus).try_normalize(1e-12)?;
-        let mount = ball - stylus;
+        let (mount, up) = (ball - stylus.to_ball, stylus.up);
         let shaft = (ball + d + up * self.lift_mm, mount + d);
         let body = (mount, mount + up * self.shape.body_length_mm);
         let (rs, rb) = (self.shape.shaft_radius_mm, self.shape.body_radius_mm);
-        let shaft_may = self.shaft.may_touch(shaft.0, shaft.1, rs);
-        let body_may = self.body.may_touch(body.0, body.1, rb);
+        let shaft_may = self.shaft.may_touch(shaft.0, shaft.1);
+        let body_may = self.body.may_touch(body.0, body.1);
         if !(shaft_may || body_may) {
             return None;
         }

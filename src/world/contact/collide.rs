@@ -2,10 +2,10 @@
 //! or the probe body): a solid cylinder against the true (as-machined,
 //! trimmed) part, on the contact search's leaves and tree.
 //!
-//! - **Free air**: the check remembers the cylinder's axis ends and axis
-//!   at its last exact check and a lower bound `L` of the cylinder's
-//!   distance to the part there. A cylinder whose axis ends moved by at
-//!   most `m` (and whose axis turned by `|e' - e|`) lies within
+//! - **Free air**: the check remembers the cylinder's axis ends at its
+//!   last exact check and a lower bound `L` of the cylinder's distance to
+//!   the part there. A cylinder whose axis ends moved by at most `m` (and
+//!   whose unit axis turned by `|e' - e|`) lies within
 //!   `m + radius |e' - e|` of the old one, so no check runs until that
 //!   reaches `L`.
 //! - **Broad phase**: the leaves whose bound comes within the radius plus
@@ -37,7 +37,7 @@ use super::shapes::Cylinder;
 use super::tree::Shape;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::{ProjectionError, ProjectionOptions};
-use crate::math::{Point3, Vec3};
+use crate::math::Point3;
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
 
@@ -88,14 +88,15 @@ pub struct Strike {
     pub depth_mm: f64,
 }
 
-/// The last exact check: the axis ends, the axis, and a lower bound of
-/// the cylinder's distance to the part (mm).
+/// The last exact check: the axis ends, a lower bound of the cylinder's
+/// distance to the part (mm), and the factor `2 radius / |b - a|` by which
+/// a change of `b - a` turns the cylinder's rim.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct Anchor {
     a: Point3,
     b: Point3,
-    axis: Vec3,
     floor: f64,
+    turn: f64,
 }
 
 /// The collision check of one probe part.
@@ -134,16 +135,19 @@ impl PartCheck {
         self.exact_checks
     }
 
-    /// Whether the cylinder of `radius` round the axis `a..b` (in any one
-    /// rigid frame, the same at every call) may have come within reach of
-    /// the part since the last exact check.
+    /// Whether the cylinder round the axis `a..b` (in any one rigid frame,
+    /// the same at every call; the radius that of the last exact check)
+    /// may have come within reach of the part since the last exact check.
     #[inline(always)]
-    pub fn may_touch(&self, a: Point3, b: Point3, radius: f64) -> bool {
+    pub fn may_touch(&self, a: Point3, b: Point3) -> bool {
         let Some(k) = self.anchor else {
             return true;
         };
-        let axis = (b - a).try_normalize(1e-12).unwrap_or(k.axis);
-        let moved = (a - k.a).norm().max((b - k.b).norm()) + radius * (axis - k.axis).norm();
+        // The axis turns by |e' - e| <= 2 |v' - v| / |v| (v = b - a), which
+        // moves the rim by the radius times that.
+        let (da, db) = (a - k.a, b - k.b);
+        let ends = da.norm_squared().max(db.norm_squared()).sqrt();
+        let moved = ends + k.turn * (db - da).norm();
         moved >= k.floor
     }
 
@@ -163,11 +167,16 @@ impl PartCheck {
             Ok(Ok(floor)) => floor,
             Ok(Err(_)) | Err(_) => f64::NEG_INFINITY,
         };
+        let length = (ends.1 - ends.0).norm();
         self.anchor = Some(Anchor {
             a: ends.0,
             b: ends.1,
-            axis: (ends.1 - ends.0).try_normalize(1e-12).unwrap_or(cyl.axis),
             floor,
+            turn: if length > 0.0 {
+                2.0 * cyl.radius / length
+            } else {
+                f64::INFINITY
+            },
         });
         match found {
             Ok(Ok(_)) => Ok(None),
@@ -273,10 +282,7 @@ impl PartCheck {
         x: Point3,
         opts: &ProjectionOptions,
     ) -> Result<Option<Result<TrueContact, Strike>>, ProjectionError> {
-        let Some(c) = self
-            .cursor
-            .query(ix, part, x, self.opts.reach_mm, opts)?
-        else {
+        let Some(c) = self.cursor.query(ix, part, x, self.opts.reach_mm, opts)? else {
             return Ok(None);
         };
         let pen = self.opts.penetration_mm;
