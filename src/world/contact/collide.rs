@@ -21,7 +21,10 @@
 //!   projection: exact in one step for a face parallel to the axis or to
 //!   an end) and the cylinder's point deepest along the foot's normal (the
 //!   support point: exact in one step for a flat face at any angle) and
-//!   keeps the better one. The part collides when a point of the cylinder
+//!   keeps the better one; where the distance falls towards the support
+//!   point but is higher there (a face nearly parallel to the axis that
+//!   ends before the cylinder does), a golden-section search on the way
+//!   to it. The part collides when a point of the cylinder
 //!   lies inside the material, or a foot inside the cylinder, by more than
 //!   [`CollisionOptions::penetration_mm`].
 //! - **Limits**: the descent finds the least distance of the cylinder
@@ -87,6 +90,9 @@ pub struct Strike {
     /// How deep the probe part is in the material there, mm.
     pub depth_mm: f64,
 }
+
+/// Points of the golden-section search along a descent's support step.
+const LINE_STEPS: usize = 12;
 
 /// The last exact check: the axis ends, a lower bound of the cylinder's
 /// distance to the part (mm), and the factor `2 radius / |b - a|` by which
@@ -247,9 +253,9 @@ impl PartCheck {
         };
         let mut p = seed;
         for _ in 0..self.opts.max_steps {
-            let tries = [cyl.closest(c.point), cyl.support(-c.push, p)];
+            let support = cyl.support(-c.push, p);
             let mut best: Option<(Point3, TrueContact)> = None;
-            for x in tries {
+            for x in [cyl.closest(c.point), support] {
                 if (x - p).norm() <= 1e-12 {
                     continue;
                 }
@@ -261,14 +267,86 @@ impl PartCheck {
                     _ => {}
                 }
             }
+            // The support point overshoots where the distance keeps falling
+            // towards it (a face nearly parallel to the axis that ends
+            // before the cylinder does): the least distance on the way.
+            let slope = c.push.dot(&(support - p));
+            let tol = self.opts.tolerance_mm;
+            let support_better = best.is_some_and(|b| b.0 == support);
+            if slope < -10.0 * tol && !support_better {
+                match self.line_search(ix, part, cyl, (p, support), opts)? {
+                    Err(strike) => return Ok(Err(strike)),
+                    Ok(Some((x, cx))) if best.is_none_or(|b| cx.distance < b.1.distance) => {
+                        best = Some((x, cx));
+                    }
+                    Ok(_) => {}
+                }
+            }
             match best {
-                Some((x, cx)) if cx.distance < c.distance - self.opts.tolerance_mm => {
+                Some((x, cx)) if cx.distance < c.distance - tol => {
                     (p, c) = (x, cx);
                 }
                 _ => break,
             }
         }
         Ok(Ok(Some(c.distance)))
+    }
+
+    /// The least signed distance on the segment `from..to` of `cyl` by a
+    /// golden-section search ([`LINE_STEPS`] points), or the strike.
+    fn line_search(
+        &mut self,
+        ix: &PartIndex,
+        part: (&Workpiece, &AsMachined),
+        cyl: &Cylinder,
+        (from, to): (Point3, Point3),
+        opts: &ProjectionOptions,
+    ) -> Result<Result<Option<(Point3, TrueContact)>, Strike>, ProjectionError> {
+        let at = |g: f64| from + (to - from) * g;
+        let f = |this: &mut Self,
+                 g: f64|
+         -> Result<Result<Option<TrueContact>, Strike>, ProjectionError> {
+            Ok(match this.probe(ix, part, cyl, at(g), opts)? {
+                None => Ok(None),
+                Some(Err(strike)) => Err(strike),
+                Some(Ok(c)) => Ok(Some(c)),
+            })
+        };
+        let value = |c: &Option<TrueContact>| c.map_or(f64::INFINITY, |c| c.distance);
+        let k = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut lo, mut hi) = (0.0, 1.0);
+        let (mut x1, mut x2) = (hi - k * (hi - lo), lo + k * (hi - lo));
+        let mut f1 = match f(self, x1)? {
+            Err(s) => return Ok(Err(s)),
+            Ok(c) => c,
+        };
+        let mut f2 = match f(self, x2)? {
+            Err(s) => return Ok(Err(s)),
+            Ok(c) => c,
+        };
+        for _ in 2..LINE_STEPS {
+            if value(&f1) <= value(&f2) {
+                (hi, x2, f2) = (x2, x1, f1);
+                x1 = hi - k * (hi - lo);
+                f1 = match f(self, x1)? {
+                    Err(s) => return Ok(Err(s)),
+                    Ok(c) => c,
+                };
+            } else {
+                (lo, x1, f1) = (x1, x2, f2);
+                x2 = lo + k * (hi - lo);
+                f2 = match f(self, x2)? {
+                    Err(s) => return Ok(Err(s)),
+                    Ok(c) => c,
+                };
+            }
+        }
+        let best = if value(&f1) <= value(&f2) {
+            f1.map(|c| (at(x1), c))
+        } else {
+            f2.map(|c| (at(x2), c))
+        };
+        Ok(Ok(best))
     }
 
     /// The signed distance at `x` (a point of `cyl`) with its foot, or the
