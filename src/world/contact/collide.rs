@@ -13,7 +13,9 @@
 //!   segment-box distance and the leaf's slab); with none, `L` is the
 //!   nearest leaf bound less the radius.
 //! - **Exact check**: from the cylinder's point nearest to each candidate
-//!   leaf's box, a descent of the true signed distance over the cylinder.
+//!   leaf's box (nearest bound first, up to the first leaf whose bound
+//!   is not below the least distance found: no closer point there), a
+//!   descent of the true signed distance over the cylinder.
 //!   The distance at a point is the ball contact's point query (Newton on
 //!   the true surface, trims honoured exactly, the same sign rule at the
 //!   edges), so there is no material over holes and pockets. Each step
@@ -111,8 +113,9 @@ pub struct PartCheck {
     cursor: Cursor,
     opts: CollisionOptions,
     anchor: Option<Anchor>,
-    /// Reused buffers: candidate leaves, seeds.
+    /// Reused buffers: candidate leaves, with their bounds, seeds.
     near: Vec<u32>,
+    order: Vec<(f64, u32)>,
     seeds: Vec<Point3>,
     exact_checks: u64,
 }
@@ -125,6 +128,7 @@ impl PartCheck {
             opts: *opts,
             anchor: None,
             near: Vec::new(),
+            order: Vec::new(),
             seeds: Vec::new(),
             exact_checks: 0,
         }
@@ -210,10 +214,26 @@ impl PartCheck {
         if self.near.is_empty() {
             return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
         }
+        // Nearest bound first; a leaf whose bound is not below the least
+        // distance found so far holds no closer point.
+        self.order.clear();
+        for &id in &self.near {
+            if let Some(leaf) = leaves.get(id as usize) {
+                self.order.push((seg.leaf_bound(leaf) - cyl.radius, id));
+            }
+        }
+        self.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut floor = self.opts.margin_mm;
         self.seeds.clear();
-        for k in 0..self.near.len() {
-            let Some(leaf) = self.near.get(k).and_then(|&i| leaves.get(i as usize)) else {
+        for k in 0..self.order.len() {
+            let Some(&(bound, id)) = self.order.get(k) else {
+                continue;
+            };
+            if bound >= floor {
+                break;
+            }
+            let Some(leaf) = leaves.get(id as usize) else {
                 continue;
             };
             let (_, s) = super::shapes::segment_box(seg.a, seg.b, &leaf.aabb);
@@ -224,7 +244,6 @@ impl PartCheck {
             if self.seeds.iter().any(|s| (s - seed).norm() < merge) {
                 continue;
             }
-            let bound = seg.leaf_bound(leaf) - cyl.radius;
             self.seeds.push(seed);
             match self.descend(ix, part, cyl, seed, opts)? {
                 Ok(Some(d)) => floor = floor.min(d - self.opts.tolerance_mm),
