@@ -12,7 +12,8 @@
 //!   [`CollisionOptions::margin_mm`] of the axis segment (an exact
 //!   segment-box distance and the leaf's slab); with none, `L` is the
 //!   nearest leaf bound less the radius.
-//! - **Exact check**: from the cylinder's point nearest to each candidate
+//! - **Exact check**: from where the last check found its least distance,
+//!   then from the cylinder's point nearest to each candidate
 //!   leaf's box (nearest bound first, up to the first leaf whose bound
 //!   is not below the least distance found: no closer point there), a
 //!   descent of the true signed distance over the cylinder.
@@ -42,7 +43,7 @@ use super::shapes::Cylinder;
 use super::tree::Shape;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::{ProjectionError, ProjectionOptions};
-use crate::math::Point3;
+use crate::math::{Point3, Vec3};
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
 
@@ -113,6 +114,9 @@ pub struct PartCheck {
     cursor: Cursor,
     opts: CollisionOptions,
     anchor: Option<Anchor>,
+    /// Where the last exact check found its least distance: the axial
+    /// coordinate as a fraction of the length, and the radial offset.
+    warm: Option<(f64, Vec3)>,
     /// Reused buffers: candidate leaves, with their bounds, seeds.
     near: Vec<u32>,
     order: Vec<(f64, u32)>,
@@ -127,6 +131,7 @@ impl PartCheck {
             cursor: Cursor::new(contact),
             opts: *opts,
             anchor: None,
+            warm: None,
             near: Vec::new(),
             order: Vec::new(),
             seeds: Vec::new(),
@@ -137,6 +142,7 @@ impl PartCheck {
     /// Forgets what earlier checks learnt.
     pub fn reset(&mut self) {
         self.anchor = None;
+        self.warm = None;
         self.cursor.reset();
     }
 
@@ -226,6 +232,20 @@ impl PartCheck {
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut floor = self.opts.margin_mm;
         self.seeds.clear();
+        let mut least: Option<(f64, Point3)> = None;
+        // First from where the last check found its least distance.
+        if let Some((s, w)) = self.warm {
+            let seed = cyl.closest(cyl.a + cyl.axis * (s * cyl.length) + w);
+            self.seeds.push(seed);
+            match self.descend(ix, part, cyl, seed, opts)? {
+                Ok(Some((d, at))) => {
+                    floor = floor.min(d - self.opts.tolerance_mm);
+                    least = Some((d, at));
+                }
+                Ok(None) => {}
+                Err(strike) => return Ok(Err(strike)),
+            }
+        }
         for k in 0..self.order.len() {
             let Some(&(bound, id)) = self.order.get(k) else {
                 continue;
@@ -246,17 +266,27 @@ impl PartCheck {
             }
             self.seeds.push(seed);
             match self.descend(ix, part, cyl, seed, opts)? {
-                Ok(Some(d)) => floor = floor.min(d - self.opts.tolerance_mm),
+                Ok(Some((d, at))) => {
+                    floor = floor.min(d - self.opts.tolerance_mm);
+                    if least.is_none_or(|l| d < l.0) {
+                        least = Some((d, at));
+                    }
+                }
                 Ok(None) => floor = floor.min(bound),
                 Err(strike) => return Ok(Err(strike)),
             }
         }
+        self.warm = least.map(|(_, at)| {
+            let v = at - cyl.a;
+            let t = v.dot(&cyl.axis);
+            (t / cyl.length.max(1e-300), v - cyl.axis * t)
+        });
         Ok(Ok(floor))
     }
 
     /// The descent of the signed distance over `cyl` from `seed`: the
-    /// least distance found (`None` when the seed is out of the queries'
-    /// reach), or the strike.
+    /// least distance found and where (`None` when the seed is out of the
+    /// queries' reach), or the strike.
     fn descend(
         &mut self,
         ix: &PartIndex,
@@ -264,7 +294,7 @@ impl PartCheck {
         cyl: &Cylinder,
         seed: Point3,
         opts: &ProjectionOptions,
-    ) -> Result<Result<Option<f64>, Strike>, ProjectionError> {
+    ) -> Result<Result<Option<(f64, Point3)>, Strike>, ProjectionError> {
         let mut c = match self.probe(ix, part, cyl, seed, opts)? {
             None => return Ok(Ok(None)),
             Some(Err(strike)) => return Ok(Err(strike)),
@@ -308,7 +338,7 @@ impl PartCheck {
                 _ => break,
             }
         }
-        Ok(Ok(Some(c.distance)))
+        Ok(Ok(Some((c.distance, p))))
     }
 
     /// The least signed distance on the segment `from..to` of `cyl` by a
