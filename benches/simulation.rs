@@ -18,7 +18,7 @@ use cmm::math::{Point3, Vec3};
 use cmm::program::{Feature, Program};
 use cmm::seam::Cmm;
 use cmm::world::cmm::{SimulatedCmm, TruePart};
-use cmm::world::probe::{ProbeShape, TrueProbe};
+use cmm::world::probe::TrueProbe;
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 
 fn program(name: &str) -> SimulatedPart {
@@ -68,15 +68,9 @@ fn path_and_plan(p: &Program) -> (BallPath, SpeedPlan) {
     (path, plan)
 }
 
-/// One active scan of the section from 5.3 mm off its start with a probe
-/// of `shape` (the shaft and body checked for collisions every cycle);
-/// returns the number of control cycles simulated (approach included).
-fn scan_once(
-    sp: &SimulatedPart,
-    model: &MachineModel,
-    (path, plan): (&BallPath, &ScanPlan),
-    shape: ProbeShape,
-) -> u64 {
+/// One active scan of the section from 5.3 mm off its start; returns the
+/// number of control cycles simulated (approach included).
+fn scan_once(sp: &SimulatedPart, model: &MachineModel, path: &BallPath, plan: &ScanPlan) -> u64 {
     let p = &sp.program;
     let part = TruePart {
         workpiece: &p.workpiece,
@@ -84,8 +78,7 @@ fn scan_once(
         pose: p.placement,
     };
     let pv = Vec3::new(0.0, 0.0, -p.probe.stylus_length_mm);
-    let mut probe = TrueProbe::realistic(pv, p.probe.tip_radius_mm);
-    probe.shape = shape;
+    let probe = TrueProbe::realistic(pv, p.probe.tip_radius_mm);
     let start = path.position(0.0) + path.normal(0.0) * 5.3 - pv;
     let Ok(mut sim) = SimulatedCmm::new(
         part,
@@ -109,17 +102,17 @@ fn scan_once(
 }
 
 /// Criterion's throughput of active scans of the first section curve of
-/// `p` (control cycles per second) with a probe of `shape`.
-fn scan_bench(c: &mut Criterion, name: &str, p: &SimulatedPart, shape: ProbeShape) {
+/// `p` (control cycles per second).
+fn scan_bench(c: &mut Criterion, name: &str, p: &SimulatedPart) {
     let (path, plan) = path_and_plan(&p.program);
     let plan = ScanPlan::Active(plan.speeds().clone());
     let model = MachineModel::default_bridge();
-    let cycles = scan_once(p, &model, (&path, &plan), shape);
+    let cycles = scan_once(p, &model, &path, &plan);
     println!("{name}: {cycles} control cycles per run");
     let mut g = c.benchmark_group("simulation");
     g.throughput(Throughput::Elements(cycles));
     g.bench_function(name, |b| {
-        b.iter(|| black_box(scan_once(p, &model, (&path, &plan), shape)))
+        b.iter(|| black_box(scan_once(p, &model, &path, &plan)))
     });
     g.finish();
 }
@@ -156,16 +149,9 @@ fn ctc05_program() -> Option<(tempfile::TempDir, SimulatedPart)> {
 
 fn bench(c: &mut Criterion) {
     let p = program("blade-z60.json");
-    // The blade's pressure side leans over the z60 section: a vertical
-    // stylus shaft thicker than about 0.6 mm strikes it higher up.
-    let thin = ProbeShape {
-        shaft_radius_mm: 0.2,
-        ..ProbeShape::common(p.program.probe.tip_radius_mm)
-    };
-    scan_bench(c, "active_scan_blade_z60_cycles", &p, thin);
+    scan_bench(c, "active_scan_blade_z60_cycles", &p);
     if let Some((_dir, cad)) = ctc05_program() {
-        let common = ProbeShape::common(cad.program.probe.tip_radius_mm);
-        scan_bench(c, "active_scan_ctc05_z100_cycles", &cad, common);
+        scan_bench(c, "active_scan_ctc05_z100_cycles", &cad);
     }
     let overcut = program("blade-overcut.json");
     let Ok((_, learned)) = run_program(&overcut, &RunOptions::default()) else {

@@ -154,7 +154,10 @@ fn shaft_collisions_on_the_blade_match_a_dense_search() {
             assert_eq!(which, ProbePart::Shaft);
             let off_axis = segment_distance(a, b, strike.point);
             // The foot of a point of the shaft inside the material, as deep.
-            assert!(off_axis < RS + strike.depth_mm + 1e-9, "{ball}: strike {strike:?}");
+            assert!(
+                off_axis < RS + strike.depth_mm + 1e-9,
+                "{ball}: strike {strike:?}"
+            );
             struck += 1;
         } else if want > pen {
             assert!(got.is_none(), "{ball}: {got:?} at clearance {want}");
