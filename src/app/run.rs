@@ -30,7 +30,7 @@ use crate::report::{
 use crate::seam::Cmm;
 use crate::world::as_machined::AsMachined;
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
-use crate::world::probe::TrueProbe;
+use crate::world::probe::{ProbeShape, TrueProbe};
 
 /// How to run.
 #[derive(Debug, Clone, PartialEq)]
@@ -269,10 +269,15 @@ fn start_machine<'a>(
     };
     let probe_vector = probe_vector(program);
     let r = program.probe.tip_radius_mm;
-    let true_probe = if opts.ideal {
+    let mut true_probe = if opts.ideal {
         TrueProbe::ideal(probe_vector, r)
     } else {
         TrueProbe::realistic(probe_vector, r)
+    };
+    true_probe.shape = ProbeShape {
+        shaft_radius_mm: program.probe.shaft_radius_mm,
+        body_radius_mm: program.probe.body_radius_mm,
+        body_length_mm: program.probe.body_length_mm,
     };
     let start = start_position(program).0;
     SimulatedCmm::new(

@@ -9,7 +9,8 @@
 use rand::rngs::Xoshiro256PlusPlus;
 use rand::SeedableRng;
 
-use super::contact::{ContactOptions, ContactSearch};
+use super::collision::{ProbeCollisions, Stylus};
+use super::contact::{CollisionOptions, ContactOptions, ContactSearch};
 use super::dynamics::{Servo, ServoError};
 use super::noise::gaussian;
 use super::probe::TrueProbe;
@@ -99,6 +100,10 @@ pub struct SimulatedCmm<'a> {
     /// The true probe vector carried by `mount` (fixed while the head is
     /// locked), mm.
     mounted_probe: Vec3,
+    /// The stylus turned by `mount` (machine coordinates).
+    stylus: Stylus,
+    /// The collision checks of the stylus shaft and the probe body.
+    collisions: ProbeCollisions,
     /// Whether `mount` turns anything (a head indexed away from zero).
     turned: bool,
     /// The sensor's reading of the stylus at rest (a zero deflection; no
@@ -136,6 +141,8 @@ impl<'a> SimulatedCmm<'a> {
         let rng = Xoshiro256PlusPlus::seed_from_u64(seed);
         let geometric = profile.geometric != GeometricErrors::default();
         let rest_reading = probe.response(Vec3::zeros());
+        let contact_opts = ContactOptions::default();
+        let collisions = ProbeCollisions::new(&probe, &contact_opts, &CollisionOptions::default());
         let mut sim = SimulatedCmm {
             part,
             model,
@@ -144,16 +151,14 @@ impl<'a> SimulatedCmm<'a> {
             probe,
             servo,
             rng,
-            search: ContactSearch::new(
-                part.workpiece,
-                part.as_machined,
-                &ContactOptions::default(),
-            ),
+            search: ContactSearch::new(part.workpiece, part.as_machined, &contact_opts),
             last,
             contact: contact_options(&part.workpiece.options),
             geometric,
             mount: Iso3::identity(),
             mounted_probe: Vec3::zeros(),
+            stylus: Stylus::new(Vec3::zeros()),
+            collisions,
             turned: false,
             rest_reading,
             command: Vec::new(),
@@ -195,6 +200,7 @@ impl<'a> SimulatedCmm<'a> {
         let linear = Iso3::translation(xyz[0], xyz[1], xyz[2]);
         self.mount = linear.inverse() * self.tip_pose(q);
         self.mounted_probe = (self.mount * Point3::from(self.probe.probe_vector)).coords;
+        self.stylus = Stylus::new(self.mount.rotation * self.probe.probe_vector);
         self.turned = self.mount.rotation != UnitQuaternion::identity();
     }
 
@@ -202,9 +208,8 @@ impl<'a> SimulatedCmm<'a> {
     /// the contact search rules out a contact in free air at the cost of
     /// one bound check.
     #[inline(always)]
-    fn contact(&mut self, velocity: Vec3) -> Vec3 {
+    fn contact(&mut self, ball: Point3, velocity: Vec3) -> Vec3 {
         let r = self.probe.tip_radius_mm;
-        let ball = self.ball_centre(self.servo.position());
         let y = self.part.pose.to_part(ball);
         let (wp, am) = (self.part.workpiece, self.part.as_machined);
         let found = self
@@ -246,10 +251,26 @@ impl<'a> SimulatedCmm<'a> {
         }
     }
 
+    /// The readings of the current state. The status: a collision of the
+    /// shaft or the body first (the probe is striking the part whatever
+    /// else happens), then the servo's own (an axis at its limit), then a
+    /// stylus deflected beyond its range.
     #[inline(always)]
     fn observe(&mut self, velocity: Vec3, status: MachineStatus) -> Readings {
-        let d = self.contact(velocity);
-        let status = if d.norm() > self.probe.max_deflection_mm && status == MachineStatus::Ok {
+        let ball = self.ball_centre(self.servo.position());
+        let d = self.contact(ball, velocity);
+        let struck = self.collisions.check(
+            (&self.search, &self.part),
+            (ball, d, &self.stylus),
+            &self.contact,
+        );
+        let status = if let Some((probe_part, strike)) = struck {
+            MachineStatus::Collision {
+                probe_part,
+                at: self.part.pose.to_machine(strike.point),
+                speed_mm_s: velocity.norm(),
+            }
+        } else if d.norm() > self.probe.max_deflection_mm && status == MachineStatus::Ok {
             MachineStatus::ProbeOverrange {
                 deflection_mm: d.norm(),
             }
@@ -285,6 +306,12 @@ fn is_rest(d: Vec3) -> bool {
 }
 
 impl SimulatedCmm<'_> {
+    /// Number of exact collision checks of the shaft and the body so far
+    /// (the free-air bound skips the others).
+    pub fn collision_checks(&self) -> u64 {
+        self.collisions.exact_checks()
+    }
+
     /// The indexing command behind [`Cmm::index_head`].
     fn index(&mut self, angles_rad: &[f64]) -> Result<Vec<f64>, HeadCommandError> {
         let head = self.model.revolute_axes();
@@ -304,6 +331,7 @@ impl SimulatedCmm<'_> {
             .index_to(&targets)
             .map_err(|e| self.refused(e, head.len()))?;
         self.search.reset();
+        self.collisions.reset();
         self.update_mount();
         self.last = self.observe(Vec3::zeros(), MachineStatus::Ok);
         let encoders = self.servo.read_scales(&mut self.rng);

@@ -14,6 +14,7 @@
 
 pub mod as_machined;
 pub mod cmm;
+pub mod collision;
 pub mod contact;
 pub mod dynamics;
 pub mod noise;

@@ -28,10 +28,42 @@ pub struct TrueProbe {
     pub friction: f64,
     /// Mechanical range of the stylus, mm; beyond it the machine halts.
     pub max_deflection_mm: f64,
+    /// The stylus shaft and the probe body.
+    pub shape: ProbeShape,
+}
+
+/// The probe's shape beyond the ball. The stylus shaft is a cylinder along
+/// the stylus from the ball centre to the probe mount (the end of the probe
+/// vector), outside the ball from where it leaves the ball; the probe body
+/// a cylinder from the mount on, away from the ball. A scanning probe's
+/// stylus moves as a whole with its deflection: the shaft moves with the
+/// ball, the body stays.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProbeShape {
+    /// Radius of the stylus shaft, mm.
+    pub shaft_radius_mm: f64,
+    /// Radius of the probe body, mm.
+    pub body_radius_mm: f64,
+    /// Length of the probe body from the mount, mm.
+    pub body_length_mm: f64,
+}
+
+impl ProbeShape {
+    /// The shape of a common probe with a ball of `tip_radius_mm`: a shaft
+    /// of two thirds of the ball's diameter, a body of 25 mm diameter and
+    /// 80 mm length.
+    pub fn common(tip_radius_mm: f64) -> ProbeShape {
+        ProbeShape {
+            shaft_radius_mm: tip_radius_mm * 2.0 / 3.0,
+            body_radius_mm: 12.5,
+            body_length_mm: 80.0,
+        }
+    }
 }
 
 impl TrueProbe {
-    /// A perfect probe with the nominal geometry (`--ideal`).
+    /// A perfect probe with the nominal geometry (`--ideal`) and the
+    /// [`ProbeShape::common`] shaft and body.
     pub fn ideal(probe_vector: Vec3, tip_radius_mm: f64) -> TrueProbe {
         TrueProbe {
             probe_vector,
@@ -41,6 +73,7 @@ impl TrueProbe {
             noise_mm: 0.0,
             friction: 0.0,
             max_deflection_mm: 1.0,
+            shape: ProbeShape::common(tip_radius_mm),
         }
     }
 

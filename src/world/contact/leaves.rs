@@ -100,6 +100,12 @@ impl Slab {
         let s = p.coords.dot(&self.normal);
         (self.lo - s).max(s - self.hi).max(0.0)
     }
+
+    /// Distance from the segment `a..b` (zero when it meets the slab).
+    fn segment_dist(&self, a: Point3, b: Point3) -> f64 {
+        let (sa, sb) = (a.coords.dot(&self.normal), b.coords.dot(&self.normal));
+        (self.lo - sa.max(sb)).max(sa.min(sb) - self.hi).max(0.0)
+    }
 }
 
 /// One piece of a face.
@@ -127,6 +133,13 @@ impl Leaf {
     #[inline(always)]
     pub(crate) fn lower_bound(&self, p: Point3) -> f64 {
         self.aabb.dist2(p).sqrt().max(self.slab.dist(p))
+    }
+
+    /// A lower bound of the distance from the segment `a..b` to the true
+    /// surface over the leaf, mm.
+    pub(crate) fn segment_lower_bound(&self, a: Point3, b: Point3) -> f64 {
+        let d2 = super::shapes::segment_box(a, b, &self.aabb).0;
+        d2.sqrt().max(self.slab.segment_dist(a, b))
     }
 
     /// Whether the trim boundary crosses the leaf.

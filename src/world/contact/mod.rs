@@ -28,12 +28,21 @@
 //!   with the ball's offset from its foot (the adjacent faces' rule for
 //!   the edges and corners of a closed B-rep). A boundary foot with no
 //!   other face near counts as outside (an open sheet's edge).
+//! - **The rest of the probe** ([`collide`]): the stylus shaft and the
+//!   probe body, each a solid cylinder, checked against the same leaves
+//!   and tree with a segment-box broad phase, a free-air bound of their
+//!   own and an exact descent of the same point query over the cylinder.
+mod collide;
 mod leaves;
 mod search;
+mod shapes;
 mod tree;
 
+pub use collide::{CollisionOptions, PartCheck, Strike};
 pub use leaves::LeafOptions;
 pub use search::ContactSearch;
+pub(crate) use search::PartIndex;
+pub(crate) use shapes::Cylinder;
 
 use crate::math::{Point3, Vec2, Vec3};
 

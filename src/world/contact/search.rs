@@ -29,12 +29,26 @@ struct Candidate {
     edge: bool,
 }
 
-/// The contact search of one simulated machine (see the module docs of
-/// [`super`]).
+/// The part's leaves and their tree, shared by every search on the part.
 #[derive(Debug, Clone)]
-pub struct ContactSearch {
-    leaves: Leaves,
-    tree: LeafTree,
+pub(crate) struct PartIndex {
+    pub(crate) leaves: Leaves,
+    pub(crate) tree: LeafTree,
+}
+
+impl PartIndex {
+    /// The leaves and tree of the part `wp` as machined by `am`.
+    pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> PartIndex {
+        let leaves = Leaves::new(wp, am, &opts.leaves);
+        let tree = LeafTree::new(&leaves.leaves);
+        PartIndex { leaves, tree }
+    }
+}
+
+/// The state of one stream of point queries on a [`PartIndex`]: the
+/// free-air bound, the list of near leaves, the warm feet.
+#[derive(Debug, Clone)]
+pub(crate) struct Cursor {
     opts: ContactOptions,
     /// A point and a lower bound of the true distance from it, mm.
     anchor: Option<(Point3, f64)>,
@@ -49,14 +63,57 @@ pub struct ContactSearch {
     found: Vec<Candidate>,
 }
 
+/// The contact search of one simulated machine (see the module docs of
+/// [`super`]).
+#[derive(Debug, Clone)]
+pub struct ContactSearch {
+    index: PartIndex,
+    cursor: Cursor,
+}
+
 impl ContactSearch {
     /// The search for the part `wp` as machined by `am`.
     pub fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> ContactSearch {
-        let leaves = Leaves::new(wp, am, &opts.leaves);
-        let tree = LeafTree::new(&leaves.leaves);
         ContactSearch {
-            leaves,
-            tree,
+            index: PartIndex::new(wp, am, opts),
+            cursor: Cursor::new(opts),
+        }
+    }
+
+    /// Number of leaves over all faces.
+    pub fn leaf_count(&self) -> usize {
+        self.index.leaves.leaves.len()
+    }
+
+    /// The part's leaves and tree.
+    pub(crate) fn index(&self) -> &PartIndex {
+        &self.index
+    }
+
+    /// Forgets what earlier queries learnt (the answers stay the same).
+    pub fn reset(&mut self) {
+        self.cursor.reset();
+    }
+
+    /// The closest point of the true part to `y` (part frame) when it comes
+    /// closer than `reach` (mm), else `None` (every point of the part is at
+    /// least `reach` away). `opts` are the Newton tolerances.
+    #[inline(always)]
+    pub fn query(
+        &mut self,
+        part: (&Workpiece, &AsMachined),
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+    ) -> Result<Option<TrueContact>, ProjectionError> {
+        self.cursor.query(&self.index, part, y, reach, opts)
+    }
+}
+
+impl Cursor {
+    /// A cursor that knows nothing yet.
+    pub(crate) fn new(opts: &ContactOptions) -> Cursor {
+        Cursor {
             opts: *opts,
             anchor: None,
             near_at: None,
@@ -68,24 +125,18 @@ impl ContactSearch {
         }
     }
 
-    /// Number of leaves over all faces.
-    pub fn leaf_count(&self) -> usize {
-        self.leaves.leaves.len()
-    }
-
     /// Forgets what earlier queries learnt (the answers stay the same).
-    pub fn reset(&mut self) {
+    pub(crate) fn reset(&mut self) {
         self.anchor = None;
         self.near_at = None;
         self.warm.clear();
     }
 
-    /// The closest point of the true part to `y` (part frame) when it comes
-    /// closer than `reach` (mm), else `None` (every point of the part is at
-    /// least `reach` away). `opts` are the Newton tolerances.
+    /// [`ContactSearch::query`] on the index `ix`.
     #[inline(always)]
-    pub fn query(
+    pub(crate) fn query(
         &mut self,
+        ix: &PartIndex,
         (wp, am): (&Workpiece, &AsMachined),
         y: Point3,
         reach: f64,
@@ -96,7 +147,7 @@ impl ContactSearch {
                 return Ok(None);
             }
         }
-        self.near_query((wp, am), y, reach, opts)
+        self.near_query(ix, (wp, am), y, reach, opts)
     }
 
     /// [`Self::query`] once the free-air bound no longer rules out a
@@ -104,6 +155,7 @@ impl ContactSearch {
     #[inline(never)]
     fn near_query(
         &mut self,
+        ix: &PartIndex,
         (wp, am): (&Workpiece, &AsMachined),
         y: Point3,
         reach: f64,
@@ -126,11 +178,10 @@ impl ContactSearch {
         if !fresh {
             let listed = needed + 2.0 * self.opts.slack_mm;
             self.near.clear();
-            self.tree
-                .within(&self.leaves.leaves, y, listed, &mut self.near);
+            ix.tree.within(&ix.leaves.leaves, y, listed, &mut self.near);
             self.near_at = Some((y, listed));
             if self.near.is_empty() {
-                let floor = self.tree.nearest(&self.leaves.leaves, y);
+                let floor = ix.tree.nearest(&ix.leaves.leaves, y);
                 self.anchor = Some((y, floor));
                 return Ok(None);
             }
@@ -138,7 +189,7 @@ impl ContactSearch {
         let off_list = self
             .near_at
             .map_or(0.0, |(a, listed)| listed - (y - a).norm());
-        let floor = self.search(wp, am, y, reach, opts)?;
+        let floor = self.search(ix, (wp, am), y, reach, opts)?;
         self.anchor = Some((y, floor.min(off_list)));
         Ok(self.answer(wp, am, y, reach))
     }
@@ -148,8 +199,8 @@ impl ContactSearch {
     /// a lower bound of the distance from `y` over the listed leaves.
     fn search(
         &mut self,
-        wp: &Workpiece,
-        am: &AsMachined,
+        ix: &PartIndex,
+        (wp, am): (&Workpiece, &AsMachined),
         y: Point3,
         reach: f64,
         opts: &ProjectionOptions,
@@ -158,7 +209,7 @@ impl ContactSearch {
         self.stamp += 1;
         self.bounds.clear();
         self.found.clear();
-        let leaves = &self.leaves.leaves;
+        let leaves = &ix.leaves.leaves;
         for &id in &self.near {
             if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(y)) {
                 if b < reach + tie {
@@ -179,7 +230,7 @@ impl ContactSearch {
                 floor = floor.min(b);
                 break;
             }
-            let Some(leaf) = self.leaves.leaves.get(id as usize) else {
+            let Some(leaf) = ix.leaves.leaves.get(id as usize) else {
                 continue;
             };
             let warm = (&mut self.warm, self.stamp, id);
@@ -200,7 +251,7 @@ impl ContactSearch {
             }
             // The foot leaves the trim: the leaf's closest point on the
             // face lies on its trim boundary.
-            let segments = self.leaves.segments.get(leaf.segments.clone());
+            let segments = ix.leaves.segments.get(leaf.segments.clone());
             for &seg in segments.unwrap_or_default() {
                 let f = am.closest_on_segment(wp, face, seg, y, opts);
                 let df = f.dist2.sqrt();

@@ -5,6 +5,27 @@
 use super::leaves::{Aabb, Leaf};
 use crate::math::Point3;
 
+/// What the tree is asked about: a point, or a segment of the probe's
+/// axis.
+pub(crate) trait Shape: Copy {
+    /// Squared distance to the box `b` (zero when they meet), mm^2.
+    fn box_dist2(&self, b: &Aabb) -> f64;
+    /// A lower bound of the distance to the true surface over `leaf`, mm.
+    fn leaf_bound(&self, leaf: &Leaf) -> f64;
+}
+
+impl Shape for Point3 {
+    #[inline(always)]
+    fn box_dist2(&self, b: &Aabb) -> f64 {
+        b.dist2(*self)
+    }
+
+    #[inline(always)]
+    fn leaf_bound(&self, leaf: &Leaf) -> f64 {
+        leaf.lower_bound(*self)
+    }
+}
+
 /// Most leaves under one node of the tree.
 const BUCKET: usize = 4;
 
@@ -76,11 +97,11 @@ impl LeafTree {
 
     /// The least lower bound of the leaves' distances from `p` (infinite
     /// for no leaf), mm.
-    pub(crate) fn nearest(&self, leaves: &[Leaf], p: Point3) -> f64 {
+    pub(crate) fn nearest<S: Shape>(&self, leaves: &[Leaf], p: S) -> f64 {
         let mut best2 = f64::INFINITY;
         let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
         if let Some(root) = self.nodes.first() {
-            stack.push((root.aabb.dist2(p), 0));
+            stack.push((p.box_dist2(&root.aabb), 0));
         }
         while let Some((d2, i)) = stack.pop() {
             let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < best2) else {
@@ -88,7 +109,7 @@ impl LeafTree {
             };
             if node.leaf {
                 for l in self.leaves_of(node, leaves) {
-                    let b = l.lower_bound(p);
+                    let b = p.leaf_bound(l);
                     best2 = best2.min(b * b);
                 }
                 continue;
@@ -108,7 +129,7 @@ impl LeafTree {
 
     /// Appends to `out` every leaf whose lower bound from `p` is below
     /// `radius` (in tree order).
-    pub(crate) fn within(&self, leaves: &[Leaf], p: Point3, radius: f64, out: &mut Vec<u32>) {
+    pub(crate) fn within<S: Shape>(&self, leaves: &[Leaf], p: S, radius: f64, out: &mut Vec<u32>) {
         let r2 = radius * radius;
         let mut stack: Vec<u32> = Vec::with_capacity(64);
         if !self.nodes.is_empty() {
@@ -118,7 +139,7 @@ impl LeafTree {
             let Some(node) = self.nodes.get(i as usize) else {
                 continue;
             };
-            if node.aabb.dist2(p) >= r2 {
+            if p.box_dist2(&node.aabb) >= r2 {
                 continue;
             }
             if !node.leaf {
@@ -129,7 +150,7 @@ impl LeafTree {
             for &id in ids.unwrap_or_default() {
                 if leaves
                     .get(id as usize)
-                    .is_some_and(|l| l.lower_bound(p) < radius)
+                    .is_some_and(|l| p.leaf_bound(l) < radius)
                 {
                     out.push(id);
                 }
@@ -137,10 +158,10 @@ impl LeafTree {
         }
     }
 
-    fn node_dist2(&self, i: u32, p: Point3) -> f64 {
+    fn node_dist2<S: Shape>(&self, i: u32, p: S) -> f64 {
         self.nodes
             .get(i as usize)
-            .map_or(f64::INFINITY, |n| n.aabb.dist2(p))
+            .map_or(f64::INFINITY, |n| p.box_dist2(&n.aabb))
     }
 
     fn leaves_of<'l>(&'l self, node: &Node, leaves: &'l [Leaf]) -> impl Iterator<Item = &'l Leaf> {

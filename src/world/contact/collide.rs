@@ -1,0 +1,426 @@
+//! The collision check of one probe part beyond the ball (the stylus shaft
+//! or the probe body): a solid cylinder against the true (as-machined,
+//! trimmed) part, on the contact search's leaves and tree.
+//!
+//! - **Free air**: the check remembers the cylinder's axis ends at its
+//!   last exact check and a lower bound `L` of the cylinder's distance to
+//!   the part there. A cylinder whose axis ends moved by at most `m` (and
+//!   whose unit axis turned by `|e' - e|`) lies within
+//!   `m + radius |e' - e|` of the old one, so no check runs until that
+//!   reaches `L`.
+//! - **Broad phase**: the leaves whose bound comes within the radius plus
+//!   [`CollisionOptions::margin_mm`] of the axis segment (an exact
+//!   segment-box distance and the leaf's slab); with none, `L` is the
+//!   nearest leaf bound less the radius.
+//! - **Exact check**: from where the last check found its least distance,
+//!   then from the cylinder's point nearest to each candidate
+//!   leaf's box (nearest bound first, up to the first leaf whose bound
+//!   is not below the least distance found: no closer point there), a
+//!   descent of the true signed distance over the cylinder.
+//!   The distance at a point is the ball contact's point query (Newton on
+//!   the true surface, trims honoured exactly, the same sign rule at the
+//!   edges), so there is no material over holes and pockets. Each step
+//!   tries the cylinder's point closest to the foot (an alternating
+//!   projection: exact in one step for a face parallel to the axis or to
+//!   an end) and the cylinder's point deepest along the foot's normal (the
+//!   support point: exact in one step for a flat face at any angle) and
+//!   keeps the better one; where the distance falls towards the support
+//!   point but is higher there (a face nearly parallel to the axis that
+//!   ends before the cylinder does), a golden-section search on the way
+//!   to it. The part collides when a point of the cylinder
+//!   lies inside the material, or a foot inside the cylinder, by more than
+//!   [`CollisionOptions::penetration_mm`].
+//! - **Limits**: the descent finds the least distance of the cylinder
+//!   near each seed (the leaves are near-flat pieces, over which it has
+//!   one minimum); a seed within [`CollisionOptions::seed_merge_mm`] of an
+//!   earlier one is not descended from (the distance descended is that of
+//!   the whole part, so a descent from it would start in the basin of the
+//!   earlier one). The leaves' boxes bound the whole of a leaf crossed by
+//!   its trim, over a hole too: they only choose the seeds, the descent's
+//!   point queries honour the trims.
+use super::search::{Cursor, PartIndex};
+use super::shapes::Cylinder;
+use super::tree::Shape;
+use super::{ContactOptions, TrueContact};
+use crate::geometry::{ProjectionError, ProjectionOptions};
+use crate::math::{Point3, Vec3};
+use crate::workpiece::Workpiece;
+use crate::world::as_machined::AsMachined;
+
+/// Tolerances of the collision check of the probe's shaft and body (mm).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CollisionOptions {
+    /// Leaves whose bound comes within the part's radius plus this (mm) of
+    /// its axis are checked exactly; after an exact check the free-air
+    /// bound is at most this.
+    pub margin_mm: f64,
+    /// A probe part collides once a point of it lies this far (mm) inside
+    /// the material, or a point of the part's surface this far inside it:
+    /// a touch within this counts as free (the ball's roughness and the
+    /// rounding of the distances stay well inside it).
+    pub penetration_mm: f64,
+    /// The exact check's descent stops when a step gains less than this
+    /// (mm); the free-air bound is the least distance found less this.
+    pub tolerance_mm: f64,
+    /// Most steps of one descent.
+    pub max_steps: usize,
+    /// A seed this close (mm) to an earlier one of the same check is not
+    /// descended from (it would start in the same basin).
+    pub seed_merge_mm: f64,
+    /// The point queries of the exact check look this far (mm); a seed
+    /// further from the part counts with its leaf's bound.
+    pub reach_mm: f64,
+}
+
+impl Default for CollisionOptions {
+    fn default() -> Self {
+        CollisionOptions {
+            margin_mm: 1.0,
+            penetration_mm: 1e-3,
+            tolerance_mm: 1e-4,
+            max_steps: 32,
+            seed_merge_mm: 1.0,
+            reach_mm: 5.0,
+        }
+    }
+}
+
+/// Where a probe part strikes the part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Strike {
+    /// The contact point on the true part (part frame), mm.
+    pub point: Point3,
+    /// How deep the probe part is in the material there, mm.
+    pub depth_mm: f64,
+}
+
+/// Points of the golden-section search along a descent's support step.
+const LINE_STEPS: usize = 12;
+
+/// The last exact check: the axis ends, a lower bound of the cylinder's
+/// distance to the part (mm), and the factor `2 radius / |b - a|` by which
+/// a change of `b - a` turns the cylinder's rim.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Anchor {
+    a: Point3,
+    b: Point3,
+    floor: f64,
+    turn: f64,
+}
+
+/// The collision check of one probe part.
+#[derive(Debug, Clone)]
+pub struct PartCheck {
+    cursor: Cursor,
+    opts: CollisionOptions,
+    anchor: Option<Anchor>,
+    /// Where the last exact check found its least distance: the axial
+    /// coordinate as a fraction of the length, and the radial offset.
+    warm: Option<(f64, Vec3)>,
+    /// Reused buffers: candidate leaves, with their bounds, seeds.
+    near: Vec<u32>,
+    order: Vec<(f64, u32)>,
+    seeds: Vec<Point3>,
+    exact_checks: u64,
+}
+
+impl PartCheck {
+    /// A check that knows nothing yet.
+    pub fn new(contact: &ContactOptions, opts: &CollisionOptions) -> PartCheck {
+        PartCheck {
+            cursor: Cursor::new(contact),
+            opts: *opts,
+            anchor: None,
+            warm: None,
+            near: Vec::new(),
+            order: Vec::new(),
+            seeds: Vec::new(),
+            exact_checks: 0,
+        }
+    }
+
+    /// Forgets what earlier checks learnt.
+    pub fn reset(&mut self) {
+        self.anchor = None;
+        self.warm = None;
+        self.cursor.reset();
+    }
+
+    /// Number of exact checks run so far.
+    pub fn exact_checks(&self) -> u64 {
+        self.exact_checks
+    }
+
+    /// Whether the cylinder round the axis `a..b` (in any one rigid frame,
+    /// the same at every call; the radius that of the last exact check)
+    /// may have come within reach of the part since the last exact check.
+    #[inline(always)]
+    pub fn may_touch(&self, a: Point3, b: Point3) -> bool {
+        let Some(k) = self.anchor else {
+            return true;
+        };
+        // The axis turns by |e' - e| <= 2 |v' - v| / |v| (v = b - a), which
+        // moves the rim by the radius times that.
+        let (da, db) = (a - k.a, b - k.b);
+        let ends = da.norm_squared().max(db.norm_squared()).sqrt();
+        let moved = ends + k.turn * (db - da).norm();
+        moved >= k.floor
+    }
+
+    /// The exact check of the cylinder `cyl` (part frame) whose axis ends
+    /// are `ends` in the frame [`Self::may_touch`] is asked in; the strike
+    /// when the cylinder is in the material.
+    pub(crate) fn check(
+        &mut self,
+        (ix, part): (&PartIndex, (&Workpiece, &AsMachined)),
+        cyl: &Cylinder,
+        ends: (Point3, Point3),
+        opts: &ProjectionOptions,
+    ) -> Result<Option<Strike>, ProjectionError> {
+        self.exact_checks += 1;
+        let found = self.exact(ix, part, cyl, opts);
+        let floor = match found {
+            Ok(Ok(floor)) => floor,
+            Ok(Err(_)) | Err(_) => f64::NEG_INFINITY,
+        };
+        let length = (ends.1 - ends.0).norm();
+        self.anchor = Some(Anchor {
+            a: ends.0,
+            b: ends.1,
+            floor,
+            turn: if length > 0.0 {
+                2.0 * cyl.radius / length
+            } else {
+                f64::INFINITY
+            },
+        });
+        match found {
+            Ok(Ok(_)) => Ok(None),
+            Ok(Err(strike)) => Ok(Some(strike)),
+            Err(e) => {
+                self.reset();
+                Err(e)
+            }
+        }
+    }
+
+    /// The strike, or a lower bound of the cylinder's distance to the part.
+    fn exact(
+        &mut self,
+        ix: &PartIndex,
+        part: (&Workpiece, &AsMachined),
+        cyl: &Cylinder,
+        opts: &ProjectionOptions,
+    ) -> Result<Result<f64, Strike>, ProjectionError> {
+        let seg = cyl.segment();
+        let leaves = &ix.leaves.leaves;
+        self.near.clear();
+        let listed = cyl.radius + self.opts.margin_mm;
+        ix.tree.within(leaves, seg, listed, &mut self.near);
+        if self.near.is_empty() {
+            return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
+        }
+        // Nearest bound first; a leaf whose bound is not below the least
+        // distance found so far holds no closer point.
+        self.order.clear();
+        for &id in &self.near {
+            if let Some(leaf) = leaves.get(id as usize) {
+                self.order.push((seg.leaf_bound(leaf) - cyl.radius, id));
+            }
+        }
+        self.order
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut floor = self.opts.margin_mm;
+        self.seeds.clear();
+        let mut least: Option<(f64, Point3)> = None;
+        // First from where the last check found its least distance.
+        if let Some((s, w)) = self.warm {
+            let seed = cyl.closest(cyl.a + cyl.axis * (s * cyl.length) + w);
+            self.seeds.push(seed);
+            match self.descend(ix, part, cyl, seed, opts)? {
+                Ok(Some((d, at))) => {
+                    floor = floor.min(d - self.opts.tolerance_mm);
+                    least = Some((d, at));
+                }
+                Ok(None) => {}
+                Err(strike) => return Ok(Err(strike)),
+            }
+        }
+        for k in 0..self.order.len() {
+            let Some(&(bound, id)) = self.order.get(k) else {
+                continue;
+            };
+            if bound >= floor {
+                break;
+            }
+            let Some(leaf) = leaves.get(id as usize) else {
+                continue;
+            };
+            let (_, s) = super::shapes::segment_box(seg.a, seg.b, &leaf.aabb);
+            let x = seg.a + (seg.b - seg.a) * s;
+            let on_box = x.sup(&leaf.aabb.min).inf(&leaf.aabb.max);
+            let seed = cyl.closest(on_box);
+            let merge = self.opts.seed_merge_mm;
+            if self.seeds.iter().any(|s| (s - seed).norm() < merge) {
+                continue;
+            }
+            self.seeds.push(seed);
+            match self.descend(ix, part, cyl, seed, opts)? {
+                Ok(Some((d, at))) => {
+                    floor = floor.min(d - self.opts.tolerance_mm);
+                    if least.is_none_or(|l| d < l.0) {
+                        least = Some((d, at));
+                    }
+                }
+                Ok(None) => floor = floor.min(bound),
+                Err(strike) => return Ok(Err(strike)),
+            }
+        }
+        self.warm = least.map(|(_, at)| {
+            let v = at - cyl.a;
+            let t = v.dot(&cyl.axis);
+            (t / cyl.length.max(1e-300), v - cyl.axis * t)
+        });
+        Ok(Ok(floor))
+    }
+
+    /// The descent of the signed distance over `cyl` from `seed`: the
+    /// least distance found and where (`None` when the seed is out of the
+    /// queries' reach), or the strike.
+    fn descend(
+        &mut self,
+        ix: &PartIndex,
+        part: (&Workpiece, &AsMachined),
+        cyl: &Cylinder,
+        seed: Point3,
+        opts: &ProjectionOptions,
+    ) -> Result<Result<Option<(f64, Point3)>, Strike>, ProjectionError> {
+        let mut c = match self.probe(ix, part, cyl, seed, opts)? {
+            None => return Ok(Ok(None)),
+            Some(Err(strike)) => return Ok(Err(strike)),
+            Some(Ok(c)) => c,
+        };
+        let mut p = seed;
+        for _ in 0..self.opts.max_steps {
+            let support = cyl.support(-c.push, p);
+            let mut best: Option<(Point3, TrueContact)> = None;
+            for x in [cyl.closest(c.point), support] {
+                if (x - p).norm() <= 1e-12 {
+                    continue;
+                }
+                match self.probe(ix, part, cyl, x, opts)? {
+                    Some(Err(strike)) => return Ok(Err(strike)),
+                    Some(Ok(cx)) if best.is_none_or(|b| cx.distance < b.1.distance) => {
+                        best = Some((x, cx));
+                    }
+                    _ => {}
+                }
+            }
+            // The support point overshoots where the distance keeps falling
+            // towards it (a face nearly parallel to the axis that ends
+            // before the cylinder does): the least distance on the way.
+            let slope = c.push.dot(&(support - p));
+            let tol = self.opts.tolerance_mm;
+            let support_better = best.is_some_and(|b| b.0 == support);
+            if slope < -10.0 * tol && !support_better {
+                match self.line_search(ix, part, cyl, (p, support), opts)? {
+                    Err(strike) => return Ok(Err(strike)),
+                    Ok(Some((x, cx))) if best.is_none_or(|b| cx.distance < b.1.distance) => {
+                        best = Some((x, cx));
+                    }
+                    Ok(_) => {}
+                }
+            }
+            match best {
+                Some((x, cx)) if cx.distance < c.distance - tol => {
+                    (p, c) = (x, cx);
+                }
+                _ => break,
+            }
+        }
+        Ok(Ok(Some((c.distance, p))))
+    }
+
+    /// The least signed distance on the segment `from..to` of `cyl` by a
+    /// golden-section search ([`LINE_STEPS`] points), or the strike.
+    fn line_search(
+        &mut self,
+        ix: &PartIndex,
+        part: (&Workpiece, &AsMachined),
+        cyl: &Cylinder,
+        (from, to): (Point3, Point3),
+        opts: &ProjectionOptions,
+    ) -> Result<Result<Option<(Point3, TrueContact)>, Strike>, ProjectionError> {
+        let at = |g: f64| from + (to - from) * g;
+        let f = |this: &mut Self,
+                 g: f64|
+         -> Result<Result<Option<TrueContact>, Strike>, ProjectionError> {
+            Ok(match this.probe(ix, part, cyl, at(g), opts)? {
+                None => Ok(None),
+                Some(Err(strike)) => Err(strike),
+                Some(Ok(c)) => Ok(Some(c)),
+            })
+        };
+        let value = |c: &Option<TrueContact>| c.map_or(f64::INFINITY, |c| c.distance);
+        let k = 0.5 * (5f64.sqrt() - 1.0);
+        let (mut lo, mut hi) = (0.0, 1.0);
+        let (mut x1, mut x2) = (hi - k * (hi - lo), lo + k * (hi - lo));
+        let mut f1 = match f(self, x1)? {
+            Err(s) => return Ok(Err(s)),
+            Ok(c) => c,
+        };
+        let mut f2 = match f(self, x2)? {
+            Err(s) => return Ok(Err(s)),
+            Ok(c) => c,
+        };
+        for _ in 2..LINE_STEPS {
+            if value(&f1) <= value(&f2) {
+                (hi, x2, f2) = (x2, x1, f1);
+                x1 = hi - k * (hi - lo);
+                f1 = match f(self, x1)? {
+                    Err(s) => return Ok(Err(s)),
+                    Ok(c) => c,
+                };
+            } else {
+                (lo, x1, f1) = (x1, x2, f2);
+                x2 = lo + k * (hi - lo);
+                f2 = match f(self, x2)? {
+                    Err(s) => return Ok(Err(s)),
+                    Ok(c) => c,
+                };
+            }
+        }
+        let best = if value(&f1) <= value(&f2) {
+            f1.map(|c| (at(x1), c))
+        } else {
+            f2.map(|c| (at(x2), c))
+        };
+        Ok(Ok(best))
+    }
+
+    /// The signed distance at `x` (a point of `cyl`) with its foot, or the
+    /// strike when `x` lies in the material or the foot in the cylinder;
+    /// `None` beyond the queries' reach.
+    fn probe(
+        &mut self,
+        ix: &PartIndex,
+        part: (&Workpiece, &AsMachined),
+        cyl: &Cylinder,
+        x: Point3,
+        opts: &ProjectionOptions,
+    ) -> Result<Option<Result<TrueContact, Strike>>, ProjectionError> {
+        let Some(c) = self.cursor.query(ix, part, x, self.opts.reach_mm, opts)? else {
+            return Ok(None);
+        };
+        let pen = self.opts.penetration_mm;
+        let inside = -cyl.signed_distance(c.point);
+        let depth = (-c.distance).max(inside);
+        if depth > pen {
+            return Ok(Some(Err(Strike {
+                point: c.point,
+                depth_mm: depth,
+            })));
+        }
+        Ok(Some(Ok(c)))
+    }
+}

@@ -1,0 +1,249 @@
+//! The probe's shapes beyond the ball, as the collision check sees them: a
+//! segment of the probe's axis (for the broad phase) and a solid finite
+//! cylinder round it (for the exact check).
+use super::leaves::{Aabb, Leaf};
+use super::tree::Shape;
+use crate::math::{Point3, Vec3};
+
+/// The segment `a..b`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Segment {
+    pub(crate) a: Point3,
+    pub(crate) b: Point3,
+}
+
+impl Shape for Segment {
+    fn box_dist2(&self, b: &Aabb) -> f64 {
+        segment_box(self.a, self.b, b).0
+    }
+
+    fn leaf_bound(&self, leaf: &Leaf) -> f64 {
+        leaf.segment_lower_bound(self.a, self.b)
+    }
+}
+
+/// The squared distance from the segment `a..b` to the box `bx` and the
+/// parameter `s` in `[0, 1]` of the segment's point `a + s (b - a)` that
+/// attains it (exact: the squared distance is a piecewise quadratic in
+/// `s`, with its pieces split where a coordinate crosses a side of the
+/// box).
+pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
+    let d = b - a;
+    let mut ts = [0.0f64; 8];
+    ts[1] = 1.0;
+    let mut n = 2;
+    for k in 0..3 {
+        if d[k] == 0.0 {
+            continue;
+        }
+        for side in [bx.min[k], bx.max[k]] {
+            let t = (side - a[k]) / d[k];
+            if t > 0.0 && t < 1.0 {
+                if let Some(slot) = ts.get_mut(n) {
+                    *slot = t;
+                    n += 1;
+                }
+            }
+        }
+    }
+    let ts = ts.get_mut(..n).unwrap_or_default();
+    ts.sort_unstable_by(f64::total_cmp);
+    let mut best = (bx.dist2(a), 0.0);
+    for w in ts.windows(2) {
+        let &[t0, t1] = w else {
+            continue;
+        };
+        let t = piece_minimum(a, d, bx, t0, t1);
+        let d2 = bx.dist2(a + d * t);
+        if d2 < best.0 {
+            best = (d2, t);
+        }
+    }
+    best
+}
+
+/// The minimiser over `[t0, t1]` of the squared distance from `a + t d`
+/// to `bx`, on a piece where no coordinate crosses a side of the box.
+fn piece_minimum(a: Point3, d: Vec3, bx: &Aabb, t0: f64, t1: f64) -> f64 {
+    let mid = 0.5 * (t0 + t1);
+    let (mut aa, mut bb) = (0.0, 0.0);
+    for k in 0..3 {
+        let x = a[k] + d[k] * mid;
+        let side = if x < bx.min[k] {
+            bx.min[k]
+        } else if x > bx.max[k] {
+            bx.max[k]
+        } else {
+            continue;
+        };
+        // (a_k - side + t d_k)^2
+        aa += d[k] * d[k];
+        bb += (a[k] - side) * d[k];
+    }
+    let t = if aa > 0.0 { -bb / aa } else { t0 };
+    if t.is_finite() {
+        t.clamp(t0, t1)
+    } else {
+        t0
+    }
+}
+
+/// A solid finite cylinder: the points within `radius` of the axis whose
+/// axial coordinate lies in `[0, length]` from `a` along the unit `axis`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Cylinder {
+    pub(crate) a: Point3,
+    pub(crate) axis: Vec3,
+    pub(crate) length: f64,
+    pub(crate) radius: f64,
+}
+
+/// Directions whose component along (or across) the axis is below this
+/// fraction of their length count as square to (or along) it.
+const TIE: f64 = 1e-12;
+
+impl Cylinder {
+    /// The cylinder of `radius` round the segment `a..b`; `None` when the
+    /// segment has no length.
+    pub(crate) fn between(a: Point3, b: Point3, radius: f64) -> Option<Cylinder> {
+        let d = b - a;
+        let length = d.norm();
+        let axis = d.try_normalize(1e-12)?;
+        Some(Cylinder {
+            a,
+            axis,
+            length,
+            radius,
+        })
+    }
+
+    /// The axis segment.
+    pub(crate) fn segment(&self) -> Segment {
+        Segment {
+            a: self.a,
+            b: self.a + self.axis * self.length,
+        }
+    }
+
+    /// Axial coordinate and radial offset of `q`.
+    fn split(&self, q: Point3) -> (f64, Vec3) {
+        let v = q - self.a;
+        let t = v.dot(&self.axis);
+        (t, v - self.axis * t)
+    }
+
+    /// Signed distance of `q` from the cylinder (negative inside), mm.
+    pub(crate) fn signed_distance(&self, q: Point3) -> f64 {
+        let (t, w) = self.split(q);
+        let dx = w.norm() - self.radius;
+        let dy = (-t).max(t - self.length);
+        let inside = dx.max(dy).min(0.0);
+        let outside = dx.max(0.0).hypot(dy.max(0.0));
+        inside + outside
+    }
+
+    /// The point of the cylinder closest to `q` (`q` itself inside).
+    pub(crate) fn closest(&self, q: Point3) -> Point3 {
+        let (t, w) = self.split(q);
+        let rho = w.norm();
+        let w = if rho > self.radius {
+            w * (self.radius / rho)
+        } else {
+            w
+        };
+        self.a + self.axis * t.clamp(0.0, self.length) + w
+    }
+
+    /// A point of the cylinder furthest along `v`; where that is not one
+    /// point (`v` square to the axis, or along it), the one nearest to
+    /// `near` among them.
+    pub(crate) fn support(&self, v: Vec3, near: Point3) -> Point3 {
+        let size = v.norm();
+        let along = v.dot(&self.axis);
+        let across = v - self.axis * along;
+        let (t_near, w_near) = self.split(near);
+        let t = if along > TIE * size {
+            self.length
+        } else if along < -TIE * size {
+            0.0
+        } else {
+            t_near.clamp(0.0, self.length)
+        };
+        let w = match across.try_normalize(TIE * size.max(1e-300)) {
+            Some(u) => u * self.radius,
+            None => {
+                let rho = w_near.norm();
+                if rho > self.radius {
+                    w_near * (self.radius / rho)
+                } else {
+                    w_near
+                }
+            }
+        };
+        self.a + self.axis * t + w
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn cube() -> Aabb {
+        Aabb {
+            min: Point3::new(0.0, 0.0, 0.0),
+            max: Point3::new(1.0, 1.0, 1.0),
+        }
+    }
+
+    /// The segment-box distance against a dense sampling of the segment.
+    #[test]
+    fn segment_box_matches_sampling() {
+        let cases = [
+            ([-1.0, 2.0, 0.5], [2.0, 2.0, 0.5], 1.0),
+            ([-1.0, -1.0, -1.0], [2.0, 2.5, 3.0], 0.0),
+            ([2.0, 3.0, -2.0], [3.0, 1.5, 2.0], 1.0),
+            ([3.0, 3.0, 3.0], [4.0, 2.0, 5.0], 12.0),
+            ([-2.0, 0.5, 3.0], [0.5, 0.5, 1.5], 0.0),
+        ];
+        for (a, b, _) in cases {
+            let (a, b) = (Point3::from(a), Point3::from(b));
+            let (d2, s) = segment_box(a, b, &cube());
+            let sampled = (0..=100_000)
+                .map(|k| cube().dist2(a + (b - a) * (k as f64 / 100_000.0)))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d2 <= sampled + 1e-12, "{a} {b}: {d2} vs {sampled}");
+            assert!(sampled - d2 < 1e-8, "{a} {b}: {d2} vs {sampled}");
+            assert!((cube().dist2(a + (b - a) * s) - d2).abs() < 1e-12);
+        }
+        // Known values: a line 1 above the top face; one corner 1 away in
+        // each of x, y and z (distance sqrt(3)).
+        let (d2, _) = segment_box(Point3::new(-1., 2., 0.5), Point3::new(2., 2., 0.5), &cube());
+        assert!((d2 - 1.0).abs() < 1e-12);
+        let (d2, _) = segment_box(Point3::new(2., 2., 2.), Point3::new(3., 2., 2.), &cube());
+        assert!((d2 - 3.0).abs() < 1e-12);
+    }
+
+    /// The cylinder's signed distance, closest point and support point on
+    /// a cylinder of radius 2 from the origin up 10 along z.
+    #[test]
+    fn cylinder_distances() {
+        let c = Cylinder::between(Point3::origin(), Point3::new(0., 0., 10.), 2.0).unwrap();
+        let sd = |x: f64, y: f64, z: f64| c.signed_distance(Point3::new(x, y, z));
+        assert!((sd(5.0, 0.0, 5.0) - 3.0).abs() < 1e-12);
+        assert!((sd(1.0, 0.0, -0.5) - 0.5).abs() < 1e-12);
+        assert!((sd(5.0, 0.0, 14.0) - 5.0).abs() < 1e-12);
+        assert!((sd(0.0, 1.0, 5.0) + 1.0).abs() < 1e-12);
+        assert!((sd(0.0, 0.0, 9.5) + 0.5).abs() < 1e-12);
+        let p = c.closest(Point3::new(0.0, 6.0, -3.0));
+        assert!((p - Point3::new(0.0, 2.0, 0.0)).norm() < 1e-12);
+        // Furthest down and along -x: the rim point (-2, 0, 0).
+        let s = c.support(Vec3::new(-1.0, 0.0, -1.0), Point3::origin());
+        assert!((s - Point3::new(-2.0, 0.0, 0.0)).norm() < 1e-12);
+        // Square to the axis: the side line, at the height of `near`.
+        let s = c.support(Vec3::new(0.0, 1.0, 0.0), Point3::new(0.0, 0.0, 7.0));
+        assert!((s - Point3::new(0.0, 2.0, 7.0)).norm() < 1e-12);
+        // Along the axis: the top disk, below `near`.
+        let s = c.support(Vec3::z(), Point3::new(1.0, 1.0, 3.0));
+        assert!((s - Point3::new(1.0, 1.0, 10.0)).norm() < 1e-12);
+    }
+}
