@@ -59,9 +59,7 @@ fn deviation_report(
             .iter()
             .flat_map(|r| r.corrections.iter().cloned())
             .collect(),
-        deviation_mm: Stats::of(
-            (points.iter().filter(|p| p.on_surface())).map(|p| p.deviation_mm),
-        ),
+        deviation_mm: Stats::of((points.iter().filter(|p| p.on_surface())).map(|p| p.deviation_mm)),
         tolerance_mm: Tolerance { lower, upper },
         notes: results
             .iter()

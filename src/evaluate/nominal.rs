@@ -14,8 +14,8 @@ use rayon::prelude::*;
 
 use super::model::PointReport;
 use crate::host::modes::Measured;
-use crate::program::Pose;
 use crate::math::Vec3;
+use crate::program::Pose;
 use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 
 /// Measured points per evaluation chunk: large enough that the cold start
@@ -51,7 +51,11 @@ fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: V
     let on_domain = [uv.x - u0, u1 - uv.x, uv.y - v0, v1 - uv.y]
         .iter()
         .any(|d| d.abs() <= ON_BOUNDARY_UV);
-    on_domain || face.trim.as_ref().is_some_and(|t| t.distance(uv) <= ON_BOUNDARY_UV)
+    on_domain
+        || face
+            .trim
+            .as_ref()
+            .is_some_and(|t| t.distance(uv) <= ON_BOUNDARY_UV)
 }
 
 pub fn point_reports(
