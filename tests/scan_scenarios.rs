@@ -199,8 +199,14 @@ fn a_local_gouge_needs_an_autonomous_correction() {
         cmm::geometry::Plane::try_new([0.0, 0.0, 60.0].into(), [0.0, 0.0, 1.0].into()).unwrap();
     let curve = &cmm::workpiece::section_faces(&wp, &[1], &plane, &Default::default())[0];
     let c = curve.points[curve.points.len() / 2].point;
-    let am = json!({ "form": [ { "kind": "bump", "center_mm": [c.x, c.y, c.z], "radius_mm": 5, "height_mm": -2.5 } ] });
-    let r = run(&program(am, json!([section("a", 60.0, "auto")])), 1, true);
+    // 0.6 mm deep: shallower than the ball radius less the shaft's, so
+    // the vertical stylus follows it (a deeper gouge on a wall makes the
+    // shaft strike the wall above it); past the 0.3 mm trajectory
+    // tolerance.
+    let am = json!({ "form": [ { "kind": "bump", "center_mm": [c.x, c.y, c.z], "radius_mm": 5, "height_mm": -0.6 } ] });
+    let mut feature = section("a", 60.0, "auto");
+    feature["trajectory_tolerance_mm"] = json!(0.3);
+    let r = run(&program(am, json!([feature])), 1, true);
     let o = outcomes(&r, 0);
     assert_eq!(
         o.first().map(String::as_str),
