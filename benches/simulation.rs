@@ -128,7 +128,7 @@ fn scan_bench(c: &mut Criterion, name: &str, p: &SimulatedPart) {
 /// placed at (350, 500, 20) with its z = 100 section: a program written to
 /// a temporary directory. `None` when the CAD file is not there.
 fn ctc05_program() -> Option<(tempfile::TempDir, SimulatedPart)> {
-    let step = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cad/nist_ctc_05_asme1_rd.stp");
+    let step = Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/nist-ctc05.stp");
     if !step.exists() {
         println!("note: {} not found; skipping the CAD part", step.display());
         return None;
