@@ -10,34 +10,12 @@ use cmm::machine::{MachineModel, MachineProfile};
 use cmm::math::{Mat3, Point3, Vec3};
 use cmm::program::Pose;
 use cmm::seam::{Cmm, MachineStatus, ProbePart, Readings};
-use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece, WorkpieceFile};
+use cmm::workpiece::{TrimSpec, Workpiece, WorkpieceFile};
 use cmm::world::as_machined::AsMachined;
 use cmm::world::cmm::{SimulatedCmm, TruePart};
 use cmm::world::contact::CollisionOptions;
 use cmm::world::probe::{ProbeShape, TrueProbe};
 use common::*;
-
-/// A plane face `o + u a + v b`, (u, v) in [0, 1]^2, normal `a x b`.
-fn plane(name: &str, o: [f64; 3], a: [f64; 3], b: [f64; 3], trim: Option<TrimSpec>) -> SurfaceSpec {
-    let at = |s: f64, t: f64| [0, 1, 2].map(|k| o[k] + s * a[k] + t * b[k]);
-    SurfaceSpec {
-        name: name.into(),
-        degree: [1, 1],
-        knots_u: vec![0.0, 0.0, 1.0, 1.0],
-        knots_v: vec![0.0, 0.0, 1.0, 1.0],
-        control_points: vec![
-            vec![at(0.0, 0.0), at(0.0, 1.0)],
-            vec![at(1.0, 0.0), at(1.0, 1.0)],
-        ],
-        weights: None,
-        reversed: false,
-        trim,
-    }
-}
-
-fn square(lo: f64, hi: f64) -> Vec<[f64; 2]> {
-    vec![[lo, lo], [hi, lo], [hi, hi], [lo, hi]]
-}
 
 /// The block [0, 100]^2 x [0, 50] less the pocket [a, b]^2 x [z0, 50].
 fn block_with_pocket(a: f64, b: f64, z0: f64) -> Workpiece {

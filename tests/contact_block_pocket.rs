@@ -7,7 +7,7 @@ mod common;
 
 use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec3};
-use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece, WorkpieceFile};
+use cmm::workpiece::{TrimSpec, Workpiece, WorkpieceFile};
 use cmm::world::as_machined::{AsMachined, AsMachinedSpec};
 use cmm::world::cmm::contact_options;
 use cmm::world::contact::{ContactOptions, ContactSearch};
@@ -15,28 +15,6 @@ use common::*;
 
 /// The block [0, 100]^2 x [0, 50] less the pocket [25, 75]^2 x [30, 50].
 const POCKET: ([f64; 2], [f64; 2]) = ([25.0, 75.0], [30.0, 50.0]);
-
-/// A plane face `o + u a + v b`, (u, v) in [0, 1]^2, normal `a x b`.
-fn plane(name: &str, o: [f64; 3], a: [f64; 3], b: [f64; 3], trim: Option<TrimSpec>) -> SurfaceSpec {
-    let at = |s: f64, t: f64| [0, 1, 2].map(|k| o[k] + s * a[k] + t * b[k]);
-    SurfaceSpec {
-        name: name.into(),
-        degree: [1, 1],
-        knots_u: vec![0.0, 0.0, 1.0, 1.0],
-        knots_v: vec![0.0, 0.0, 1.0, 1.0],
-        control_points: vec![
-            vec![at(0.0, 0.0), at(0.0, 1.0)],
-            vec![at(1.0, 0.0), at(1.0, 1.0)],
-        ],
-        weights: None,
-        reversed: false,
-        trim,
-    }
-}
-
-fn square(lo: f64, hi: f64) -> Vec<[f64; 2]> {
-    vec![[lo, lo], [hi, lo], [hi, hi], [lo, hi]]
-}
 
 fn block_with_pocket() -> Workpiece {
     let top_trim = TrimSpec {

@@ -3,7 +3,7 @@
 //! independent NURBS evaluator written straight from the definition.
 use std::path::PathBuf;
 
-use cmm::workpiece::{Workpiece, WorkpieceFile};
+use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece, WorkpieceFile};
 use rand::SeedableRng;
 
 pub type TestRng = rand::rngs::ChaCha8Rng;
@@ -154,4 +154,33 @@ pub fn param_inside_span(rng: &mut TestRng, knots: &cmm::geometry::KnotVector, m
     let b = knots.breakpoints();
     let s = rng.random_range(0..b.len() - 1);
     b[s] + (b[s + 1] - b[s]) * uniform(rng, margin, 1.0 - margin)
+}
+
+/// A plane face `o + u a + v b`, (u, v) in [0, 1]^2, normal `a x b`.
+pub fn plane(
+    name: &str,
+    o: [f64; 3],
+    a: [f64; 3],
+    b: [f64; 3],
+    trim: Option<TrimSpec>,
+) -> SurfaceSpec {
+    let at = |s: f64, t: f64| [0, 1, 2].map(|k| o[k] + s * a[k] + t * b[k]);
+    SurfaceSpec {
+        name: name.into(),
+        degree: [1, 1],
+        knots_u: vec![0.0, 0.0, 1.0, 1.0],
+        knots_v: vec![0.0, 0.0, 1.0, 1.0],
+        control_points: vec![
+            vec![at(0.0, 0.0), at(0.0, 1.0)],
+            vec![at(1.0, 0.0), at(1.0, 1.0)],
+        ],
+        weights: None,
+        reversed: false,
+        trim,
+    }
+}
+
+/// The square loop `[lo, hi]^2` in (u, v), counter-clockwise.
+pub fn square(lo: f64, hi: f64) -> Vec<[f64; 2]> {
+    vec![[lo, lo], [hi, lo], [hi, hi], [lo, hi]]
 }

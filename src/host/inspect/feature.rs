@@ -55,6 +55,12 @@ pub fn measure_feature(
         learned: known,
         free,
     } = *run;
+    let reach = free.map(|free| Reach {
+        free,
+        pose: program.placement,
+        probe,
+        modes,
+    });
     let (results, faces, tolerance, kind) = match feature {
         Feature::Section {
             name,
@@ -87,12 +93,6 @@ pub fn measure_feature(
                             ..CurveResult::default()
                         };
                     }
-                    let reach = free.map(|free| Reach {
-                        free,
-                        pose: program.placement,
-                        probe,
-                        modes,
-                    });
                     // No route: not started (the repositioning would refuse
                     // it). A probe that would strike the part on the way is
                     // noted and the scan runs: the machine's own collision
@@ -136,12 +136,6 @@ pub fn measure_feature(
                 ..CurveResult::default()
             };
             for p in points {
-                let reach = free.map(|free| Reach {
-                    free,
-                    pose: program.placement,
-                    probe,
-                    modes,
-                });
                 let d = DesignPoint {
                     point: p.point,
                     normal: p.normal,

@@ -165,7 +165,18 @@ pub fn move_to(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    tr.enter(cmm, Phase::Position);
+    straight(cmm, tr, (target, speed), Phase::Position, opts)
+}
+
+/// A straight move to `target` at up to `speed`, ending at rest, in `phase`.
+fn straight(
+    cmm: &mut dyn Machine,
+    tr: &mut Tracker,
+    (target, speed): (Point3, f64),
+    phase: Phase,
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    tr.enter(cmm, phase);
     travel(cmm, tr, &[target], speed, 0.0, opts)
 }
 
@@ -231,8 +242,7 @@ pub fn approach_to(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    tr.enter(cmm, Phase::Approach);
-    travel(cmm, tr, &[target], speed, 0.0, opts)
+    straight(cmm, tr, (target, speed), Phase::Approach, opts)
 }
 
 /// Waypoints over the clearance height from `here` to the point outside

@@ -35,10 +35,13 @@ pub fn plan(
     opts: &ModeOptions,
 ) -> Option<Vec<Point3>> {
     let candidates = candidates(here, target, approach, opts);
+    // Candidates share legs (the climb, the last leg in): each leg is
+    // checked once per margin.
+    let mut checked = Vec::new();
     [false, true].into_iter().find_map(|tight| {
         candidates
             .iter()
-            .find(|c| legs_clear(free, here, c, tight))
+            .find(|c| legs_clear(free, here, c, tight, &mut checked))
             .cloned()
     })
 }
@@ -84,12 +87,30 @@ fn candidates(
     out
 }
 
-/// Whether every leg of `route` from `here` is clear.
-fn legs_clear(free: &dyn FreeSpace, here: Point3, route: &[Point3], tight: bool) -> bool {
+/// A leg (from, to, tight margin) already checked, and whether it is clear.
+type Checked = ((Point3, Point3, bool), bool);
+
+/// Whether every leg of `route` from `here` is clear, with the legs checked
+/// before looked up in `checked` (and the new ones added).
+fn legs_clear(
+    free: &dyn FreeSpace,
+    here: Point3,
+    route: &[Point3],
+    tight: bool,
+    checked: &mut Vec<Checked>,
+) -> bool {
     let mut from = here;
     route.iter().all(|&to| {
-        let clear = (to - from).norm() < 1e-9 || free.segment_clear_with(from, to, tight);
+        let leg = (from, to, tight);
         from = to;
+        if (leg.1 - leg.0).norm() < 1e-9 {
+            return true;
+        }
+        if let Some(&(_, clear)) = checked.iter().find(|(l, _)| *l == leg) {
+            return clear;
+        }
+        let clear = free.segment_clear_with(leg.0, leg.1, tight);
+        checked.push((leg, clear));
         clear
     })
 }
@@ -133,7 +154,7 @@ mod tests {
         let route = plan(&free, here, target, -Vec3::x(), &opts()).expect("a route");
         let entry = route[route.len() - 2];
         assert!(entry.xy().coords.norm() < 6.0, "entry {entry:?}");
-        assert!(legs_clear(&free, here, &route, false));
+        assert!(legs_clear(&free, here, &route, false, &mut Vec::new()));
         assert_eq!(route.last(), Some(&target));
     }
 
