@@ -270,20 +270,28 @@ fn ideal_probe_with_geometric_and_head_errors_matches_the_truth() {
     }
 }
 
+/// With default noise the error is a random draw: over 12 seeds each
+/// probe vector is within 0.75 um and their mean within 0.4 um (the
+/// 0.5 um tolerance of the ideal cases is crossed by about one seed in
+/// ten), each tip radius within 0.25 um.
 #[test]
-fn default_noise_four_points_per_orientation_for_three_seeds() {
-    for seed in [1, 2, 3] {
+fn default_noise_four_points_per_orientation_for_twelve_seeds() {
+    let mut sum = 0.0;
+    for seed in 1..=12 {
         let (v, r) = worst(
             &sim(seed, false),
             &head_setup(ORIENTATIONS, None),
             &Default::default(),
         );
-        assert!(
-            v <= VECTOR_TOL_MM,
-            "seed {seed}: probe vector off by {v} mm"
-        );
+        assert!(v <= 0.75e-3, "seed {seed}: probe vector off by {v} mm");
         assert!(r <= 0.25e-3, "seed {seed}: tip radius off by {r} mm");
+        sum += v;
     }
+    assert!(
+        sum / 12.0 <= 0.4e-3,
+        "mean probe vector error {} mm",
+        sum / 12.0
+    );
 }
 
 #[test]

@@ -25,7 +25,12 @@ pub struct Tracker<'f> {
     pub points: Vec<Measured>,
     /// Ball-centre velocity commanded in the last cycle, mm/s.
     pub command: Vec3,
-    last_point: Option<Point3>,
+    /// The measured point of the previous cycle sampled.
+    prev_point: Option<Point3>,
+    /// Length of the measured path since the first point, mm.
+    travel: f64,
+    /// Where along it the next point is due, mm.
+    next_mark: f64,
     /// Whether the probe's deflection correction is not the identity.
     corrected: bool,
     /// What the software is doing (the phase last entered).
@@ -47,7 +52,9 @@ impl<'f> Tracker<'f> {
             now,
             points: Vec::new(),
             command: Vec3::zeros(),
-            last_point: None,
+            prev_point: None,
+            travel: 0.0,
+            next_mark: 0.0,
             corrected: probe.correction != DeflectionCorrection::identity(),
             phase: Phase::Idle,
             collision: None,
@@ -117,16 +124,27 @@ impl<'f> Tracker<'f> {
         }
     }
 
-    /// Records the current point when it is at least `pitch` from the
-    /// last.
+    /// Records the current point when its cycle is the one nearest to the
+    /// next multiple of `pitch` along the measured path (the sum of the
+    /// measured point's moves from cycle to cycle since the first point):
+    /// points lie `pitch` apart on average, each within half a cycle's
+    /// travel of it.
     pub fn sample(&mut self, pitch: f64) {
-        let Some(m) = self.measured() else { return };
-        if self
-            .last_point
-            .is_none_or(|p| (m.point - p).norm() >= pitch)
-        {
+        let Some(m) = self.measured() else {
+            self.prev_point = None;
+            return;
+        };
+        let step = self
+            .prev_point
+            .replace(m.point)
+            .map_or(0.0, |q| (m.point - q).norm());
+        self.travel += step;
+        // How far the next mark lies ahead; the next cycle (one more step
+        // like this one) would overshoot it by `step - ahead`.
+        let ahead = self.next_mark - self.travel;
+        if self.points.is_empty() || ahead <= 0.5 * step {
             self.points.push(m);
-            self.last_point = Some(m.point);
+            self.next_mark = (self.next_mark + pitch).max(self.travel + 0.5 * pitch);
         }
     }
 

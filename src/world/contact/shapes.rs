@@ -17,6 +17,15 @@ impl Shape for Segment {
         segment_box(self.a, self.b, b).0
     }
 
+    /// The gap between the segment's own box and `b` first (a lower bound
+    /// of their distance, exact for a segment along an axis).
+    #[inline(always)]
+    fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
+        let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
+        let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
+        gap.norm_squared() >= r2 || self.box_dist2(b) >= r2
+    }
+
     fn leaf_bound(&self, leaf: &Leaf) -> f64 {
         leaf.segment_lower_bound(self.a, self.b)
     }

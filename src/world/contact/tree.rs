@@ -10,6 +10,12 @@ use crate::math::Point3;
 pub(crate) trait Shape: Copy {
     /// Squared distance to the box `b` (zero when they meet), mm^2.
     fn box_dist2(&self, b: &Aabb) -> f64;
+    /// Whether the box `b` lies at least `sqrt(r2)` away (a cheaper test
+    /// may answer first).
+    #[inline(always)]
+    fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
+        self.box_dist2(b) >= r2
+    }
     /// A lower bound of the distance to the true surface over `leaf`, mm.
     fn leaf_bound(&self, leaf: &Leaf) -> f64;
 }
@@ -153,6 +159,46 @@ impl LeafTree {
                     .is_some_and(|l| p.leaf_bound(l) < radius)
                 {
                     out.push(id);
+                }
+            }
+        }
+    }
+
+    /// [`Self::within`], each leaf with its bound: appends `(bound, leaf)`.
+    pub(crate) fn within_bounds<S: Shape>(
+        &self,
+        leaves: &[Leaf],
+        p: S,
+        radius: f64,
+        out: &mut Vec<(f64, u32)>,
+    ) {
+        let r2 = radius * radius;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(i) = stack.pop() {
+            let Some(node) = self.nodes.get(i as usize) else {
+                continue;
+            };
+            if p.box_beyond(&node.aabb, r2) {
+                continue;
+            }
+            if !node.leaf {
+                stack.extend([node.b, node.a]);
+                continue;
+            }
+            let ids = self.order.get(node.a as usize..node.b as usize);
+            for &id in ids.unwrap_or_default() {
+                let Some(l) = leaves.get(id as usize) else {
+                    continue;
+                };
+                if p.box_beyond(&l.aabb, r2) {
+                    continue;
+                }
+                let b = p.leaf_bound(l);
+                if b < radius {
+                    out.push((b, id));
                 }
             }
         }
