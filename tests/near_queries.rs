@@ -274,3 +274,49 @@ fn true_deviations_on_a_displaced_sphere_are_analytic() {
     }
     assert!(exact * 10 >= 400 * 9, "{exact} of 400 within 1e-12 mm");
 }
+
+/// Points marching 1 mm above a plate with a square hole, each started
+/// from the last one's foot: over the plate the foot is straight below,
+/// over the hole it is on the hole's nearest edge (the plate's untrimmed
+/// surface, where a warm start lands, has no material there). Analytic
+/// distances, and the cold search's.
+#[test]
+fn searches_from_a_foot_on_a_trimmed_face_leave_it_over_a_hole() {
+    use cmm::workpiece::TrimSpec;
+    let trim = TrimSpec {
+        outer: square(0.0, 1.0),
+        holes: vec![square(0.4, 0.6)],
+    };
+    let plate = plane(
+        "plate",
+        [-10., -10., 0.],
+        [20., 0., 0.],
+        [0., 20., 0.],
+        Some(trim),
+    );
+    let wp = from_file(&cmm::workpiece::WorkpieceFile {
+        format: "cmm-workpiece/1".into(),
+        name: "plate".into(),
+        units: "mm".into(),
+        surfaces: vec![plate],
+    });
+    let (mut hint, mut over_hole) = (None, 0);
+    for k in 0..=360 {
+        let x = -9.0 + 0.05 * k as f64;
+        let p = Point3::new(x, 0.5, 1.0);
+        let (near, next) = wp.closest_point_near(p, &[0], hint).unwrap();
+        hint = next;
+        let across = (2.0 - x.abs()).min(1.5);
+        let want = if x.abs() < 2.0 {
+            over_hole += 1;
+            across.hypot(1.0)
+        } else {
+            1.0
+        };
+        let d = near.projection.distance;
+        assert!((d - want).abs() <= 1e-9, "x = {x}: {d} mm, want {want}");
+        let cold = wp.closest_point(p).unwrap();
+        assert!((cold.projection.distance - d).abs() <= SAME_MM, "x = {x}");
+    }
+    assert!(over_hole > 70, "{over_hole}");
+}

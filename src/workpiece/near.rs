@@ -66,10 +66,7 @@ impl Workpiece {
         hint: &mut Option<FootHint>,
         reach: Option<&dyn Fn(usize, f64) -> f64>,
     ) -> Result<FaceProjection, ProjectionError> {
-        let warm = hint.as_mut().filter(|h| {
-            let untrimmed = self.faces.get(h.face).is_some_and(|f| f.trim.is_none());
-            untrimmed && faces.clone().any(|i| i == h.face)
-        });
+        let warm = hint.as_mut().filter(|h| faces.clone().any(|i| i == h.face));
         if let Some(h) = warm {
             if let Some(found) = self.closest_point_warm(p, faces.clone(), h, reach)? {
                 return Ok(found);
@@ -87,11 +84,13 @@ impl Workpiece {
         Ok(found)
     }
 
-    /// The closest point over `faces` (which hold `h.face`, untrimmed):
-    /// Newton from the hint's foot on its face, then the search trees
-    /// confirm it, depth first with its distance as the bound (the hint's
-    /// face first, the others within `reach` when given); `h` becomes the
-    /// hint of the answer. `None` (with `h` spoilt) when that Newton fails.
+    /// The closest point over `faces` (which hold `h.face`): Newton from
+    /// the hint's foot on its face, then the search trees confirm it on
+    /// the face's whole surface, depth first with its distance as the
+    /// bound (the hint's face first, the others within `reach` when
+    /// given); `h` becomes the hint of the answer. `None` (with `h`
+    /// spoilt) when that Newton fails or the confirmed foot lies outside
+    /// the face's trim.
     fn closest_point_warm(
         &self,
         p: Point3,
@@ -107,6 +106,11 @@ impl Workpiece {
         }
         let memo = &mut h.far.of_face(h.face);
         h.leaf = face.index.confirm(&face.surface, p, &mut h.foot, memo)?;
+        // The untrimmed surface's closest point, inside the trim, is the
+        // face's; outside it the face's lies elsewhere (on its boundary).
+        if face.trim.as_ref().is_some_and(|t| !t.contains(h.foot.uv)) {
+            return Ok(None);
+        }
         let own = h.face;
         for i in faces.filter(|&i| i != own) {
             let best = h.foot.dist2.sqrt();
