@@ -184,3 +184,37 @@ fn a_bore_open_only_below_is_not_reachable_from_above() {
     }
     positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
 }
+
+fn report_without_wall(dir: &std::path::Path) -> Value {
+    let text = std::fs::read_to_string(dir.join("report.json")).unwrap();
+    let mut r: Value = serde_json::from_str(&text).unwrap();
+    r.as_object_mut().unwrap().remove("wall_time_s");
+    r
+}
+
+/// A batch's later variants reuse what the earlier ones computed from the
+/// design (free-space answers, the contact search's split of the faces);
+/// their reports equal those of a process that runs them alone.
+#[test]
+fn batch_variants_equal_the_same_variants_run_alone() {
+    let out = tempfile::tempdir().unwrap();
+    let run = |dir: &str, extra: &[&str]| {
+        let d = out.path().join(dir);
+        let prog = repo("part-programs/abc-lamp.json");
+        let mut args = vec!["scan", s(&prog), "--variants", "3", "--quiet"];
+        args.extend_from_slice(extra);
+        args.extend_from_slice(&["--out", s(&d)]);
+        let o = cmm(&args);
+        assert_eq!(o.status.code(), Some(0), "{o:?}");
+        d
+    };
+    let (batch, alone) = (
+        run("batch", &["--jobs", "1"]),
+        run("alone", &["--shard", "3/3"]),
+    );
+    let part = "00-abc-lamp-v002";
+    let r = report_without_wall(&batch.join(part));
+    // One part alone: its reports are written at the top of `--out`.
+    assert_eq!(r, report_without_wall(&alone));
+    assert_eq!(r["status"], "pass");
+}

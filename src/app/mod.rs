@@ -18,6 +18,7 @@ use std::time::Instant;
 pub use run::{probe_calibration, run_program, run_program_traced, RunError, RunOptions};
 
 use crate::formats::as_machined::AsMachinedSpec;
+use crate::host::inspect::clearance::memo::FreeSpaceMemo;
 use crate::program::{Program, ProgramError};
 use crate::world::as_machined::AsMachined;
 
@@ -32,6 +33,9 @@ pub struct SimulatedPart {
     /// How long loading the program and its design data took, s (counted
     /// in each of its reports' `wall_time_s`).
     pub load_s: f64,
+    /// The free-space answers of the design data, shared by every run of
+    /// the program (a batch's variants).
+    pub free_space: FreeSpaceMemo,
 }
 
 /// Reads and validates a part program and the scenario it names; every
@@ -44,6 +48,7 @@ pub fn load(file: &Path) -> Result<SimulatedPart, ProgramError> {
         program,
         as_machined,
         load_s: started.elapsed().as_secs_f64(),
+        free_space: FreeSpaceMemo::default(),
     })
 }
 

@@ -13,6 +13,7 @@ use crate::evaluate::nominal::point_reports;
 use crate::evaluate::truth::{fill_true_deviations, Frames};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::inspect::align::{align, AlignOptions};
+use crate::host::inspect::clearance::memo::Remembering;
 use crate::host::inspect::clearance::ClearanceOptions;
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
@@ -131,7 +132,8 @@ pub(super) fn run_variant(
     let program = &part.program;
     let profile = machine_profile(opts);
     let setup = Setup::new(program, truth, opts)?;
-    let m = measure_program(program, opts, (&setup, (default_machine(), profile)), trace)?;
+    let machine = (default_machine(), profile);
+    let m = measure_program(part, opts, (&setup, machine), trace)?;
     let aligned = m.program.as_ref();
     let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
         .map(|(f, mf)| {
@@ -211,11 +213,12 @@ struct Measuring<'p> {
 /// Starts the simulated machine, aligns the part and measures every
 /// feature.
 fn measure_program<'p>(
-    program: &'p Program,
+    part: &'p SimulatedPart,
     opts: &RunOptions,
     (setup, machine): (&Setup, (MachineModel, MachineProfile)),
     trace: bool,
 ) -> Result<Measuring<'p>, RunError> {
+    let program = &part.program;
     let mut sim = start_machine(program, opts, setup, machine)?;
     let mut traced = TracingCmm::new(&mut sim, trace);
     let host_probe = setup.host_probe;
@@ -227,7 +230,8 @@ fn measure_program<'p>(
         Ok(a) => a,
         Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
-    let free = super::reach::part_clearance(&aligned, host_probe, opts.clearance);
+    let clearance = super::reach::part_clearance(&aligned, host_probe, opts.clearance);
+    let free = Remembering::new(&clearance, &part.free_space);
     let run = Run {
         program: &aligned,
         probe: host_probe,

@@ -45,6 +45,9 @@ pub struct AsMachined {
     terms: Vec<(Form, Option<Vec<usize>>)>,
     /// Roughness standard deviation, mm.
     pub roughness_mm: f64,
+    /// The contact search's split of the design, shared by the part's
+    /// copies (its variants).
+    pub(crate) pieces: crate::world::contact::PieceCache,
 }
 
 /// The closest point on the as-machined surface.
@@ -71,6 +74,7 @@ impl AsMachined {
             affine: Affine::identity(),
             terms: Vec::new(),
             roughness_mm: 0.0,
+            pieces: Default::default(),
         }
     }
 
@@ -97,6 +101,7 @@ impl AsMachined {
             affine: Affine::new(linear, offset),
             terms,
             roughness_mm: r * 1e-3,
+            pieces: Default::default(),
         })
     }
 

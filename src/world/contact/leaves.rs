@@ -177,31 +177,38 @@ pub(crate) struct Leaves {
     pub(crate) segments: Vec<(Vec2, Vec2)>,
 }
 
-/// What a face's pieces are bounded with.
-struct FaceContext<'a> {
+/// A finished piece of a face, nominal: what its leaf is made from.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Piece {
     face: usize,
-    surface: &'a NurbsSurface,
-    trim: Option<&'a Trim>,
-    am: &'a AsMachined,
-    /// The form's bound on the face stretched by `T`, mm.
-    inflate: f64,
-    opts: LeafOptions,
+    rect: Bounds,
+    degree: [usize; 2],
+    /// Its nominal control points (row-major).
+    points: Vec<Point3>,
+    /// Its trim segments, clipped to the rectangle.
+    segs: Vec<(Vec2, Vec2)>,
+    /// The nominal points of its 3 x 3 sample grid.
+    samples: [Point3; 9],
 }
 
-impl Leaves {
-    /// The leaves of every face of `wp` as machined by `am`.
-    pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &LeafOptions) -> Leaves {
-        let mut out = Leaves {
-            leaves: Vec::new(),
-            segments: Vec::new(),
-        };
+/// Every face of a workpiece split into pieces: the nominal design alone
+/// decides the splits, so the pieces serve every as-machined part of it
+/// (a batch's variants); each part only maps them.
+#[derive(Debug, Clone, PartialEq)]
+pub(crate) struct Pieces {
+    pub(crate) opts: LeafOptions,
+    pieces: Vec<Piece>,
+}
+
+impl Pieces {
+    /// The pieces of every face of `wp`.
+    pub(crate) fn new(wp: &Workpiece, opts: &LeafOptions) -> Pieces {
+        let mut out = Vec::new();
         for (i, f) in wp.faces.iter().enumerate() {
             let ctx = FaceContext {
                 face: i,
                 surface: &f.surface,
                 trim: f.trim.as_ref(),
-                am,
-                inflate: am.max_form_height(i) * am.stretch_factor(),
                 opts: *opts,
             };
             let segs = boundary_segments(f);
@@ -211,7 +218,61 @@ impl Leaves {
                 ctx.split(patch, mine, 0, &mut out);
             }
         }
+        Pieces {
+            opts: *opts,
+            pieces: out,
+        }
+    }
+}
+
+/// What a face is split with.
+struct FaceContext<'a> {
+    face: usize,
+    surface: &'a NurbsSurface,
+    trim: Option<&'a Trim>,
+    opts: LeafOptions,
+}
+
+impl Leaves {
+    /// The leaves of `pieces` (of a workpiece) as machined by `am`.
+    pub(crate) fn of(pieces: &Pieces, am: &AsMachined) -> Leaves {
+        let mut out = Leaves {
+            leaves: Vec::with_capacity(pieces.pieces.len()),
+            segments: Vec::new(),
+        };
+        let stretch = am.stretch_factor();
+        let mut inflate = (usize::MAX, 0.0);
+        for piece in &pieces.pieces {
+            if inflate.0 != piece.face {
+                inflate = (piece.face, am.max_form_height(piece.face) * stretch);
+            }
+            out.push(piece, am, inflate.1);
+        }
         out
+    }
+
+    /// The leaf of `piece`, its bounds widened by `inflate` (the form's
+    /// bound on the face stretched by `T`, mm).
+    fn push(&mut self, piece: &Piece, am: &AsMachined, inflate: f64) {
+        let mapped: Vec<Point3> = piece
+            .points
+            .iter()
+            .map(|&p| am.transform_point(p))
+            .collect();
+        let mut aabb = Aabb::of(mapped.iter().copied());
+        let grow = Vec3::repeat(inflate);
+        (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
+        let slab = slab_of(&mapped, piece.degree, inflate);
+        let first = self.segments.len();
+        self.segments.extend(piece.segs.iter().copied());
+        self.leaves.push(Leaf {
+            face: piece.face,
+            bounds: piece.rect,
+            aabb,
+            slab,
+            segments: first..self.segments.len(),
+            samples: piece.samples.map(|q| am.transform_point(q)),
+        });
     }
 }
 
@@ -271,7 +332,13 @@ fn clip((a, b): (Vec2, Vec2), r: &Bounds) -> Option<(Vec2, Vec2)> {
 impl FaceContext<'_> {
     /// Splits `patch` (crossed by the trim segments `segs`) until flat and,
     /// where the trim crosses it, small; pushes the pieces on the face.
-    fn split(&self, patch: BezierPatch, segs: Vec<(Vec2, Vec2)>, depth: usize, out: &mut Leaves) {
+    fn split(
+        &self,
+        patch: BezierPatch,
+        segs: Vec<(Vec2, Vec2)>,
+        depth: usize,
+        out: &mut Vec<Piece>,
+    ) {
         let rect = rect_of(&patch);
         if segs.is_empty() && self.trim.is_some_and(|t| !t.contains(centre(&rect))) {
             return;
@@ -284,7 +351,17 @@ impl FaceContext<'_> {
         let refine_trim =
             !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
         if !(refine_flat || refine_trim) {
-            self.push((&rect, patch.degree), &points, segs, out);
+            out.push(Piece {
+                face: self.face,
+                samples: std::array::from_fn(|k| {
+                    let uv = sample_uv(&rect, k);
+                    self.surface.point(uv.x, uv.y)
+                }),
+                rect,
+                degree: patch.degree,
+                points,
+                segs,
+            });
             return;
         }
         let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
@@ -295,35 +372,6 @@ impl FaceContext<'_> {
         let (sa, sb) = (clip_all(&segs, &rect_of(&a)), clip_all(&segs, &rect_of(&b)));
         self.split(a, sa, depth + 1, out);
         self.split(b, sb, depth + 1, out);
-    }
-
-    /// The leaf of a finished piece with control points `points`.
-    fn push(
-        &self,
-        (rect, degree): (&Bounds, [usize; 2]),
-        points: &[Point3],
-        segs: Vec<(Vec2, Vec2)>,
-        out: &mut Leaves,
-    ) {
-        let mapped: Vec<Point3> = points.iter().map(|&p| self.am.transform_point(p)).collect();
-        let mut aabb = Aabb::of(mapped.iter().copied());
-        let grow = Vec3::repeat(self.inflate);
-        (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
-        let slab = slab_of(&mapped, degree, self.inflate);
-        let samples = std::array::from_fn(|k| {
-            let uv = sample_uv(rect, k);
-            self.am.transform_point(self.surface.point(uv.x, uv.y))
-        });
-        let first = out.segments.len();
-        out.segments.extend(segs);
-        out.leaves.push(Leaf {
-            face: self.face,
-            bounds: *rect,
-            aabb,
-            slab,
-            segments: first..out.segments.len(),
-            samples,
-        });
     }
 }
 

@@ -34,12 +34,14 @@
 //!   own and an exact descent of the same point query over the cylinder.
 mod collide;
 mod leaves;
+mod pieces;
 mod search;
 mod shapes;
 mod tree;
 
 pub use collide::{CollisionOptions, PartCheck, Strike};
 pub use leaves::LeafOptions;
+pub use pieces::PieceCache;
 pub use search::ContactSearch;
 pub(crate) use search::PartIndex;
 pub(crate) use shapes::Cylinder;

@@ -1,0 +1,125 @@
+//! Free-space answers remembered across the runs of one program: a
+//! batch measures many as-machined variants of one design with the same
+//! probe, and the routes and postures it checks against the design data
+//! are mostly the same from part to part. An answer is a pure function of
+//! the design, the placement, the probe and the query, so a remembered
+//! answer is the one the check would give (bit for bit: the keys are the
+//! inputs' bits), and reports do not depend on what was remembered.
+use std::collections::HashMap;
+use std::sync::{Arc, Mutex};
+
+use super::PartClearance;
+use crate::host::modes::FreeSpace;
+use crate::math::Point3;
+use crate::seam::ProbePart;
+
+/// One question to the free-space check, by the bits of its inputs.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+enum Query {
+    /// A straight move of the ball centre, with the full or tight margin.
+    Segment {
+        from: [u64; 3],
+        to: [u64; 3],
+        tight: bool,
+    },
+    /// The probe standing with its ball centre here.
+    Posture([u64; 3]),
+}
+
+/// A remembered answer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Answer {
+    Clear(bool),
+    Strikes(Option<ProbePart>),
+}
+
+/// Answers by the setting's bits and the query.
+type Table = HashMap<(Vec<u64>, Query), Answer>;
+
+/// The answers of each free-space setting (placement, probe and margins,
+/// by their bits), shared between threads.
+#[derive(Debug, Clone, Default)]
+pub struct FreeSpaceMemo {
+    table: Arc<Mutex<Table>>,
+}
+
+impl FreeSpaceMemo {
+    /// Number of answers remembered.
+    pub fn len(&self) -> usize {
+        self.table.lock().map_or(0, |t| t.len())
+    }
+
+    /// Whether nothing is remembered yet.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// A free-space check that asks `inner` only what `memo` does not know.
+pub struct Remembering<'a> {
+    inner: &'a PartClearance<'a>,
+    setting: Vec<u64>,
+    memo: &'a FreeSpaceMemo,
+}
+
+impl<'a> Remembering<'a> {
+    /// `inner`, remembering its answers in `memo`.
+    pub fn new(inner: &'a PartClearance<'a>, memo: &'a FreeSpaceMemo) -> Remembering<'a> {
+        Remembering {
+            setting: inner.setting_bits(),
+            inner,
+            memo,
+        }
+    }
+
+    /// The remembered answer to `q`, else `ask`'s (then remembered).
+    fn answer(&self, q: Query, ask: impl FnOnce() -> Answer) -> Answer {
+        let key = (self.setting.clone(), q);
+        if let Some(a) = self
+            .memo
+            .table
+            .lock()
+            .ok()
+            .and_then(|t| t.get(&key).copied())
+        {
+            return a;
+        }
+        let a = ask();
+        if let Ok(mut t) = self.memo.table.lock() {
+            t.insert(key, a);
+        }
+        a
+    }
+}
+
+fn bits(p: Point3) -> [u64; 3] {
+    [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]
+}
+
+impl FreeSpace for Remembering<'_> {
+    fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+        self.segment_clear_with(from, to, false)
+    }
+
+    fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {
+        let q = Query::Segment {
+            from: bits(from),
+            to: bits(to),
+            tight,
+        };
+        let a = self.answer(q, || {
+            Answer::Clear(self.inner.segment_clear_with(from, to, tight))
+        });
+        a == Answer::Clear(true)
+    }
+
+    fn posture(&self, ball: Point3) -> Option<ProbePart> {
+        let a = self.answer(Query::Posture(bits(ball)), || {
+            Answer::Strikes(self.inner.posture(ball))
+        });
+        match a {
+            Answer::Strikes(s) => s,
+            Answer::Clear(_) => None,
+        }
+    }
+}
