@@ -12,6 +12,15 @@ pub(crate) struct Segment {
     pub(crate) b: Point3,
 }
 
+impl Segment {
+    /// Whether the segment runs along a coordinate axis (its box's gap to
+    /// another box is then its exact distance).
+    fn along_axis(&self) -> bool {
+        let d = self.b - self.a;
+        (0..3).filter(|&k| d[k] == 0.0).count() >= 2
+    }
+}
+
 impl Shape for Segment {
     fn box_dist2(&self, b: &Aabb) -> f64 {
         segment_box(self.a, self.b, b).0
@@ -23,7 +32,7 @@ impl Shape for Segment {
     fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
         let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
         let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
-        gap.norm_squared() >= r2 || self.box_dist2(b) >= r2
+        gap.norm_squared() >= r2 || (!self.along_axis() && self.box_dist2(b) >= r2)
     }
 
     fn leaf_bound(&self, leaf: &Leaf) -> f64 {
@@ -38,6 +47,9 @@ impl Shape for Segment {
 /// box).
 pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
     let d = b - a;
+    if let Some(found) = along_axis(a, d, bx) {
+        return found;
+    }
     let mut ts = [0.0f64; 8];
     ts[1] = 1.0;
     let mut n = 2;
@@ -69,6 +81,32 @@ pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
         }
     }
     best
+}
+
+/// [`segment_box`] of a segment along a coordinate axis (a stylus
+/// standing straight up, the common case): the squared distance is that
+/// of the other two coordinates to the box plus the gap between the
+/// segment's and the box's intervals along the axis, attained at the
+/// segment's point nearest to the box's interval. `None` for any other
+/// segment.
+fn along_axis(a: Point3, d: Vec3, bx: &Aabb) -> Option<(f64, f64)> {
+    let zeros = (0..3).filter(|&k| d[k] == 0.0).count();
+    let k = (0..3).find(|&k| d[k] != 0.0)?;
+    if zeros != 2 {
+        return None;
+    }
+    let mut d2 = 0.0;
+    for j in (0..3).filter(|&j| j != k) {
+        let gap = (bx.min[j] - a[j]).max(a[j] - bx.max[j]).max(0.0);
+        d2 += gap * gap;
+    }
+    // The segment's coordinate along the axis nearest to the box's
+    // interval (its centre when they overlap).
+    let mid = 0.5 * (bx.min[k] + bx.max[k]);
+    let s = ((mid - a[k]) / d[k]).clamp(0.0, 1.0);
+    let x = a[k] + d[k] * s;
+    let gap = (bx.min[k] - x).max(x - bx.max[k]).max(0.0);
+    Some((d2 + gap * gap, s))
 }
 
 /// The minimiser over `[t0, t1]` of the squared distance from `a + t d`
@@ -210,11 +248,18 @@ mod tests {
         let cases = [
             ([-1.0, 2.0, 0.5], [2.0, 2.0, 0.5], 1.0),
             ([-1.0, -1.0, -1.0], [2.0, 2.5, 3.0], 0.0),
-            ([2.0, 3.0, -2.0], [3.0, 1.5, 2.0], 1.0),
+            ([2.0, 3.0, -2.0], [3.0, 1.5, 2.0], 49.0 / 13.0),
             ([3.0, 3.0, 3.0], [4.0, 2.0, 5.0], 12.0),
-            ([-2.0, 0.5, 3.0], [0.5, 0.5, 1.5], 0.0),
+            ([-2.0, 0.5, 3.0], [0.5, 0.5, 1.5], 0.25),
+            // Along an axis: beside the box, above it, off a corner,
+            // through it, and pointing the other way.
+            ([2.0, 0.5, -1.0], [2.0, 0.5, 3.0], 1.0),
+            ([0.5, 0.5, 2.0], [0.5, 0.5, 5.0], 1.0),
+            ([3.0, 3.0, -2.0], [3.0, 3.0, -0.5], 8.25),
+            ([0.5, 0.2, -3.0], [0.5, 0.2, 3.0], 0.0),
+            ([-1.0, 4.0, 0.3], [-6.0, 4.0, 0.3], 10.0),
         ];
-        for (a, b, _) in cases {
+        for (a, b, want) in cases {
             let (a, b) = (Point3::from(a), Point3::from(b));
             let (d2, s) = segment_box(a, b, &cube());
             let sampled = (0..=100_000)
@@ -223,6 +268,7 @@ mod tests {
             assert!(d2 <= sampled + 1e-12, "{a} {b}: {d2} vs {sampled}");
             assert!(sampled - d2 < 1e-8, "{a} {b}: {d2} vs {sampled}");
             assert!((cube().dist2(a + (b - a) * s) - d2).abs() < 1e-12);
+            assert!((d2 - want).abs() < 1e-9, "{a} {b}: {d2} vs {want}");
         }
         // Known values: a line 1 above the top face; one corner 1 away in
         // each of x, y and z (distance sqrt(3)).
