@@ -16,11 +16,7 @@ fn with_options(wp: &Workpiece, opts: ProjectionOptions) -> Workpiece {
     let faces = (wp.faces.iter())
         .map(|f| Face::new(f.name.clone(), f.surface.clone(), &opts).with_trim(f.trim.clone()))
         .collect();
-    Workpiece {
-        name: wp.name.clone(),
-        faces,
-        options: opts,
-    }
+    Workpiece::new(wp.name.clone(), faces, opts)
 }
 
 fn points(n: usize) -> (Vec<Point3>, Vec<f64>) {

@@ -73,6 +73,9 @@ pub struct Workpiece {
     pub faces: Vec<Face>,
     /// Projection tolerances used for every query.
     pub options: ProjectionOptions,
+    /// Every face's box in one array (made on first use): a query that
+    /// passes over all faces reads them without touching the faces.
+    root_boxes: std::sync::OnceLock<Vec<[f64; 6]>>,
 }
 
 /// The global closest point over all faces.
@@ -116,11 +119,42 @@ impl Workpiece {
                 })
             })
             .collect::<Result<Vec<_>, _>>()?;
-        Ok(Workpiece {
-            name: file.name.clone(),
+        Ok(Workpiece::new(file.name.clone(), faces, options))
+    }
+
+    /// The part `name` of `faces`, queried with `options`.
+    pub fn new(name: String, faces: Vec<Face>, options: ProjectionOptions) -> Workpiece {
+        Workpiece {
+            name,
             faces,
             options,
-        })
+            root_boxes: std::sync::OnceLock::new(),
+        }
+    }
+
+    /// A lower bound of the distance from `p` to face `i` (its box), mm;
+    /// infinite for no such face.
+    #[inline]
+    pub fn face_box_distance(&self, i: usize, p: Point3) -> f64 {
+        let boxes = self.root_boxes.get_or_init(|| {
+            (self.faces.iter())
+                .map(|f| {
+                    f.index.root_box().map_or([f64::NAN; 6], |(lo, hi)| {
+                        [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z]
+                    })
+                })
+                .collect()
+        });
+        let Some(b) = boxes.get(i) else {
+            return f64::INFINITY;
+        };
+        let gap = |k: usize| (b[k] - p[k]).max(p[k] - b[k + 3]).max(0.0);
+        let d2 = gap(0).powi(2) + gap(1).powi(2) + gap(2).powi(2);
+        if d2.is_nan() {
+            f64::INFINITY
+        } else {
+            d2.sqrt()
+        }
     }
 
     /// Index of the face called `name`.

@@ -82,6 +82,12 @@ impl ProjectionIndex {
         self.leaves.len()
     }
 
+    /// The corners of the box round the whole surface (`None` for an
+    /// empty index).
+    pub fn root_box(&self) -> Option<(Point3, Point3)> {
+        self.nodes.last().map(|n| (n.aabb.min, n.aabb.max))
+    }
+
     /// Lower bound of the distance from `p` to the surface, mm.
     pub fn lower_bound(&self, p: Point3) -> f64 {
         self.nodes
