@@ -50,11 +50,11 @@ pub struct ProbeShape {
 
 impl ProbeShape {
     /// The shape of a common probe with a ball of `tip_radius_mm`: a shaft
-    /// of two thirds of the ball's diameter, a body of 25 mm diameter and
-    /// 80 mm length.
+    /// of half the ball's diameter (a 1.5 mm stem on a 3 mm ball; the part
+    /// program's default), a body of 25 mm diameter and 80 mm length.
     pub fn common(tip_radius_mm: f64) -> ProbeShape {
         ProbeShape {
-            shaft_radius_mm: tip_radius_mm * 2.0 / 3.0,
+            shaft_radius_mm: tip_radius_mm * 0.5,
             body_radius_mm: 12.5,
             body_length_mm: 80.0,
         }
