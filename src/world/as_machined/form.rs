@@ -113,6 +113,28 @@ impl Form {
         }
     }
 
+    /// Largest |h| at the points of the box `lo..hi`, mm: a bump's height
+    /// times its value at the box's point nearest to its centre, else the
+    /// amplitude.
+    pub fn amplitude_over(&self, lo: Point3, hi: Point3) -> f64 {
+        match *self {
+            Form::Bump {
+                center,
+                radius,
+                height,
+            } => {
+                let gap = (lo - center).sup(&(center - hi)).sup(&Vec3::zeros());
+                let fall = (-gap.norm_squared() / (radius * radius)).exp();
+                if fall.is_finite() {
+                    height.abs() * fall
+                } else {
+                    height.abs()
+                }
+            }
+            _ => self.amplitude(),
+        }
+    }
+
     /// Largest possible |h|, mm.
     pub fn amplitude(&self) -> f64 {
         match *self {
@@ -168,4 +190,52 @@ pub fn sum_jets<'a>(terms: impl Iterator<Item = &'a Form>, p: Point3) -> Jet {
         }
     }
     acc
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bump's bound over a box against a dense grid of the box's points:
+    /// never below the largest value there, and equal to it (the box's
+    /// point nearest to the centre is a grid point in each case).
+    #[test]
+    fn bump_bound_over_a_box_is_its_largest_value_there() {
+        let bump = Form::Bump {
+            center: Point3::new(1.0, -2.0, 0.5),
+            radius: 1.5,
+            height: -0.6,
+        };
+        let boxes = [
+            ([2.0, -1.0, 0.0], [4.0, 1.0, 4.0]),
+            ([-3.0, -5.0, -1.0], [-1.0, -2.5, 0.5]),
+            ([0.0, -4.0, 0.0], [2.0, 0.0, 1.0]),
+            ([10.0, 10.0, 10.0], [11.0, 12.0, 13.0]),
+        ];
+        for (lo, hi) in boxes {
+            let (lo, hi) = (Point3::from(lo), Point3::from(hi));
+            let n = 40;
+            let mut largest: f64 = 0.0;
+            for i in 0..=n {
+                for j in 0..=n {
+                    for k in 0..=n {
+                        let t = Vec3::new(i as f64, j as f64, k as f64) / n as f64;
+                        let p = lo + (hi - lo).component_mul(&t);
+                        largest = largest.max(bump.value(p).abs());
+                    }
+                }
+            }
+            let bound = bump.amplitude_over(lo, hi);
+            assert!(bound >= largest - 1e-15, "{lo} {hi}: {bound} < {largest}");
+            assert!(
+                bound - largest <= 1e-12 + 1e-9 * largest,
+                "{lo} {hi}: {bound} vs {largest}"
+            );
+        }
+        let offset = Form::Offset(-0.02);
+        assert_eq!(
+            offset.amplitude_over(Point3::origin(), Point3::origin()),
+            0.02
+        );
+    }
 }

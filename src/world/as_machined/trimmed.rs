@@ -16,6 +16,14 @@ impl AsMachined {
         self.max_height(face)
     }
 
+    /// Upper bound of the form's |h| on `face` at the nominal points of
+    /// the box `lo..hi`, mm.
+    pub fn max_form_height_over(&self, face: usize, lo: Point3, hi: Point3) -> f64 {
+        self.face_terms(face)
+            .map(|f| f.amplitude_over(lo, hi))
+            .sum()
+    }
+
     /// Largest factor by which the transform `T` stretches lengths (at
     /// least 1): `T` moves a displacement of length `l` by at most this
     /// times `l`.

@@ -189,6 +189,9 @@ pub(crate) struct Piece {
     segs: Vec<(Vec2, Vec2)>,
     /// The nominal points of its 3 x 3 sample grid.
     samples: [Point3; 9],
+    /// The box of its nominal control points (the nominal surface over
+    /// the piece lies in their hull).
+    nominal_box: (Point3, Point3),
 }
 
 /// Every face of a workpiece split into pieces: the nominal design alone
@@ -241,18 +244,17 @@ impl Leaves {
             segments: Vec::new(),
         };
         let stretch = am.stretch_factor();
-        let mut inflate = (usize::MAX, 0.0);
         for piece in &pieces.pieces {
-            if inflate.0 != piece.face {
-                inflate = (piece.face, am.max_form_height(piece.face) * stretch);
-            }
-            out.push(piece, am, inflate.1);
+            let (lo, hi) = piece.nominal_box;
+            let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
+            out.push(piece, am, inflate);
         }
         out
     }
 
     /// The leaf of `piece`, its bounds widened by `inflate` (the form's
-    /// bound on the face stretched by `T`, mm).
+    /// bound over the piece stretched by `T`, mm: a bump far from the
+    /// piece widens it by its tail alone).
     fn push(&mut self, piece: &Piece, am: &AsMachined, inflate: f64) {
         let mapped: Vec<Point3> = piece
             .points
@@ -352,6 +354,7 @@ impl FaceContext<'_> {
             !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
         if !(refine_flat || refine_trim) {
             out.push(Piece {
+                nominal_box: (size.min, size.max),
                 face: self.face,
                 samples: std::array::from_fn(|k| {
                     let uv = sample_uv(&rect, k);
