@@ -540,30 +540,6 @@ impl FreeSpace for PartClearance<'_> {
     }
 }
 
-impl PartClearance<'_> {
-    /// The bits of everything but the design data that the answers depend
-    /// on: placement, probe and margins (see [`memo`]).
-    fn setting_bits(&self) -> Vec<u64> {
-        let (r, t) = (self.pose.rotation, self.pose.translation);
-        let body = self
-            .body
-            .map_or([f64::NAN; 2], |b| [b.radius_mm, b.length_mm]);
-        let o = &self.opts;
-        (r.iter().chain(t.iter()).chain(self.stylus.iter()))
-            .copied()
-            .chain([self.tip_radius_mm, self.shaft_radius_mm])
-            .chain(body)
-            .chain([
-                o.margin_mm,
-                o.step_mm,
-                o.tight_margin_mm,
-                o.posture_margin_mm,
-            ])
-            .map(f64::to_bits)
-            .collect()
-    }
-}
-
 pub mod memo;
 
 #[cfg(test)]

@@ -66,7 +66,7 @@ impl<'a> Remembering<'a> {
     /// `inner`, remembering its answers in `memo`.
     pub fn new(inner: &'a PartClearance<'a>, memo: &'a FreeSpaceMemo) -> Remembering<'a> {
         Remembering {
-            setting: inner.setting_bits(),
+            setting: setting_bits(inner),
             inner,
             memo,
         }
@@ -122,4 +122,24 @@ impl FreeSpace for Remembering<'_> {
             Answer::Clear(_) => None,
         }
     }
+}
+
+/// The bits of everything but the design data that `c`'s answers depend
+/// on: placement, probe and margins.
+fn setting_bits(c: &PartClearance<'_>) -> Vec<u64> {
+    let (r, t) = (c.pose.rotation, c.pose.translation);
+    let body = c.body.map_or([f64::NAN; 2], |b| [b.radius_mm, b.length_mm]);
+    let o = &c.opts;
+    (r.iter().chain(t.iter()).chain(c.stylus.iter()))
+        .copied()
+        .chain([c.tip_radius_mm, c.shaft_radius_mm])
+        .chain(body)
+        .chain([
+            o.margin_mm,
+            o.step_mm,
+            o.tight_margin_mm,
+            o.posture_margin_mm,
+        ])
+        .map(f64::to_bits)
+        .collect()
 }
