@@ -10,46 +10,12 @@ use cmm::machine::{MachineModel, MachineProfile};
 use cmm::math::{Mat3, Point3, Vec3};
 use cmm::program::Pose;
 use cmm::seam::{Cmm, MachineStatus, ProbePart, Readings};
-use cmm::workpiece::{TrimSpec, Workpiece, WorkpieceFile};
+use cmm::workpiece::Workpiece;
 use cmm::world::as_machined::AsMachined;
 use cmm::world::cmm::{SimulatedCmm, TruePart};
 use cmm::world::contact::CollisionOptions;
 use cmm::world::probe::{ProbeShape, TrueProbe};
 use common::*;
-
-/// The block [0, 100]^2 x [0, 50] less the pocket [a, b]^2 x [z0, 50].
-fn block_with_pocket(a: f64, b: f64, z0: f64) -> Workpiece {
-    let top_trim = TrimSpec {
-        outer: square(0.0, 1.0),
-        holes: vec![square(a / 100.0, b / 100.0)],
-    };
-    let (w, h) = (b - a, 50.0 - z0);
-    let surfaces = vec![
-        plane(
-            "top",
-            [0., 0., 50.],
-            [100., 0., 0.],
-            [0., 100., 0.],
-            Some(top_trim),
-        ),
-        plane("bottom", [0., 0., 0.], [0., 100., 0.], [100., 0., 0.], None),
-        plane("x0", [0., 0., 0.], [0., 0., 50.], [0., 100., 0.], None),
-        plane("x1", [100., 0., 0.], [0., 100., 0.], [0., 0., 50.], None),
-        plane("y0", [0., 0., 0.], [100., 0., 0.], [0., 0., 50.], None),
-        plane("y1", [0., 100., 0.], [0., 0., 50.], [100., 0., 0.], None),
-        plane("floor", [a, a, z0], [w, 0., 0.], [0., w, 0.], None),
-        plane("wall-xa", [a, a, z0], [0., w, 0.], [0., 0., h], None),
-        plane("wall-xb", [b, a, z0], [0., 0., h], [0., w, 0.], None),
-        plane("wall-ya", [a, a, z0], [0., 0., h], [w, 0., 0.], None),
-        plane("wall-yb", [a, b, z0], [w, 0., 0.], [0., 0., h], None),
-    ];
-    from_file(&WorkpieceFile {
-        format: "cmm-workpiece/1".into(),
-        name: "block-pocket".into(),
-        units: "mm".into(),
-        surfaces,
-    })
-}
 
 const POSE: Pose = Pose {
     rotation: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),

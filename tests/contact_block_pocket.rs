@@ -7,7 +7,7 @@ mod common;
 
 use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec3};
-use cmm::workpiece::{TrimSpec, Workpiece, WorkpieceFile};
+use cmm::workpiece::Workpiece;
 use cmm::world::as_machined::{AsMachined, AsMachinedSpec};
 use cmm::world::cmm::contact_options;
 use cmm::world::contact::{ContactOptions, ContactSearch};
@@ -15,40 +15,6 @@ use common::*;
 
 /// The block [0, 100]^2 x [0, 50] less the pocket [25, 75]^2 x [30, 50].
 const POCKET: ([f64; 2], [f64; 2]) = ([25.0, 75.0], [30.0, 50.0]);
-
-fn block_with_pocket() -> Workpiece {
-    let top_trim = TrimSpec {
-        outer: square(0.0, 1.0),
-        holes: vec![square(0.25, 0.75)],
-    };
-    let (z0, z1) = (POCKET.1[0], POCKET.1[1]);
-    let h = z1 - z0;
-    let surfaces = vec![
-        plane(
-            "top",
-            [0., 0., 50.],
-            [100., 0., 0.],
-            [0., 100., 0.],
-            Some(top_trim),
-        ),
-        plane("bottom", [0., 0., 0.], [0., 100., 0.], [100., 0., 0.], None),
-        plane("x0", [0., 0., 0.], [0., 0., 50.], [0., 100., 0.], None),
-        plane("x1", [100., 0., 0.], [0., 100., 0.], [0., 0., 50.], None),
-        plane("y0", [0., 0., 0.], [100., 0., 0.], [0., 0., 50.], None),
-        plane("y1", [0., 100., 0.], [0., 0., 50.], [100., 0., 0.], None),
-        plane("floor", [25., 25., z0], [50., 0., 0.], [0., 50., 0.], None),
-        plane("wall-x25", [25., 25., z0], [0., 50., 0.], [0., 0., h], None),
-        plane("wall-x75", [75., 25., z0], [0., 0., h], [0., 50., 0.], None),
-        plane("wall-y25", [25., 25., z0], [0., 0., h], [50., 0., 0.], None),
-        plane("wall-y75", [25., 75., z0], [50., 0., 0.], [0., 0., h], None),
-    ];
-    from_file(&WorkpieceFile {
-        format: "cmm-workpiece/1".into(),
-        name: "block-pocket".into(),
-        units: "mm".into(),
-        surfaces,
-    })
-}
 
 /// Distance from `p` to the box `[lo, hi]` (zero inside).
 fn box_distance(p: Point3, lo: [f64; 3], hi: [f64; 3]) -> f64 {
@@ -108,7 +74,7 @@ fn world(
 /// there is no material: no lid.
 #[test]
 fn no_lid_over_the_pocket() {
-    let wp = block_with_pocket();
+    let wp = block_with_pocket(POCKET.0[0], POCKET.0[1], POCKET.1[0]);
     let am = AsMachined::nominal();
     let mut s = search_for(&wp, &am);
     // 17.9 mm inside the pocket's rim, at the top face's height: 17.9 mm
@@ -132,7 +98,7 @@ fn no_lid_over_the_pocket() {
 /// corners of the pocket and of the block, inside and outside.
 #[test]
 fn distances_match_the_analytic_solid() {
-    let wp = block_with_pocket();
+    let wp = block_with_pocket(POCKET.0[0], POCKET.0[1], POCKET.1[0]);
     let am = AsMachined::nominal();
     let mut s = search_for(&wp, &am);
     let mut r = rng(11);
@@ -176,7 +142,7 @@ fn distances_match_the_analytic_solid() {
 /// distance to `T(S)` at `y` is `s` times that of `T^-1(y)` to `S`.
 #[test]
 fn transform_moves_the_trimmed_solid() {
-    let wp = block_with_pocket();
+    let wp = block_with_pocket(POCKET.0[0], POCKET.0[1], POCKET.1[0]);
     let spec: AsMachinedSpec = serde_json::from_str(
         r#"{ "transform": { "rotate_deg": [3, -2, 10], "translate_mm": [0.5, -0.2, 0.1],
              "scale": 1.001, "about_mm": [50, 50, 25] } }"#,
@@ -219,7 +185,7 @@ fn transform_moves_the_trimmed_solid() {
 /// search over the displaced face (grid, then a finer grid round its best).
 #[test]
 fn form_terms_act_on_the_trimmed_face() {
-    let wp = block_with_pocket();
+    let wp = block_with_pocket(POCKET.0[0], POCKET.0[1], POCKET.1[0]);
     let spec: AsMachinedSpec = serde_json::from_str(
         r#"{ "form": [ { "kind": "offset", "mm": 0.02 },
                        { "kind": "bump", "center_mm": [12, 50, 50], "radius_mm": 4, "height_mm": 0.05,
@@ -274,7 +240,7 @@ fn the_machine_feels_no_lid_and_meets_the_floor() {
     use cmm::seam::Cmm;
     use cmm::world::cmm::{SimulatedCmm, TruePart};
     use cmm::world::probe::TrueProbe;
-    let wp = block_with_pocket();
+    let wp = block_with_pocket(POCKET.0[0], POCKET.0[1], POCKET.1[0]);
     let am = AsMachined::nominal();
     let pose = Pose {
         rotation: cmm::math::Mat3::identity(),

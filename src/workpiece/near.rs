@@ -115,9 +115,6 @@ impl Workpiece {
         for i in faces.filter(|&i| i != own) {
             let best = h.foot.dist2.sqrt();
             let within = reach.map_or(best, |r| r(i, best).max(best));
-            if self.face_box_distance(i, p) > within {
-                continue;
-            }
             if let Some((leaf, found)) = self.face_within(p, i, within, &mut h.far)? {
                 if found.dist2 < h.foot.dist2 {
                     (h.face, h.leaf, h.foot) = (i, leaf, found);
@@ -144,7 +141,7 @@ impl Workpiece {
             return Ok(None);
         };
         // The root box first: it clears most faces without the memo.
-        if f.index.lower_bound(p) > within || far.face_floor(i, p) > within {
+        if self.face_box_distance(i, p) > within || far.face_floor(i, p) > within {
             return Ok(None);
         }
         // The leaves' boxes bound the face's distance without a Newton

@@ -12,15 +12,6 @@ pub(crate) struct Segment {
     pub(crate) b: Point3,
 }
 
-impl Segment {
-    /// Whether the segment runs along a coordinate axis (its box's gap to
-    /// another box is then its exact distance).
-    fn along_axis(&self) -> bool {
-        let d = self.b - self.a;
-        (0..3).filter(|&k| d[k] == 0.0).count() >= 2
-    }
-}
-
 impl Shape for Segment {
     fn box_dist2(&self, b: &Aabb) -> f64 {
         segment_box(self.a, self.b, b).0
@@ -32,7 +23,7 @@ impl Shape for Segment {
     fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
         let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
         let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
-        gap.norm_squared() >= r2 || (!self.along_axis() && self.box_dist2(b) >= r2)
+        gap.norm_squared() >= r2 || self.box_dist2(b) >= r2
     }
 
     fn leaf_bound(&self, leaf: &Leaf) -> f64 {

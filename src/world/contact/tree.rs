@@ -136,32 +136,7 @@ impl LeafTree {
     /// Appends to `out` every leaf whose lower bound from `p` is below
     /// `radius` (in tree order).
     pub(crate) fn within<S: Shape>(&self, leaves: &[Leaf], p: S, radius: f64, out: &mut Vec<u32>) {
-        let r2 = radius * radius;
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        if !self.nodes.is_empty() {
-            stack.push(0);
-        }
-        while let Some(i) = stack.pop() {
-            let Some(node) = self.nodes.get(i as usize) else {
-                continue;
-            };
-            if p.box_dist2(&node.aabb) >= r2 {
-                continue;
-            }
-            if !node.leaf {
-                stack.extend([node.b, node.a]);
-                continue;
-            }
-            let ids = self.order.get(node.a as usize..node.b as usize);
-            for &id in ids.unwrap_or_default() {
-                if leaves
-                    .get(id as usize)
-                    .is_some_and(|l| p.leaf_bound(l) < radius)
-                {
-                    out.push(id);
-                }
-            }
-        }
+        self.for_each_within(leaves, p, radius, |_, id| out.push(id));
     }
 
     /// [`Self::within`], each leaf with its bound: appends `(bound, leaf)`.
@@ -171,6 +146,19 @@ impl LeafTree {
         p: S,
         radius: f64,
         out: &mut Vec<(f64, u32)>,
+    ) {
+        self.for_each_within(leaves, p, radius, |bound, id| out.push((bound, id)));
+    }
+
+    /// Calls `visit(bound, leaf)` for every leaf whose lower bound from `p`
+    /// is below `radius`, in tree order (a leaf's box is tested before its
+    /// bound).
+    fn for_each_within<S: Shape>(
+        &self,
+        leaves: &[Leaf],
+        p: S,
+        radius: f64,
+        mut visit: impl FnMut(f64, u32),
     ) {
         let r2 = radius * radius;
         let mut stack: Vec<u32> = Vec::with_capacity(64);
@@ -196,9 +184,9 @@ impl LeafTree {
                 if p.box_beyond(&l.aabb, r2) {
                     continue;
                 }
-                let b = p.leaf_bound(l);
-                if b < radius {
-                    out.push((b, id));
+                let bound = p.leaf_bound(l);
+                if bound < radius {
+                    visit(bound, id);
                 }
             }
         }

@@ -33,8 +33,8 @@ enum Answer {
     Strikes(Option<ProbePart>),
 }
 
-/// Answers by the setting's bits and the query.
-type Table = HashMap<(Vec<u64>, Query), Answer>;
+/// Answers by the setting's bits, then by the query.
+type Table = HashMap<Vec<u64>, HashMap<Query, Answer>>;
 
 /// The answers of each free-space setting (placement, probe and margins,
 /// by their bits), shared between threads.
@@ -46,7 +46,7 @@ pub struct FreeSpaceMemo {
 impl FreeSpaceMemo {
     /// Number of answers remembered.
     pub fn len(&self) -> usize {
-        self.table.lock().map_or(0, |t| t.len())
+        (self.table.lock()).map_or(0, |t| t.values().map(HashMap::len).sum())
     }
 
     /// Whether nothing is remembered yet.
@@ -74,19 +74,21 @@ impl<'a> Remembering<'a> {
 
     /// The remembered answer to `q`, else `ask`'s (then remembered).
     fn answer(&self, q: Query, ask: impl FnOnce() -> Answer) -> Answer {
-        let key = (self.setting.clone(), q);
-        if let Some(a) = self
-            .memo
-            .table
-            .lock()
-            .ok()
-            .and_then(|t| t.get(&key).copied())
-        {
+        let setting = self.setting.as_slice();
+        let known = |t: &Table| t.get(setting).and_then(|m| m.get(&q)).copied();
+        if let Some(a) = self.memo.table.lock().ok().and_then(|t| known(&t)) {
             return a;
         }
         let a = ask();
         if let Ok(mut t) = self.memo.table.lock() {
-            t.insert(key, a);
+            match t.get_mut(setting) {
+                Some(m) => {
+                    m.insert(q, a);
+                }
+                None => {
+                    t.insert(self.setting.clone(), HashMap::from([(q, a)]));
+                }
+            }
         }
         a
     }
