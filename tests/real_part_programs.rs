@@ -218,3 +218,68 @@ fn batch_variants_equal_the_same_variants_run_alone() {
     assert_eq!(r, report_without_wall(&alone));
     assert_eq!(r["status"], "pass");
 }
+
+/// The fixture assembly (three placed brackets, 87 faces) from
+/// `../shared/cad`, as a programmer would try it: a section of one
+/// bracket's boss steps at z = 25 (one stretch starts in the concave
+/// corner beside the flange, too narrow to come down into) and touch points
+/// on the boss and the flange. With `--ideal` every measured point is on
+/// the true part, and no positioning cycle reads a deflection: each retract
+/// off the surface ends with the stylus free.
+#[test]
+fn fixture_assembly_program_positions_clear_of_the_part() {
+    let cad = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../shared/cad/fixture-assembly.step");
+    if !cad.exists() {
+        println!("note: {} not found; skipping", cad.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let prog = dir.path().join("fixture.json");
+    let faces =
+        ["face5", "face9", "face7", "face27", "face19", "face21"].map(|f| format!("bracket#1/{f}"));
+    let text = serde_json::json!({
+        "format": "cmm-program/1", "name": "fixture",
+        "workpiece": s(&cad),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "form": [ { "kind": "offset", "mm": 0.005 } ] },
+        "features": [
+            { "name": "b1-z25", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 25], "normal": [0, 0, 1] },
+              "surfaces": faces, "tolerance_mm": [-0.05, 0.05] },
+            { "name": "b1-boss-top", "type": "touch_points",
+              "points_mm": [[25, 0, 31], [25, 8, 29.95], [25, -8, 29.95], [23, 0, 31]],
+              "tolerance_mm": [-0.05, 0.05] },
+            { "name": "flange-top", "type": "touch_points",
+              "points_mm": [[3, 0, 44], [3, 6, 43.59]], "tolerance_mm": [-0.05, 0.05] } ]
+    });
+    std::fs::write(&prog, text.to_string()).unwrap();
+    let out = dir.path().join("out");
+    let trace = dir.path().join("trace.csv");
+    let run = cmm(&[
+        "scan",
+        s(&prog),
+        "--ideal",
+        "--quiet",
+        "--out",
+        s(&out),
+        "--trace",
+        s(&trace),
+    ]);
+    // The stretch in the corner is not measured: the section is incomplete.
+    assert_eq!(run.status.code(), Some(3), "{run:?}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let mut points = 0;
+    for f in report["features"].as_array().unwrap() {
+        for p in f["points"].as_array().unwrap() {
+            let e = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+            assert!(e.abs() <= 5e-4, "{}: {e} mm", f["name"]);
+            points += 1;
+        }
+    }
+    assert!(points > 50, "{points} points");
+    positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
+}

@@ -173,6 +173,10 @@ pub struct ModeOptions {
     pub trigger_mm: f64,
     /// Below this deflection the stylus counts as out of contact, mm.
     pub contact_mm: f64,
+    /// A retract off the surface ends once the deflection reads below
+    /// this, mm: the stylus has left the surface (a free probe reads its
+    /// noise only, about 0.1 um), so the move that follows starts clear.
+    pub free_mm: f64,
     /// Passive scanning fails above this deflection, mm.
     pub over_deflection_mm: f64,
     /// Consecutive cycles out of contact before passive scanning, touch
@@ -213,6 +217,7 @@ impl Default for ModeOptions {
             standoff_mm: 5.0,
             trigger_mm: 0.3,
             contact_mm: 0.02,
+            free_mm: 5e-4,
             over_deflection_mm: 0.8,
             lost_contact_cycles: 40,
             active_lost_contact_cycles: 1000,

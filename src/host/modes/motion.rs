@@ -305,7 +305,7 @@ pub(super) fn free_stylus(
     };
     tr.enter(cmm, Phase::Retract);
     for _ in 0..opts.max_cycles {
-        if tr.deflection() < opts.contact_mm * 0.5 {
+        if tr.deflection() < opts.free_mm {
             return Ok(Some(tr.ball_undeflected() + dir * opts.standoff_mm));
         }
         if let Some(o) = tr.step(cmm, dir * opts.approach_speed_mm_s) {
