@@ -10,6 +10,7 @@ use super::run::run_variant;
 use super::{RunError, RunOptions, SimulatedPart};
 use crate::host::inspect::learned::CorrectionsFile;
 use crate::host::inspect::LearnedSet;
+use crate::host::trace::TraceRow;
 use crate::report::Report;
 
 /// One part of a batch.
@@ -119,6 +120,21 @@ fn run_part(
     known: &CorrectionsFile,
     first: &[(usize, LearnedSet)],
 ) -> PartResult {
+    run_part_traced(programs, part, base, (known, first), false).map(|(r, l, _)| (r, l))
+}
+
+/// One part of a batch on its own variant of the as-machined part, with
+/// the corrections `known` before the batch and those the `first` parts
+/// of its program learned; with `trace`, also the motion trace of every
+/// cycle. A part run alone (`--shard`, `--trace`) measures exactly what
+/// it measures in its batch.
+pub fn run_part_traced(
+    programs: &[SimulatedPart],
+    part: &Part,
+    base: &RunOptions,
+    (known, first): (&CorrectionsFile, &[(usize, LearnedSet)]),
+    trace: bool,
+) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
     let Some(program) = programs.get(part.program) else {
         return Err(RunError::NoProgram {
             index: part.program,
@@ -143,5 +159,5 @@ fn run_part(
         learned,
         ..base.clone()
     };
-    run_variant(program, truth, &opts, false).map(|(r, l, _)| (r, l))
+    run_variant(program, truth, &opts, trace)
 }

@@ -4,8 +4,8 @@
 use std::path::PathBuf;
 
 use super::{CliError, Status};
-use crate::app::batch::{plan_parts, run_batch, Part, PartResult};
-use crate::app::{load, probe_calibration, run_program_traced, RunOptions, SimulatedPart};
+use crate::app::batch::{plan_parts, run_batch, run_part_traced, Part, PartResult};
+use crate::app::{load, probe_calibration, RunOptions, SimulatedPart};
 use crate::formats::serde_name;
 use crate::host::calibrate::file::ProbeCalibration;
 use crate::host::inspect::learned::CorrectionsFile;
@@ -125,9 +125,9 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     }
     check_outputs(args)?;
     let mut outputs = OutputSet::default();
-    let (mut results, updated) = match (&args.trace, programs.first(), parts.first()) {
-        (Some(path), Some(program), Some(part)) => {
-            traced_run(program, part, &base, &known, (path, &mut outputs))?
+    let (mut results, updated) = match (&args.trace, parts.first()) {
+        (Some(path), Some(part)) => {
+            traced_run(&programs, part, &base, &known, (path, &mut outputs))?
         }
         _ => {
             let bar = progress_bar(args, parts.len());
@@ -219,18 +219,13 @@ fn progress_bar(args: &ScanArgs, parts: usize) -> indicatif::ProgressBar {
 }
 
 fn traced_run(
-    program: &SimulatedPart,
+    programs: &[SimulatedPart],
     part: &Part,
     base: &RunOptions,
     known: &CorrectionsFile,
     (path, outputs): (&std::path::Path, &mut OutputSet),
 ) -> Result<(Vec<PartResult>, CorrectionsFile), CliError> {
-    let opts = RunOptions {
-        seed: part.seed,
-        learned: known.for_program(&program.program.name),
-        ..base.clone()
-    };
-    let (report, learned, rows) = run_program_traced(program, &opts, true)?;
+    let (report, learned, rows) = run_part_traced(programs, part, base, (known, &[]), true)?;
     outputs.add(path, trace_csv(&rows).into_bytes());
     let mut updated = known.clone();
     updated.merge(&report.program, &learned);
