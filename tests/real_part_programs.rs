@@ -217,10 +217,18 @@ fn batch_variants_equal_the_same_variants_run_alone() {
     // One part alone: its reports are written at the top of `--out`.
     assert_eq!(r, report_without_wall(&alone));
     assert_eq!(r["status"], "pass");
+    // A traced part is the same part too (its variant, not the program's
+    // own as-machined part).
+    let trace = out.path().join("second.csv");
+    let traced = run("traced", &["--shard", "2/3", "--trace", s(&trace)]);
+    assert_eq!(
+        report_without_wall(&batch.join("00-abc-lamp-v001")),
+        report_without_wall(&traced)
+    );
 }
 
-/// The fixture assembly (three placed brackets, 87 faces) from
-/// `../shared/cad`, as a programmer would try it: a section of one
+/// The fixture assembly (three placed brackets, 87 faces,
+/// `workpieces/fixture-assembly.step`), as a programmer would try it: a section of one
 /// bracket's boss steps at z = 25 (one stretch starts in the concave
 /// corner beside the flange, too narrow to come down into) and touch points
 /// on the boss and the flange. With `--ideal` every measured point is on
@@ -228,12 +236,7 @@ fn batch_variants_equal_the_same_variants_run_alone() {
 /// off the surface ends with the stylus free.
 #[test]
 fn fixture_assembly_program_positions_clear_of_the_part() {
-    let cad = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../shared/cad/fixture-assembly.step");
-    if !cad.exists() {
-        println!("note: {} not found; skipping", cad.display());
-        return;
-    }
+    let cad = repo("workpieces/fixture-assembly.step");
     let dir = tempfile::tempdir().unwrap();
     let prog = dir.path().join("fixture.json");
     let faces =

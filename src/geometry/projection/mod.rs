@@ -20,7 +20,9 @@ mod trimmed;
 
 pub use index::ProjectionIndex;
 pub(crate) use index::{LeafMemo, NoMemo};
-pub(crate) use newton::{minimise_cached, minimise_with, Bounds, Foot};
+pub(crate) use newton::{
+    local_minimum, local_minimum_cached, minimise_cached, minimise_with, Bounds, Foot,
+};
 pub use status::{SearchStatus, UnconfirmedReason};
 pub(crate) use trimmed::closest_on_boundary;
 

@@ -267,7 +267,14 @@ fn newton_from<F: Fn(Vec2, &mut Jet2)>(
             return SearchStatus::Confirmed;
         }
         if pure && is_final(last_step, full_step, bend_mm(&foot.d, delta), opts) {
-            final_step(p, foot, target, it);
+            if near_collapsed(&foot.d) {
+                // Next to a pole the Taylor expansion is no model of the
+                // surface (the normal turns within rounding of it): the
+                // last step is evaluated.
+                evaluate_at(eval, p, foot, target, it);
+            } else {
+                final_step(p, foot, target, it);
+            }
             if descent::is_stationary(&foot.d, p, foot.uv, bounds, opts) {
                 return SearchStatus::Confirmed;
             }
@@ -310,6 +317,19 @@ fn is_final(step: f64, previous: Option<f64>, bend: f64, opts: &ProjectionOption
     };
     let predicted = step * step * step / (prev * prev);
     step <= opts.final_step_max_mm && step <= 0.1 * prev && predicted <= opts.final_error_mm
+}
+
+/// Below this ratio of the shorter tangent to the longer a foot lies next
+/// to a collapsed edge (a pole), where derivatives of higher order dwarf
+/// the tangent that vanishes.
+const COLLAPSED_TANGENT_RATIO: f64 = 1e-6;
+
+/// Whether the jet `d` is that of a point next to a collapsed edge.
+#[inline]
+fn near_collapsed(d: &Jet2) -> bool {
+    let (a, b) = (d.su().norm_squared(), d.sv().norm_squared());
+    let r2 = COLLAPSED_TANGENT_RATIO * COLLAPSED_TANGENT_RATIO;
+    a < r2 * b || b < r2 * a
 }
 
 /// The second-order Taylor term of the surface along `delta`, mm.

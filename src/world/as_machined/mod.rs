@@ -36,6 +36,12 @@ pub struct AsMachinedError {
 /// between the tangents) the as-machined normal comes from the nominal one.
 const NORMAL_CONDITION: f64 = 1e-6;
 
+/// Below this ratio of the shorter tangent `|Qu|` or `|Qv|` to the longer
+/// the foot lies next to a collapsed edge (a pole): the short tangent is
+/// then mostly rounding error (and the form's normal derivatives there
+/// are of no use), so the normal comes from the nominal limit normal.
+const TANGENT_RATIO: f64 = 1e-6;
+
 /// The true (simulated) part.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AsMachined {
@@ -356,7 +362,10 @@ impl AsMachined {
         let n = qu.cross(&qv) * sign;
         // Near a pole Qu x Qv is ill-conditioned: use the nominal limit normal
         // mapped by the transform (inverse transpose) instead.
-        let well_posed = n.norm() > NORMAL_CONDITION * qu.norm() * qv.norm() && n.norm() > 0.0;
+        let (lu, lv) = (qu.norm(), qv.norm());
+        let well_posed = n.norm() > NORMAL_CONDITION * lu * lv
+            && n.norm() > 0.0
+            && lu.min(lv) > TANGENT_RATIO * lu.max(lv);
         let normal = if well_posed {
             n.normalize()
         } else {

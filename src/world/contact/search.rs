@@ -3,11 +3,16 @@
 use super::leaves::{Leaf, Leaves};
 use super::tree::LeafTree;
 use super::{ContactOptions, TrueContact};
-use crate::geometry::projection::{minimise_cached, minimise_with, Foot};
+use crate::geometry::projection::{local_minimum, local_minimum_cached, Foot};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions};
 use crate::math::{Point3, Vec2};
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
+
+/// Two opposite sides of a domain that meet within this (mm) at a foot are
+/// one (the seam of a closed surface), and a side that moves less than
+/// this over a hundredth of its parameter range is a point (a pole).
+const SIDE_GLUE_MM: f64 = 1e-6;
 
 /// Leaves whose last foot is kept for a warm start.
 const WARM_SLOTS: usize = 8;
@@ -189,7 +194,7 @@ impl Cursor {
         let off_list = self
             .near_at
             .map_or(0.0, |(a, listed)| listed - (y - a).norm());
-        let floor = self.search(ix, (wp, am), y, reach, opts)?;
+        let floor = self.search(ix, (wp, am), y, reach, opts);
         self.anchor = Some((y, floor.min(off_list)));
         Ok(self.answer(wp, am, y, reach))
     }
@@ -204,7 +209,7 @@ impl Cursor {
         y: Point3,
         reach: f64,
         opts: &ProjectionOptions,
-    ) -> Result<f64, ProjectionError> {
+    ) -> f64 {
         let tie = self.opts.edge_tie_mm;
         self.stamp += 1;
         self.bounds.clear();
@@ -234,9 +239,12 @@ impl Cursor {
                 continue;
             };
             let warm = (&mut self.warm, self.stamp, id);
-            let foot = leaf_foot((wp, am), leaf, warm, y, opts)?;
+            let foot = leaf_foot((wp, am), leaf, warm, y, opts);
             let d = foot.dist2.sqrt();
-            floor = floor.min(d);
+            // An unconfirmed foot is a point of the surface, so its
+            // distance bounds the leaf's from above only: the leaf's own
+            // bound stands in for it below.
+            floor = floor.min(if foot.status.is_confirmed() { d } else { b });
             if d >= limit {
                 continue;
             }
@@ -265,7 +273,7 @@ impl Cursor {
                 }
             }
         }
-        Ok(floor.min(best))
+        floor.min(best)
     }
 
     /// The answer from `self.found`: the closest foot, signed by the sign
@@ -330,21 +338,33 @@ impl Cursor {
 
 /// Newton on the true surface over `leaf` (number `id`), warm from its
 /// last foot among `warm` when it has one (which `stamp` marks used).
+///
+/// Always a point of the surface: a warm foot that Newton cannot confirm
+/// (a pole, where one parameter collapses) is tried again from the leaf's
+/// own start and the closer of the two kept, confirmed or not. The ball
+/// then still feels the surface it touches; an unconfirmed foot's
+/// distance is at most a Newton tolerance above the leaf's least.
 fn leaf_foot(
     (wp, am): (&Workpiece, &AsMachined),
     leaf: &Leaf,
     (warm, stamp, id): (&mut Vec<WarmFoot>, u64, u32),
     y: Point3,
     opts: &ProjectionOptions,
-) -> Result<Foot, ProjectionError> {
+) -> Foot {
     let face = leaf.face;
     let eval = |uv: Vec2, out: &mut Jet2| am.true_jet_into(wp, face, uv, out);
     if let Some(w) = warm.iter_mut().find(|w| w.leaf == id) {
         w.stamp = stamp;
-        minimise_cached(eval, y, &mut w.foot, &leaf.bounds, opts)?;
-        return Ok(w.foot);
+        local_minimum_cached(eval, y, &mut w.foot, &leaf.bounds, opts);
+        if !w.foot.status.is_confirmed() {
+            let cold = local_minimum(eval, y, leaf.start(y), &leaf.bounds, opts);
+            if cold.dist2 < w.foot.dist2 {
+                w.foot = cold;
+            }
+        }
+        return w.foot;
     }
-    let foot = minimise_with(eval, y, leaf.start(y), &leaf.bounds, opts)?;
+    let foot = local_minimum(eval, y, leaf.start(y), &leaf.bounds, opts);
     remember(
         warm,
         WarmFoot {
@@ -353,7 +373,7 @@ fn leaf_foot(
             stamp,
         },
     );
-    Ok(foot)
+    foot
 }
 
 /// Keeps `w` among the warm feet, in place of the one unused longest.
@@ -367,11 +387,36 @@ fn remember(warm: &mut Vec<WarmFoot>, w: WarmFoot) {
     }
 }
 
-/// Whether `uv` lies on a side of the parameter domain of `face` (a face
-/// boundary that no trim segment stands for).
+/// Whether `uv` lies on a side of the parameter domain of `face` that is
+/// an edge of the face (a boundary no trim segment stands for): not a side
+/// that collapses to a point (a pole) and not one glued to the opposite
+/// side (the seam of a closed surface), which lie inside the face.
 fn on_domain_side(wp: &Workpiece, face: usize, uv: Vec2) -> bool {
-    wp.faces.get(face).is_none_or(|f| {
-        let ((u0, u1), (v0, v1)) = f.surface.domain();
-        !(uv.x > u0 && uv.x < u1 && uv.y > v0 && uv.y < v1)
-    })
+    let Some(f) = wp.faces.get(face) else {
+        return true;
+    };
+    let s = &f.surface;
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let open = |k: usize, lo: f64, hi: f64| {
+        let at = uv[k];
+        if at > lo && at < hi {
+            return false;
+        }
+        let mut other = uv;
+        other[k] = if at <= lo { hi } else { lo };
+        let (a, b) = (s.point(uv.x, uv.y), s.point(other.x, other.y));
+        // Along the side: the other parameter moved by a hundredth of its
+        // range; a collapsed side does not move.
+        let j = 1 - k;
+        let (lo_j, hi_j) = if j == 0 { (u0, u1) } else { (v0, v1) };
+        let mut along = uv;
+        along[j] = if uv[j] - lo_j > hi_j - uv[j] {
+            uv[j] - 0.01 * (hi_j - lo_j)
+        } else {
+            uv[j] + 0.01 * (hi_j - lo_j)
+        };
+        let c = s.point(along.x, along.y);
+        (b - a).norm() > SIDE_GLUE_MM && (c - a).norm() > SIDE_GLUE_MM
+    };
+    open(0, u0, u1) || open(1, v0, v1)
 }
