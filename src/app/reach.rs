@@ -2,7 +2,7 @@
 //! data alone (`cmm check`; the scan checks each feature the same way
 //! before measuring it).
 use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
-use crate::host::inspect::corners::{reachable_points, CornerOptions};
+use crate::host::inspect::corners::{section_design, CornerOptions};
 use crate::host::inspect::correction::DesignPoint;
 use crate::host::inspect::reach::{Reach, Unreachable};
 use crate::host::modes::{HostProbe, ModeOptions};
@@ -51,12 +51,18 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
     let mut out = Vec::new();
     for f in &program.features {
         match f {
-            Feature::Section { name, curves, .. } => {
+            Feature::Section {
+                name,
+                curves,
+                plane,
+                ..
+            } => {
                 for (k, c) in curves.iter().enumerate() {
                     let pts: Vec<DesignPoint> =
                         c.points.iter().map(|p| design(p.point, p.normal)).collect();
                     let (r, opts) = (probe.tip_radius_mm, CornerOptions::default());
-                    let pts = reachable_points(&pts, c.closed, &program.workpiece, r, &opts);
+                    let on = (&program.workpiece, plane.normal());
+                    let pts = section_design(&pts, c.closed, on, r, &opts);
                     if let Err(u) = reach.curve(&pts) {
                         out.push((name.clone(), k, u));
                     }

@@ -5,7 +5,15 @@
 //! path goes straight from the last point the ball reaches on one side to
 //! the first on the other: about where the ball touches both walls.
 //! A stretch narrower than the ball loses all its points.
+//!
+//! Convex corners: where the normal turns outward between neighbouring
+//! design points (a box outline's corner, a boss's edge), the ball centre
+//! has to go round the edge on an arc of its offset radius, or the path
+//! would cut the corner on a chord (0.29 ball radii into a right-angled
+//! edge). Design points on the edge itself, with normals turning from one
+//! face's to the other's in the section plane, make the path that arc.
 use super::correction::DesignPoint;
+use crate::math::{Point3, Vec3};
 use crate::workpiece::Workpiece;
 
 /// How the corners are found.
@@ -21,6 +29,9 @@ pub struct CornerOptions {
     /// A ball centre closer than the ball radius less this to the design
     /// data cuts into a wall, mm.
     pub tolerance_mm: f64,
+    /// Design points on a convex edge are put this far apart in normal
+    /// direction, degrees (the ball centre's arc about the edge).
+    pub arc_step_deg: f64,
 }
 
 impl Default for CornerOptions {
@@ -29,6 +40,7 @@ impl Default for CornerOptions {
             turn_deg: 10.0,
             look_around_radii: 2.5,
             tolerance_mm: 1e-3,
+            arc_step_deg: 10.0,
         }
     }
 }
@@ -57,6 +69,97 @@ pub fn reachable_points(
         .filter(|(d, near)| !*near || !cuts(d))
         .map(|(d, _)| *d)
         .collect()
+}
+
+/// The design points of a section curve that a ball of radius `r` follows:
+/// [`reachable_points`], with the arcs about convex corners
+/// ([`round_convex_corners`]) in the plane with normal `plane_normal`.
+pub fn section_design(
+    design: &[DesignPoint],
+    closed: bool,
+    (workpiece, plane_normal): (&Workpiece, Vec3),
+    r: f64,
+    opts: &CornerOptions,
+) -> Vec<DesignPoint> {
+    let kept = reachable_points(design, closed, workpiece, r, opts);
+    round_convex_corners(&kept, closed, plane_normal, opts)
+}
+
+/// `design` with points added on every convex corner between neighbours
+/// (the normal turns by more than `turn_deg`, outward along the curve):
+/// the corner is where the two neighbours' tangent lines in the plane
+/// meet, and its points' normals turn from one neighbour's to the other's
+/// in steps of at most `arc_step_deg`.
+pub fn round_convex_corners(
+    design: &[DesignPoint],
+    closed: bool,
+    plane_normal: Vec3,
+    opts: &CornerOptions,
+) -> Vec<DesignPoint> {
+    let cos_turn = opts.turn_deg.to_radians().cos();
+    let mut out = Vec::with_capacity(design.len());
+    let n = design.len();
+    let pairs = if closed { n } else { n.saturating_sub(1) };
+    for (k, a) in design.iter().enumerate() {
+        out.push(*a);
+        let Some(b) = (k < pairs).then(|| design.get((k + 1) % n)).flatten() else {
+            continue;
+        };
+        let convex = (b.point - a.point).dot(&(b.normal - a.normal)) > 0.0;
+        if convex && a.normal.dot(&b.normal) < cos_turn {
+            out.extend(corner_arc(a, b, plane_normal, opts.arc_step_deg));
+        }
+    }
+    out
+}
+
+/// The edge points between `a` and `b` (their normals turning about
+/// `axis`), none when the tangent lines do not meet near them.
+fn corner_arc(a: &DesignPoint, b: &DesignPoint, axis: Vec3, step_deg: f64) -> Vec<DesignPoint> {
+    let Some(c) = tangent_meet(a, b, axis) else {
+        return Vec::new();
+    };
+    let gap = (b.point - a.point).norm();
+    if (c - a.point).norm() > gap + 1e-9 || (c - b.point).norm() > gap + 1e-9 {
+        return Vec::new();
+    }
+    let turn = a
+        .normal
+        .cross(&b.normal)
+        .dot(&axis)
+        .atan2(a.normal.dot(&b.normal));
+    let steps = (turn.abs() / step_deg.max(0.1).to_radians())
+        .ceil()
+        .max(1.0) as usize;
+    let Some(axis) = nalgebra::Unit::try_new(axis, 1e-12) else {
+        return Vec::new();
+    };
+    let on_edge = |normal| DesignPoint { point: c, normal };
+    // The ends of the arc: the edge with either face's normal, unless a
+    // neighbour lies on the edge already.
+    let first = ((c - a.point).norm() > EDGE_SAME_MM).then(|| on_edge(a.normal));
+    let last = ((c - b.point).norm() > EDGE_SAME_MM).then(|| on_edge(b.normal));
+    let inner = (1..steps).map(|i| {
+        let rot = nalgebra::Rotation3::from_axis_angle(&axis, turn * i as f64 / steps as f64);
+        on_edge(rot * a.normal)
+    });
+    first.into_iter().chain(inner).chain(last).collect()
+}
+
+/// A design point this close to a corner (mm) lies on its edge.
+const EDGE_SAME_MM: f64 = 1e-6;
+
+/// Where the tangent lines of `a` and `b` (in the plane with normal
+/// `axis`, perpendicular to their normals) meet, if they are not parallel.
+fn tangent_meet(a: &DesignPoint, b: &DesignPoint, axis: Vec3) -> Option<Point3> {
+    // c = a + s t_a with (c - b) . n_b = 0.
+    let ta = axis.cross(&a.normal);
+    let denom = ta.dot(&b.normal);
+    if denom.abs() < 1e-9 {
+        return None;
+    }
+    let s = (b.point - a.point).dot(&b.normal) / denom;
+    Some(a.point + ta * s)
 }
 
 /// Which design points lie within `reach` (mm, along the curve) of a
@@ -141,5 +244,60 @@ mod tests {
         let marked: Vec<usize> = (0..d.len()).filter(|&k| near[k]).collect();
         let want: Vec<usize> = (0..=4).chain(15..=24).chain(34..=38).collect();
         assert_eq!(marked, want);
+    }
+
+    #[test]
+    fn convex_corners_get_an_arc_about_the_edge_and_concave_ones_none() {
+        // A square outline 0.5 mm apart, counter-clockwise about +z: every
+        // corner convex, its last and first points 0.25 mm from it.
+        let side = |k: usize, t: f64| -> DesignPoint {
+            let (dir, normal, start) = match k {
+                0 => (Vec3::x(), -Vec3::y(), Point3::new(-5.0, -5.0, 0.0)),
+                1 => (Vec3::y(), Vec3::x(), Point3::new(5.0, -5.0, 0.0)),
+                2 => (-Vec3::x(), Vec3::y(), Point3::new(5.0, 5.0, 0.0)),
+                _ => (-Vec3::y(), -Vec3::x(), Point3::new(-5.0, 5.0, 0.0)),
+            };
+            DesignPoint {
+                point: start + dir * t,
+                normal,
+            }
+        };
+        let square: Vec<DesignPoint> = (0..4)
+            .flat_map(|k| (0..20).map(move |i| side(k, 0.25 + 0.5 * i as f64)))
+            .collect();
+        let opts = CornerOptions::default();
+        let out = round_convex_corners(&square, true, Vec3::z(), &opts);
+        // Each corner: the edge with both normals and 8 between (90 deg in
+        // 10 deg steps).
+        assert_eq!(out.len(), square.len() + 4 * 10);
+        let r = 1.5;
+        let corners = [(5.0, -5.0), (5.0, 5.0), (-5.0, 5.0), (-5.0, -5.0)];
+        let on_edge: Vec<&DesignPoint> = out
+            .iter()
+            .filter(|d| corners.iter().any(|c| (d.point - Point3::new(c.0, c.1, 0.0)).norm() < 1e-12))
+            .collect();
+        assert_eq!(on_edge.len(), 40);
+        // The ball centres go round each edge at the ball radius, their
+        // normals turning one way by at most the step.
+        for w in out.windows(2) {
+            let turn = w[0].normal.angle(&w[1].normal).to_degrees();
+            assert!(turn <= 10.0 + 1e-9, "{turn}");
+            assert!(w[0].normal.cross(&w[1].normal).z >= -1e-12);
+        }
+        for d in on_edge {
+            let centre = d.point + d.normal * r;
+            assert!(((centre - d.point).norm() - r).abs() < 1e-12);
+        }
+        // The same outline run the other way round: its corners are
+        // concave (the inside of a pocket), nothing added.
+        let pocket: Vec<DesignPoint> = square
+            .iter()
+            .rev()
+            .map(|d| DesignPoint {
+                point: d.point,
+                normal: -d.normal,
+            })
+            .collect();
+        assert_eq!(round_convex_corners(&pocket, true, Vec3::z(), &opts).len(), pocket.len());
     }
 }

@@ -1,6 +1,6 @@
 //! One feature of a program measured on the machine, with the
 //! supervisor's corrections and fallbacks.
-use super::corners::{reachable_points, CornerOptions};
+use super::corners::{section_design, CornerOptions};
 use super::correction::DesignPoint;
 use super::reach::{Reach, Unreachable};
 use super::record::{AttemptMode, FeatureKind};
@@ -85,8 +85,8 @@ pub fn measure_feature(
                         .collect();
                     let r = probe.tip_radius_mm;
                     let corners = CornerOptions::default();
-                    let design =
-                        reachable_points(&design, c.closed, &program.workpiece, r, &corners);
+                    let on = (&program.workpiece, plane.normal());
+                    let design = section_design(&design, c.closed, on, r, &corners);
                     if design.len() < 2 {
                         return CurveResult {
                             notes: vec!["not measured: narrower than the ball".into()],
