@@ -27,7 +27,8 @@ fn a_box_outline_is_scanned_round_its_edges_at_the_wanted_deflection() {
         face("top", [-a, -a, h], [2.0 * a, 0.0, 0.0], [0.0, 2.0 * a, 0.0]),
     ];
     let dir = tempfile::tempdir().unwrap();
-    let wp = json!({ "format": "cmm-workpiece/1", "name": "box", "units": "mm", "surfaces": faces });
+    let wp =
+        json!({ "format": "cmm-workpiece/1", "name": "box", "units": "mm", "surfaces": faces });
     std::fs::write(dir.path().join("box.json"), wp.to_string()).unwrap();
     let prog = json!({
         "format": "cmm-program/1", "name": "box", "workpiece": "box.json",
@@ -43,7 +44,12 @@ fn a_box_outline_is_scanned_round_its_edges_at_the_wanted_deflection() {
     let (out, trace) = (dir.path().join("out"), dir.path().join("t.csv"));
     let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
         .args(["scan", program.to_str().unwrap(), "--ideal", "--quiet"])
-        .args(["--out", out.to_str().unwrap(), "--trace", trace.to_str().unwrap()])
+        .args([
+            "--out",
+            out.to_str().unwrap(),
+            "--trace",
+            trace.to_str().unwrap(),
+        ])
         .output()
         .unwrap();
     assert_eq!(run.status.code(), Some(0), "{run:?}");

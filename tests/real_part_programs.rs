@@ -123,6 +123,71 @@ fn nist_ctc05_program_measures_every_feature_exactly() {
     positioning_touches_nothing(&trace);
 }
 
+/// A turned flange (`workpieces/io1-flange.stp`, STEPcode's AP214 test
+/// part) with its axis up: the outside, the bore, the boss, a bolt hole of
+/// radius 3.5 mm (the approach starts inside it, not the standoff out in
+/// its far wall, and the probe leaves it without blending the turn) and
+/// the tops by touch points.
+#[test]
+fn io1_flange_program_measures_every_feature_exactly() {
+    let check = cmm(&["check", s(&repo("part-programs/io1-flange.json"))]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let out = tempfile::tempdir().unwrap();
+    let (report, trace) = scan_ideal("part-programs/io1-flange.json", out.path());
+    let tau = std::f64::consts::TAU;
+    exact_and_covered(
+        &report,
+        &[
+            ("flange-od", tau * 44.0),
+            ("bore", tau * 18.0),
+            ("boss", tau * 31.0),
+            ("bolt-hole-30", tau * 3.5),
+        ],
+    );
+    positioning_touches_nothing(&trace);
+}
+
+/// The flange's groove (2 mm wide between two shoulders, the section
+/// plane in its middle) is narrower than the 3 mm ball: `cmm check` says
+/// so and `cmm scan` does not measure it (the walls are faces the section
+/// plane does not cut), instead of scanning the shoulder beside it.
+#[test]
+fn a_groove_narrower_than_the_ball_is_not_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut prog: Value = serde_json::from_str(
+        &std::fs::read_to_string(repo("part-programs/io1-flange.json")).unwrap(),
+    )
+    .unwrap();
+    prog["workpiece"] = Value::from(s(&repo("workpieces/io1-flange.stp")));
+    prog["features"] = serde_json::json!([
+        { "name": "groove", "type": "section_scan",
+          "plane": { "origin_mm": [20, 0, 0], "normal": [1, 0, 0] },
+          "surfaces": ["face7", "face21"], "tolerance_mm": [-0.05, 0.05] },
+        { "name": "boss", "type": "section_scan",
+          "plane": { "origin_mm": [25, 0, 0], "normal": [1, 0, 0] },
+          "surfaces": ["face5", "face27"], "tolerance_mm": [-0.05, 0.05] } ]);
+    let file = dir.path().join("groove.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let check = cmm(&["check", s(&file)]);
+    assert_eq!(check.status.code(), Some(3), "{check:?}");
+    let said = String::from_utf8_lossy(&check.stdout).into_owned()
+        + &String::from_utf8_lossy(&check.stderr);
+    assert!(
+        said.contains("groove [0]: not reachable: narrower than the ball"),
+        "{said}"
+    );
+    assert!(!said.contains("boss [0]"), "{said}");
+    let out = dir.path().join("out");
+    let run = cmm(&["scan", s(&file), "--ideal", "--quiet", "--out", s(&out)]);
+    assert_eq!(run.status.code(), Some(3), "{run:?}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let (groove, boss) = (&report["features"][0], &report["features"][1]);
+    assert_eq!(groove["status"], "incomplete");
+    assert_eq!(groove["points"].as_array().unwrap().len(), 0);
+    assert_eq!(boss["status"], "pass");
+}
+
 #[test]
 fn abc_lamp_program_measures_every_feature_exactly() {
     let out = tempfile::tempdir().unwrap();

@@ -2,7 +2,7 @@
 //! data alone (`cmm check`; the scan checks each feature the same way
 //! before measuring it).
 use crate::host::inspect::clearance::{ClearanceOptions, PartClearance, ProbeBody};
-use crate::host::inspect::corners::{section_design, CornerOptions};
+use crate::host::inspect::corners::{own_faces, section_design, CornerOptions};
 use crate::host::inspect::correction::DesignPoint;
 use crate::host::inspect::reach::{Reach, Unreachable};
 use crate::host::modes::{HostProbe, ModeOptions};
@@ -62,8 +62,13 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
                         c.points.iter().map(|p| design(p.point, p.normal)).collect();
                     let (r, opts) = (probe.tip_radius_mm, CornerOptions::default());
                     let on = (&program.workpiece, plane.normal());
-                    let pts = section_design(&pts, c.closed, on, r, &opts);
-                    if let Err(u) = reach.curve(&pts) {
+                    let own = own_faces(c);
+                    let pts = section_design((&pts, &own), c.closed, on, r, &opts);
+                    let checked = match pts.len() {
+                        0 | 1 => Err(Unreachable::TooNarrow),
+                        _ => reach.curve(&pts),
+                    };
+                    if let Err(u) = checked {
                         out.push((name.clone(), k, u));
                     }
                 }

@@ -54,6 +54,18 @@ impl Workpiece {
         self.closest_point_reaching(p, faces, hint, None)
     }
 
+    /// Whether a face of `faces` comes closer to `p` than `d` (mm): faces
+    /// whose box keeps that far are not searched.
+    pub fn comes_within(
+        &self,
+        p: Point3,
+        faces: impl Iterator<Item = usize>,
+        d: f64,
+    ) -> Result<bool, ProjectionError> {
+        let near = faces.filter(|&i| self.face_box_distance(i, p) < d);
+        Ok(self.closest_point_within(p, near, d * d, None)?.is_some())
+    }
+
     /// [`Self::closest_point_tracked`] that searches each face other than
     /// the foot's within `reach(face, distance)` too (at least the
     /// distance), when given, so that queries near `p` within that reach

@@ -13,6 +13,7 @@
 //! edge). Design points on the edge itself, with normals turning from one
 //! face's to the other's in the section plane, make the path that arc.
 use super::correction::DesignPoint;
+use crate::geometry::section::SectionCurve;
 use crate::math::{Point3, Vec3};
 use crate::workpiece::Workpiece;
 
@@ -71,18 +72,53 @@ pub fn reachable_points(
         .collect()
 }
 
-/// The design points of a section curve that a ball of radius `r` follows:
-/// [`reachable_points`], with the arcs about convex corners
+/// The design points of a section curve over the faces `own` that a ball
+/// of radius `r` follows: [`reachable_points`] that no other face comes
+/// into ([`clear_of_other_faces`]: a groove narrower than the ball, a wall
+/// beside the section), with the arcs about convex corners
 /// ([`round_convex_corners`]) in the plane with normal `plane_normal`.
 pub fn section_design(
-    design: &[DesignPoint],
+    (design, own): (&[DesignPoint], &[usize]),
     closed: bool,
     (workpiece, plane_normal): (&Workpiece, Vec3),
     r: f64,
     opts: &CornerOptions,
 ) -> Vec<DesignPoint> {
     let kept = reachable_points(design, closed, workpiece, r, opts);
+    let kept = clear_of_other_faces(&kept, (workpiece, own), r, opts);
     round_convex_corners(&kept, closed, plane_normal, opts)
+}
+
+/// The faces a section curve lies on, ascending.
+pub fn own_faces(curve: &SectionCurve) -> Vec<usize> {
+    let mut faces: Vec<usize> = curve.points.iter().map(|p| p.face).collect();
+    faces.sort_unstable();
+    faces.dedup();
+    faces
+}
+
+/// The design points whose ball (radius `r`, on the point's normal) no
+/// face but the curve's own (`own`) comes into by more than the tolerance:
+/// faces the section plane does not cut (the walls of a groove parallel
+/// to it) can still stand in the ball's way.
+pub fn clear_of_other_faces(
+    design: &[DesignPoint],
+    (workpiece, own): (&Workpiece, &[usize]),
+    r: f64,
+    opts: &CornerOptions,
+) -> Vec<DesignPoint> {
+    let others = || (0..workpiece.faces.len()).filter(|i| !own.contains(i));
+    let reach = r - opts.tolerance_mm;
+    design
+        .iter()
+        .filter(|d| {
+            let ball = d.point + d.normal * r;
+            !workpiece
+                .comes_within(ball, others(), reach)
+                .unwrap_or(true)
+        })
+        .copied()
+        .collect()
 }
 
 /// `design` with points added on every convex corner between neighbours
@@ -223,6 +259,7 @@ fn mark_around(design: &[DesignPoint], closed: bool, s: usize, reach: f64, near:
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::section::SectionCurve;
     use crate::math::{Point3, Vec3};
 
     #[test]
@@ -274,7 +311,11 @@ mod tests {
         let corners = [(5.0, -5.0), (5.0, 5.0), (-5.0, 5.0), (-5.0, -5.0)];
         let on_edge: Vec<&DesignPoint> = out
             .iter()
-            .filter(|d| corners.iter().any(|c| (d.point - Point3::new(c.0, c.1, 0.0)).norm() < 1e-12))
+            .filter(|d| {
+                corners
+                    .iter()
+                    .any(|c| (d.point - Point3::new(c.0, c.1, 0.0)).norm() < 1e-12)
+            })
             .collect();
         assert_eq!(on_edge.len(), 40);
         // The ball centres go round each edge at the ball radius, their
@@ -298,6 +339,9 @@ mod tests {
                 normal: -d.normal,
             })
             .collect();
-        assert_eq!(round_convex_corners(&pocket, true, Vec3::z(), &opts).len(), pocket.len());
+        assert_eq!(
+            round_convex_corners(&pocket, true, Vec3::z(), &opts).len(),
+            pocket.len()
+        );
     }
 }

@@ -1,6 +1,6 @@
 //! One feature of a program measured on the machine, with the
 //! supervisor's corrections and fallbacks.
-use super::corners::{section_design, CornerOptions};
+use super::corners::{own_faces, section_design, CornerOptions};
 use super::correction::DesignPoint;
 use super::reach::{Reach, Unreachable};
 use super::record::{AttemptMode, FeatureKind};
@@ -86,12 +86,10 @@ pub fn measure_feature(
                     let r = probe.tip_radius_mm;
                     let corners = CornerOptions::default();
                     let on = (&program.workpiece, plane.normal());
-                    let design = section_design(&design, c.closed, on, r, &corners);
+                    let own = own_faces(c);
+                    let design = section_design((&design, &own), c.closed, on, r, &corners);
                     if design.len() < 2 {
-                        return CurveResult {
-                            notes: vec!["not measured: narrower than the ball".into()],
-                            ..CurveResult::default()
-                        };
+                        return not_measured(Unreachable::TooNarrow);
                     }
                     // No route: not started (the repositioning would refuse
                     // it). A probe that would strike the part on the way is

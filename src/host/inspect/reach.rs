@@ -8,7 +8,7 @@
 use std::fmt;
 
 use super::correction::DesignPoint;
-use crate::host::modes::{route_from_above, FreeSpace, HostProbe, ModeOptions};
+use crate::host::modes::{approach_standoff, route_from_above, FreeSpace, HostProbe, ModeOptions};
 use crate::math::Point3;
 use crate::program::Pose;
 use crate::seam::ProbePart;
@@ -33,6 +33,9 @@ pub enum Unreachable {
         /// Ball centre at the start, part coordinates, mm.
         start: Point3,
     },
+    /// No point of the section can be touched: the stretch is narrower
+    /// than the ball, or walls beside it stand in the ball's way.
+    TooNarrow,
 }
 
 impl fmt::Display for Unreachable {
@@ -51,6 +54,7 @@ impl fmt::Display for Unreachable {
                 "no route from the clearance height to the start ({:.3}, {:.3}, {:.3}) is clear of the part",
                 start.x, start.y, start.z
             ),
+            Unreachable::TooNarrow => write!(f, "narrower than the ball"),
         }
     }
 }
@@ -109,12 +113,12 @@ impl Reach<'_> {
 
     /// The route to the approach start outside `d`.
     fn start(&self, d: &DesignPoint) -> Result<(), Unreachable> {
-        let standoff = self.probe.tip_radius_mm + self.modes.standoff_mm;
-        let start = d.point + d.normal * standoff;
-        let (at, n) = (
-            self.pose.to_machine(start),
-            self.pose.dir_to_machine(d.normal),
-        );
+        let touching = self
+            .pose
+            .to_machine(d.point + d.normal * self.probe.tip_radius_mm);
+        let n = self.pose.dir_to_machine(d.normal);
+        let at = touching + n * approach_standoff(Some(self.free), touching, n, self.modes);
+        let start = self.pose.to_part(at);
         match route_from_above(self.free, at, n, self.modes) {
             true => Ok(()),
             false => Err(Unreachable::NoRoute { start }),

@@ -146,7 +146,10 @@ fn design_attempt(
         trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
     };
     let t0 = ctx.cmm.readings().time_s;
-    position(ctx, scan_start(path, targets.deflection_mm, &ctx.modes));
+    position(
+        ctx,
+        scan_start(path, targets.deflection_mm, ctx.free, &ctx.modes),
+    );
     let mut attempt = design_value_scan(
         ctx.cmm,
         (ctx.probe, ctx.free),
@@ -232,7 +235,7 @@ fn geometric(
         );
         match k.checked_sub(1).and_then(|j| picks.get(j)) {
             Some(&prev) => travel_outside(ctx, design, prev, i),
-            None => position(ctx, touch_start(ctx.probe, p, n, &ctx.modes)),
+            None => position(ctx, touch_start(ctx.probe, p, n, ctx.free, &ctx.modes)),
         }
         let a = touch_point(
             ctx.cmm,
@@ -360,7 +363,10 @@ fn autonomous_attempt(
 ) -> Option<Vec<Measured>> {
     let task = autonomous_task(ctx, design, closed)?;
     let t0 = ctx.cmm.readings().time_s;
-    position(ctx, autonomous_start(ctx.probe, &task, &ctx.modes));
+    position(
+        ctx,
+        autonomous_start(ctx.probe, &task, ctx.free, &ctx.modes),
+    );
     let mut attempt = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let points = attempt.points.clone();

@@ -2,6 +2,7 @@
 //! deflection direction within the scanning plane, hold the deflection,
 //! stay in the plane. Closes on its start for a closed section; stops at the
 //! section end for an open one.
+use super::approach_standoff;
 use super::touch::finish;
 use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
@@ -36,7 +37,7 @@ pub fn autonomous_scan(
     opts: &ModeOptions,
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe).avoiding(free);
-    let above = autonomous_start(probe, task, opts);
+    let above = autonomous_start(probe, task, tr.free(), opts);
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))
         .and_then(|_| follow(cmm, &mut tr, task, opts));
@@ -45,8 +46,15 @@ pub fn autonomous_scan(
 
 /// Where the approach of an autonomous scan starts (ball centre, the
 /// standoff outside the nominal start point).
-pub fn autonomous_start(probe: HostProbe, task: &AutonomousTask, opts: &ModeOptions) -> Point3 {
-    task.start + task.start_normal * (probe.tip_radius_mm + opts.standoff_mm)
+pub fn autonomous_start(
+    probe: HostProbe,
+    task: &AutonomousTask,
+    free: Option<&dyn FreeSpace>,
+    opts: &ModeOptions,
+) -> Point3 {
+    let n = task.start_normal;
+    let touching = task.start + n * probe.tip_radius_mm;
+    touching + n * approach_standoff(free, touching, n, opts)
 }
 
 fn touch_down(

@@ -4,7 +4,7 @@
 use super::motion::{free_stylus, travel};
 use super::{HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
-use crate::math::Point3;
+use crate::math::{Point3, Vec3};
 use crate::seam::ProbePart;
 
 /// Free space around the part, as the measuring software knows it.
@@ -27,6 +27,34 @@ pub trait FreeSpace {
         let _ = ball;
         None
     }
+}
+
+/// Fewest halvings of the standoff tried by [`approach_standoff`].
+const STANDOFF_HALVINGS: usize = 4;
+
+/// The standoff (mm) of an approach along `normal` to where the ball
+/// centre just touches at `touching` (machine coordinates): the configured
+/// one when the probe is clear there (with the tight margin), else the
+/// largest of its halves (down to a sixteenth) that is. An approach into a
+/// hole narrower than the ball plus the standoff thus starts inside the
+/// hole, not in its far wall. With no free space to ask, or none clear,
+/// the configured standoff (the route planning then says no).
+pub fn approach_standoff(
+    free: Option<&dyn FreeSpace>,
+    touching: Point3,
+    normal: Vec3,
+    opts: &ModeOptions,
+) -> f64 {
+    let Some(free) = free else {
+        return opts.standoff_mm;
+    };
+    (0..=STANDOFF_HALVINGS)
+        .map(|k| opts.standoff_mm / f64::from(1u32 << k))
+        .find(|&s| {
+            let at = touching + normal * s;
+            free.segment_clear_with(at, at, true)
+        })
+        .unwrap_or(opts.standoff_mm)
 }
 
 /// Moves straight to `target` (ball centre, ending at rest) when the line

@@ -6,7 +6,9 @@
 //! [`CORNER_BLEND_MM`] and brakes as late as the acceleration allows. A
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
-use super::{route, Collision, FreeSpace, HostProbe, Measured, ModeOptions, Outcome};
+use super::{
+    approach_standoff, route, Collision, FreeSpace, HostProbe, Measured, ModeOptions, Outcome,
+};
 use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
@@ -66,6 +68,11 @@ impl<'f> Tracker<'f> {
     /// `free` describes.
     pub fn avoiding(self, free: Option<&'f dyn FreeSpace>) -> Tracker<'f> {
         Tracker { free, ..self }
+    }
+
+    /// The free space the tracker's moves avoid, if any.
+    pub fn free(&self) -> Option<&'f dyn FreeSpace> {
+        self.free
     }
 
     /// Enters `phase`: tells the machine's observer and remembers it.
@@ -226,10 +233,17 @@ pub fn reposition(
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
+    let from = tr.ball_undeflected();
     let away = free_stylus(cmm, tr, opts)?;
     tr.enter(cmm, Phase::Position);
     let here = away.unwrap_or_else(|| tr.ball_undeflected());
     let mut waypoints: Vec<Point3> = away.into_iter().collect();
+    // Backed off by less than the standoff (a small hole): no room to
+    // blend the turn, so the probe stops there first.
+    let tight = away.is_some_and(|a| (a - from).norm() < opts.standoff_mm - opts.arrive_tol_mm);
+    if tight {
+        travel(cmm, tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)?;
+    }
     match tr.free {
         Some(free) => {
             let route = route::plan(free, here, target, approach, opts);
@@ -293,8 +307,9 @@ pub fn recover(cmm: &mut dyn Machine, tr: &mut Tracker, opts: &ModeOptions) -> R
 }
 
 /// Backs the stylus off along its deflection at the approach speed until
-/// it is free; returns the point one standoff further out (`None` when it
-/// was free already).
+/// it is free; returns the point one standoff further out, or less where
+/// the probe would not fit ([`approach_standoff`]: a small hole), `None`
+/// when it was free already.
 pub(super) fn free_stylus(
     cmm: &mut dyn Machine,
     tr: &mut Tracker,
@@ -306,7 +321,10 @@ pub(super) fn free_stylus(
     tr.enter(cmm, Phase::Retract);
     for _ in 0..opts.max_cycles {
         if tr.deflection() < opts.free_mm {
-            return Ok(Some(tr.ball_undeflected() + dir * opts.standoff_mm));
+            let here = tr.ball_undeflected();
+            return Ok(Some(
+                here + dir * approach_standoff(tr.free, here, dir, opts),
+            ));
         }
         if let Some(o) = tr.step(cmm, dir * opts.approach_speed_mm_s) {
             if o != Outcome::OverDeflection {

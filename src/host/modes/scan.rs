@@ -3,6 +3,7 @@
 //! active (`V = Gf Vf + Ge Ve + Gc Vc2`: follow the path, hold the deflection
 //! along the measured normal, correct sideways only; fail when the
 //! trajectory error `dL` leaves its tolerance).
+use super::approach_standoff;
 use super::motion::approach_to;
 use super::touch::finish;
 use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
@@ -97,7 +98,7 @@ fn approach(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
-    reposition(cmm, tr, scan_start(path, ep, opts), n0, opts)?;
+    reposition(cmm, tr, scan_start(path, ep, tr.free(), opts), n0, opts)?;
     if kind == ScanKind::Passive {
         approach_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
         tr.enter(cmm, Phase::Scan);
@@ -121,9 +122,18 @@ fn approach(
 }
 
 /// Where the approach of a scan along `path` starts (ball centre, the
-/// standoff outside the path start, `ep` being the wanted deflection).
-pub fn scan_start(path: &BallPath, ep: f64, opts: &ModeOptions) -> Point3 {
-    path.position(0.0) + path.normal(0.0) * (ep + opts.standoff_mm)
+/// standoff outside the path start, `ep` being the wanted deflection;
+/// a shorter one where `free` says the probe would not fit,
+/// [`approach_standoff`]).
+pub fn scan_start(
+    path: &BallPath,
+    ep: f64,
+    free: Option<&dyn FreeSpace>,
+    opts: &ModeOptions,
+) -> Point3 {
+    let (p0, n0) = (path.position(0.0), path.normal(0.0));
+    let touching = p0 + n0 * ep;
+    touching + n0 * approach_standoff(free, touching, n0, opts)
 }
 
 fn contact_check(

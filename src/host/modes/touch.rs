@@ -1,5 +1,6 @@
 //! Touch-point measurement: approach along the nominal normal until the
 //! deflection reaches the trigger, record, retract.
+use super::approach_standoff;
 use super::motion::travel;
 use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
@@ -16,9 +17,10 @@ pub fn touch_point(
     opts: &ModeOptions,
 ) -> Attempt {
     let mut tr = Tracker::new(cmm, probe).avoiding(free);
-    let start = touch_start(probe, nominal, normal, opts);
+    let start = touch_start(probe, nominal, normal, free, opts);
+    let standoff = (start - nominal).norm() - probe.tip_radius_mm;
     let outcome = reposition(cmm, &mut tr, start, normal, opts)
-        .and_then(|_| approach(cmm, &mut tr, normal, opts.standoff_mm + search_mm, opts))
+        .and_then(|_| approach(cmm, &mut tr, normal, standoff + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());
             tr.enter(cmm, Phase::Retract);
@@ -28,9 +30,17 @@ pub fn touch_point(
 }
 
 /// Where the approach of a touch point at `nominal` starts (ball centre,
-/// the standoff outside the nominal surface).
-pub fn touch_start(probe: HostProbe, nominal: Point3, normal: Vec3, opts: &ModeOptions) -> Point3 {
-    nominal + normal * (probe.tip_radius_mm + opts.standoff_mm)
+/// the standoff outside the nominal surface; a shorter one where `free`
+/// says the probe would not fit, [`approach_standoff`]).
+pub fn touch_start(
+    probe: HostProbe,
+    nominal: Point3,
+    normal: Vec3,
+    free: Option<&dyn FreeSpace>,
+    opts: &ModeOptions,
+) -> Point3 {
+    let touching = nominal + normal * probe.tip_radius_mm;
+    touching + normal * approach_standoff(free, touching, normal, opts)
 }
 
 /// Moves along `-normal` until the deflection reaches the trigger.
