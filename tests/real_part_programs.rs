@@ -351,3 +351,43 @@ fn fixture_assembly_program_positions_clear_of_the_part() {
     assert!(points > 50, "{points} points");
     positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
 }
+
+/// OpenCASCADE's link rods (`../shared/cad/linkrods.step`, an 8 mm part of
+/// B-spline and toroidal faces) with a 0.6 mm ball: a section whose path the
+/// ball cannot follow (the part stands in its way) gets no further along
+/// it; the scan ends with a trajectory error after the stall time and the
+/// supervisor goes on, instead of driving against the part until the
+/// cycle cap (3000 s of machine time).
+#[test]
+fn an_active_scan_that_gets_nowhere_ends_in_seconds() {
+    let cad = repo("../shared/cad/linkrods.step");
+    if !cad.exists() {
+        println!("note: {} not found; skipping", cad.display());
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let prog = dir.path().join("linkrods.json");
+    let text = serde_json::json!({
+        "format": "cmm-program/1", "name": "linkrods", "workpiece": s(&cad),
+        "placement": { "translate_mm": [300, 300, 50], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 0.6, "stylus_length_mm": 20 },
+        "defaults": { "speed_mm_s": 20, "deflection_mm": 0.1, "pitch_mm": 0.1 },
+        "as_machined": { "form": [ { "kind": "offset", "mm": 0.002 } ] },
+        "features": [ { "name": "z1", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 1.0], "normal": [0, 0, 1] },
+            "tolerance_mm": [-0.02, 0.02] } ] });
+    std::fs::write(&prog, text.to_string()).unwrap();
+    let out = dir.path().join("out");
+    let run = cmm(&["scan", s(&prog), "--ideal", "--quiet", "--out", s(&out)]);
+    assert_eq!(run.status.code(), Some(3), "{run:?}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let attempts = report["features"][0]["attempts"].as_array().unwrap();
+    assert!(
+        attempts.iter().any(|a| a["outcome"] == "trajectory_error"),
+        "{attempts:?}"
+    );
+    for a in attempts {
+        assert!(a["machine_time_s"].as_f64().unwrap() < 30.0, "{a}");
+    }
+}

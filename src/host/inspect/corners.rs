@@ -259,8 +259,6 @@ fn mark_around(design: &[DesignPoint], closed: bool, s: usize, reach: f64, near:
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::section::SectionCurve;
-    use crate::math::{Point3, Vec3};
 
     #[test]
     fn corners_and_ends_are_found_along_the_curve() {

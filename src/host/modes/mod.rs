@@ -199,6 +199,12 @@ pub struct ModeOptions {
     pub tangential_accel_mm_s2: f64,
     /// Safety cap on the cycles of one attempt.
     pub max_cycles: usize,
+    /// An active scan that gets less than `stall_mm` further along its
+    /// path within this much machine time ends with a trajectory error
+    /// (the probe cannot follow the path: the part stands in its way), s.
+    pub stall_s: f64,
+    /// See [`Self::stall_s`], mm.
+    pub stall_mm: f64,
     /// Position tolerance ending a positioning move at rest, mm (moves end
     /// in free air before a probing approach, so micrometres are not
     /// needed; a tighter tolerance only lengthens the settling tail).
@@ -228,6 +234,8 @@ impl Default for ModeOptions {
             lateral_accel_mm_s2: 1000.0,
             tangential_accel_mm_s2: 500.0,
             max_cycles: 3_000_000,
+            stall_s: 2.0,
+            stall_mm: 0.1,
             arrive_tol_mm: 0.01,
             clearance_z_mm: None,
         }

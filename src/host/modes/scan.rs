@@ -233,12 +233,19 @@ fn active(
         lost_contact_cycles: opts.active_lost_contact_cycles,
         ..*opts
     };
-    for _ in 0..opts.max_cycles {
+    let stall_cycles = (opts.stall_s / dt).ceil() as usize;
+    let mut mark = (0.0f64, 0usize);
+    for cycle in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
             .closest(&a0, Some(&ahead(path, &here, speed * dt)))
             .map_err(|_| Outcome::Aborted)?;
         progress += wrapped_step(path, progress, here.s);
+        if progress >= mark.0 + opts.stall_mm {
+            mark = (progress, cycle);
+        } else if cycle - mark.1 > stall_cycles {
+            return Err(Outcome::TrajectoryError);
+        }
         let remaining = length - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
