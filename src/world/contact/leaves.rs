@@ -175,7 +175,38 @@ pub(crate) struct Leaves {
     pub(crate) leaves: Vec<Leaf>,
     /// Trim segments (nominal parameters) referred to by the leaves.
     pub(crate) segments: Vec<(Vec2, Vec2)>,
+    /// For each of `segments`, its chord on the true part and how far the
+    /// segment's image can lie from it (mm): a query farther than that
+    /// from the chord needs no search along the segment.
+    pub(crate) chords: Vec<Chord>,
 }
+
+/// A trim segment's chord on the true part: the image of the segment lies
+/// within `slack` (mm) of the straight line from `a` to `b`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Chord {
+    pub(crate) a: Point3,
+    pub(crate) b: Point3,
+    pub(crate) slack: f64,
+}
+
+impl Chord {
+    /// A lower bound of the distance from `p` to the segment's image, mm.
+    pub(crate) fn lower_bound(&self, p: Point3) -> f64 {
+        let d = self.b - self.a;
+        let t = ((p - self.a).dot(&d) / d.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+        (p - (self.a + d * t)).norm() - self.slack
+    }
+}
+
+/// How much farther than its sag at the middle a trim segment's nominal
+/// image may lie from its chord (the sag of a parabola is its largest
+/// deviation; the factor covers the change of curvature along a segment,
+/// which is short against the surface's radii).
+const SAG_FACTOR: f64 = 2.0;
+
+/// Added to every chord's slack for the rounding of its points, mm.
+const CHORD_ROUNDING_MM: f64 = 1e-9;
 
 /// A finished piece of a face, nominal: what its leaf is made from.
 #[derive(Debug, Clone, PartialEq)]
@@ -187,6 +218,9 @@ pub(crate) struct Piece {
     points: Vec<Point3>,
     /// Its trim segments, clipped to the rectangle.
     segs: Vec<(Vec2, Vec2)>,
+    /// For each segment: the nominal end points and a bound of the
+    /// nominal image's distance from their chord, mm.
+    chords: Vec<(Point3, Point3, f64)>,
     /// The nominal points of its 3 x 3 sample grid.
     samples: [Point3; 9],
     /// The box of its nominal control points (the nominal surface over
@@ -242,12 +276,13 @@ impl Leaves {
         let mut out = Leaves {
             leaves: Vec::with_capacity(pieces.pieces.len()),
             segments: Vec::new(),
+            chords: Vec::new(),
         };
         let stretch = am.stretch_factor();
         for piece in &pieces.pieces {
             let (lo, hi) = piece.nominal_box;
             let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
-            out.push(piece, am, inflate);
+            out.push(piece, am, (inflate, stretch));
         }
         out
     }
@@ -255,7 +290,7 @@ impl Leaves {
     /// The leaf of `piece`, its bounds widened by `inflate` (the form's
     /// bound over the piece stretched by `T`, mm: a bump far from the
     /// piece widens it by its tail alone).
-    fn push(&mut self, piece: &Piece, am: &AsMachined, inflate: f64) {
+    fn push(&mut self, piece: &Piece, am: &AsMachined, (inflate, stretch): (f64, f64)) {
         let mapped: Vec<Point3> = piece
             .points
             .iter()
@@ -267,6 +302,15 @@ impl Leaves {
         let slab = slab_of(&mapped, piece.degree, inflate);
         let first = self.segments.len();
         self.segments.extend(piece.segs.iter().copied());
+        // `T` is affine: it maps a chord to the chord of the mapped ends and
+        // stretches the sag by at most its stretch; the form moves the
+        // surface by at most `inflate`.
+        self.chords
+            .extend(piece.chords.iter().map(|&(a, b, sag)| Chord {
+                a: am.transform_point(a),
+                b: am.transform_point(b),
+                slack: sag * stretch + inflate,
+            }));
         self.leaves.push(Leaf {
             face: piece.face,
             bounds: piece.rect,
@@ -332,6 +376,14 @@ fn clip((a, b): (Vec2, Vec2), r: &Bounds) -> Option<(Vec2, Vec2)> {
 }
 
 impl FaceContext<'_> {
+    /// The nominal chord of the trim segment `(a, b)` and its slack.
+    fn chord(&self, (a, b): (Vec2, Vec2)) -> (Point3, Point3, f64) {
+        let at = |uv: Vec2| self.surface.point(uv.x, uv.y);
+        let (pa, pb, pm) = (at(a), at(b), at((a + b) * 0.5));
+        let sag = (pm - Point3::from((pa.coords + pb.coords) * 0.5)).norm();
+        (pa, pb, SAG_FACTOR * sag + CHORD_ROUNDING_MM)
+    }
+
     /// Splits `patch` (crossed by the trim segments `segs`) until flat and,
     /// where the trim crosses it, small; pushes the pieces on the face.
     fn split(
@@ -363,6 +415,7 @@ impl FaceContext<'_> {
                 rect,
                 degree: patch.degree,
                 points,
+                chords: segs.iter().map(|&seg| self.chord(seg)).collect(),
                 segs,
             });
             return;

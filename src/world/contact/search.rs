@@ -260,7 +260,12 @@ impl Cursor {
             // The foot leaves the trim: the leaf's closest point on the
             // face lies on its trim boundary.
             let segments = ix.leaves.segments.get(leaf.segments.clone());
-            for &seg in segments.unwrap_or_default() {
+            let chords = ix.leaves.chords.get(leaf.segments.clone());
+            let chords = chords.unwrap_or_default().iter();
+            for (&seg, chord) in segments.unwrap_or_default().iter().zip(chords) {
+                if chord.lower_bound(y) >= best.min(reach) + tie {
+                    continue;
+                }
                 let f = am.closest_on_segment(wp, face, seg, y, opts);
                 let df = f.dist2.sqrt();
                 if df < best.min(reach) + tie {
