@@ -352,15 +352,18 @@ fn fixture_assembly_program_positions_clear_of_the_part() {
     positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
 }
 
-/// OpenCASCADE's link rods (`../shared/cad/linkrods.step`, an 8 mm part of
-/// B-spline and toroidal faces) with a 0.6 mm ball: a section whose path the
+/// OpenCASCADE's link rods test part (`linkrods.step`, an 8 mm part of
+/// B-spline and toroidal faces, from the real CAD test files beside the
+/// repository or where `CMM_CAD_DIR` says) with a 0.6 mm ball: a section whose path the
 /// ball cannot follow (the part stands in its way) gets no further along
 /// it; the scan ends with a trajectory error after the stall time and the
 /// supervisor goes on, instead of driving against the part until the
 /// cycle cap (3000 s of machine time).
 #[test]
 fn an_active_scan_that_gets_nowhere_ends_in_seconds() {
-    let cad = repo("../shared/cad/linkrods.step");
+    let dir = std::env::var("CMM_CAD_DIR")
+        .unwrap_or_else(|_| format!("{}/../shared/cad", env!("CARGO_MANIFEST_DIR")));
+    let cad = std::path::Path::new(&dir).join("linkrods.step");
     if !cad.exists() {
         println!("note: {} not found; skipping", cad.display());
         return;
