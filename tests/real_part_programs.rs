@@ -23,22 +23,36 @@ fn s(p: &std::path::Path) -> &str {
     p.to_str().unwrap()
 }
 
-fn scan_ideal(program: &str, out: &std::path::Path) -> (Value, String) {
-    let trace = out.join("trace.csv");
+fn scan_ideal(program: &str, dir: &std::path::Path) -> (Value, String) {
+    scan_ideal_ending(&repo(program), dir, 0)
+}
+
+/// `cmm scan PROGRAM --ideal --trace` into `dir/out` (trace `dir/trace.csv`),
+/// which must end with exit code `code`: the report and the trace.
+fn scan_ideal_ending(
+    program: &std::path::Path,
+    dir: &std::path::Path,
+    code: i32,
+) -> (Value, String) {
+    let (out, trace) = (dir.join("out"), dir.join("trace.csv"));
     let run = cmm(&[
         "scan",
-        s(&repo(program)),
+        s(program),
         "--ideal",
         "--quiet",
         "--out",
-        s(out),
+        s(&out),
         "--trace",
         s(&trace),
     ]);
-    assert_eq!(run.status.code(), Some(0), "{run:?}");
-    let report = std::fs::read_to_string(out.join("report.json")).unwrap();
+    assert_eq!(run.status.code(), Some(code), "{run:?}");
     let trace = std::fs::read_to_string(trace).unwrap();
-    (serde_json::from_str(&report).unwrap(), trace)
+    (read_report(&out), trace)
+}
+
+/// The `report.json` in `out`.
+fn read_report(out: &std::path::Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
 }
 
 /// Every cycle of the trace in the phase `position` reads no deflection:
@@ -180,8 +194,7 @@ fn a_groove_narrower_than_the_ball_is_not_measured() {
     let out = dir.path().join("out");
     let run = cmm(&["scan", s(&file), "--ideal", "--quiet", "--out", s(&out)]);
     assert_eq!(run.status.code(), Some(3), "{run:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = read_report(&out);
     let (groove, boss) = (&report["features"][0], &report["features"][1]);
     assert_eq!(groove["status"], "incomplete");
     assert_eq!(groove["points"].as_array().unwrap().len(), 0);
@@ -223,21 +236,7 @@ fn a_bore_open_only_below_is_not_reachable_from_above() {
     assert!(unreachable[0].contains("no route"), "{stdout}");
     // The scan measures the outside and leaves the bore unmeasured,
     // without touching the part while positioning.
-    let out = dir.path().join("out");
-    let trace = dir.path().join("t.csv");
-    let run = cmm(&[
-        "scan",
-        s(&prog),
-        "--ideal",
-        "--quiet",
-        "--out",
-        s(&out),
-        "--trace",
-        s(&trace),
-    ]);
-    assert_eq!(run.status.code(), Some(3), "{run:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let (report, trace) = scan_ideal_ending(&prog, dir.path(), 3);
     let f = &report["features"][0];
     assert_eq!(f["status"], "incomplete");
     let notes = f["notes"].to_string();
@@ -247,7 +246,7 @@ fn a_bore_open_only_below_is_not_reachable_from_above() {
         let r = m[0].as_f64().unwrap().hypot(m[1].as_f64().unwrap());
         assert!((r - 152.4).abs() < 0.01, "a point at r = {r}");
     }
-    positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
+    positioning_touches_nothing(&trace);
 }
 
 fn report_without_wall(dir: &std::path::Path) -> Value {
@@ -324,22 +323,8 @@ fn fixture_assembly_program_positions_clear_of_the_part() {
               "points_mm": [[3, 0, 44], [3, 6, 43.59]], "tolerance_mm": [-0.05, 0.05] } ]
     });
     std::fs::write(&prog, text.to_string()).unwrap();
-    let out = dir.path().join("out");
-    let trace = dir.path().join("trace.csv");
-    let run = cmm(&[
-        "scan",
-        s(&prog),
-        "--ideal",
-        "--quiet",
-        "--out",
-        s(&out),
-        "--trace",
-        s(&trace),
-    ]);
     // The stretch in the corner is not measured: the section is incomplete.
-    assert_eq!(run.status.code(), Some(3), "{run:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let (report, trace) = scan_ideal_ending(&prog, dir.path(), 3);
     let mut points = 0;
     for f in report["features"].as_array().unwrap() {
         for p in f["points"].as_array().unwrap() {
@@ -349,7 +334,7 @@ fn fixture_assembly_program_positions_clear_of_the_part() {
         }
     }
     assert!(points > 50, "{points} points");
-    positioning_touches_nothing(&std::fs::read_to_string(trace).unwrap());
+    positioning_touches_nothing(&trace);
 }
 
 /// OpenCASCADE's link rods test part (`linkrods.step`, an 8 mm part of
@@ -383,8 +368,7 @@ fn an_active_scan_that_gets_nowhere_ends_in_seconds() {
     let out = dir.path().join("out");
     let run = cmm(&["scan", s(&prog), "--ideal", "--quiet", "--out", s(&out)]);
     assert_eq!(run.status.code(), Some(3), "{run:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let report = read_report(&out);
     let attempts = report["features"][0]["attempts"].as_array().unwrap();
     assert!(
         attempts.iter().any(|a| a["outcome"] == "trajectory_error"),
