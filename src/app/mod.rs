@@ -19,7 +19,8 @@ pub use run::{probe_calibration, run_program, run_program_traced, RunError, RunO
 
 use crate::formats::as_machined::AsMachinedSpec;
 use crate::host::inspect::clearance::memo::FreeSpaceMemo;
-use crate::program::{Program, ProgramError};
+use crate::machine::MachineProfile;
+use crate::program::{MachineFiles, ProfileSource, Program, ProgramError};
 use crate::world::as_machined::AsMachined;
 
 /// A part program loaded for simulation: the measuring side's view and the
@@ -30,6 +31,10 @@ pub struct SimulatedPart {
     pub program: Program,
     /// The true part the world measures (never given to the host).
     pub as_machined: AsMachined,
+    /// The machine's profile: its dynamics, noise and true geometric
+    /// errors (the world's; the host gets only a copy of the error terms
+    /// as its compensation map).
+    pub profile: MachineProfile,
     /// How long loading the program and its design data took, s (counted
     /// in each of its reports' `wall_time_s`).
     pub load_s: f64,
@@ -41,12 +46,30 @@ pub struct SimulatedPart {
 /// Reads and validates a part program and the scenario it names; every
 /// error names the file, the JSON path and the reason.
 pub fn load(file: &Path) -> Result<SimulatedPart, ProgramError> {
+    load_on(file, &MachineFiles::default())
+}
+
+/// [`load`] on the machine files `files` names (`--machine`,
+/// `--machine-profile`; each overrides the program's key).
+pub fn load_on(file: &Path, files: &MachineFiles) -> Result<SimulatedPart, ProgramError> {
     let started = Instant::now();
-    let (program, spec) = crate::program::read(file)?;
-    let as_machined = scenario(&program, &spec, file)?;
+    let (program, spec) = crate::program::read_on(file, files)?;
+    let as_machined = scenario(&program, &spec.as_machined, file)?;
+    let profile = match &spec.machine_profile {
+        None => MachineProfile::default(),
+        Some(ProfileSource::CommandLine(path)) => MachineProfile::from_json_file(path)?,
+        Some(ProfileSource::Program(path)) => {
+            MachineProfile::from_json_file(path).map_err(|e| ProgramError::Invalid {
+                file: file.to_path_buf(),
+                json_path: "$.machine_profile".into(),
+                reason: e.to_string(),
+            })?
+        }
+    };
     Ok(SimulatedPart {
         program,
         as_machined,
+        profile,
         load_s: started.elapsed().as_secs_f64(),
         free_space: FreeSpaceMemo::default(),
     })

@@ -32,10 +32,7 @@ pub fn part_clearance<'p>(
 /// Every feature (name, section curve index or touch point index) that the
 /// program's nominal probe cannot measure, and why.
 pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachable)> {
-    let probe = HostProbe::nominal(
-        super::run::probe_vector(program),
-        program.probe.tip_radius_mm,
-    );
+    let probe = HostProbe::nominal(program.probe_vector(), program.probe.tip_radius_mm);
     let free = part_clearance(program, probe, ClearanceOptions::default());
     let modes = ModeOptions {
         clearance_z_mm: Some(start_position(program).1),

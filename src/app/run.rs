@@ -4,7 +4,6 @@
 //! the points are evaluated against the design and, in one separate step
 //! ([`crate::evaluate::truth`]), against the truth.
 use std::borrow::Cow;
-use std::sync::OnceLock;
 use std::time::Instant;
 
 use super::SimulatedPart;
@@ -12,6 +11,8 @@ use crate::evaluate::feature::feature_report;
 use crate::evaluate::nominal::point_reports;
 use crate::evaluate::truth::{fill_true_deviations, Frames};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
+use crate::host::compensated::Compensated;
+use crate::host::compensation::ErrorMap;
 use crate::host::inspect::align::{align, AlignOptions};
 use crate::host::inspect::clearance::memo::Remembering;
 use crate::host::inspect::clearance::ClearanceOptions;
@@ -22,7 +23,6 @@ use crate::host::modes::{FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
-use crate::math::Vec3;
 use crate::program::limits::start_position;
 use crate::program::Program;
 use crate::report::{
@@ -54,6 +54,10 @@ pub struct RunOptions {
     pub direct_moves: bool,
     /// Margins of the direct-move check.
     pub clearance: ClearanceOptions,
+    /// Correct the scale readings by the machine profile's geometric
+    /// error terms (the host's compensation map); `false` shows what the
+    /// compensation is worth (the world's errors stay).
+    pub compensation: bool,
 }
 
 impl Default for RunOptions {
@@ -67,6 +71,7 @@ impl Default for RunOptions {
             probe_calibration: None,
             direct_moves: true,
             clearance: ClearanceOptions::default(),
+            compensation: true,
         }
     }
 }
@@ -130,9 +135,9 @@ pub(super) fn run_variant(
 ) -> Result<(Report, LearnedSet, Vec<TraceRow>), RunError> {
     let started = Instant::now();
     let program = &part.program;
-    let profile = machine_profile(opts);
-    let setup = Setup::new(program, truth, opts)?;
-    let machine = (default_machine(), profile);
+    let profile = machine_profile(&part.profile, opts);
+    let setup = Setup::new(program, truth, opts, &profile)?;
+    let machine = (program.machine.clone(), profile);
     let m = measure_program(part, opts, (&setup, machine), trace)?;
     let aligned = m.program.as_ref();
     let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
@@ -175,15 +180,22 @@ pub(super) fn run_variant(
 struct Setup {
     calibration: Option<ProbeCalibration>,
     host_probe: HostProbe,
+    /// The host's geometric error map (none without compensation).
+    map: ErrorMap,
     /// The true part (without roughness on an ideal machine).
     truth: AsMachined,
 }
 
 impl Setup {
-    fn new(program: &Program, truth: &AsMachined, opts: &RunOptions) -> Result<Setup, RunError> {
+    fn new(
+        program: &Program,
+        truth: &AsMachined,
+        opts: &RunOptions,
+        profile: &MachineProfile,
+    ) -> Result<Setup, RunError> {
         let calibration = probe_calibration(program, opts)?;
         let host_probe = calibration.as_ref().map_or(
-            HostProbe::nominal(probe_vector(program), program.probe.tip_radius_mm),
+            HostProbe::nominal(program.probe_vector(), program.probe.tip_radius_mm),
             |c| c.probe,
         );
         let truth = if opts.ideal {
@@ -191,9 +203,15 @@ impl Setup {
         } else {
             truth.clone()
         };
+        let map = if opts.compensation {
+            ErrorMap::new(profile.geometric.clone())
+        } else {
+            ErrorMap::none()
+        };
         Ok(Setup {
             calibration,
             host_probe,
+            map,
             truth,
         })
     }
@@ -220,8 +238,9 @@ fn measure_program<'p>(
 ) -> Result<Measuring<'p>, RunError> {
     let program = &part.program;
     let mut sim = start_machine(program, opts, setup, machine)?;
-    let mut traced = TracingCmm::new(&mut sim, trace);
+    let mut raw = TracingCmm::new(&mut sim, trace);
     let host_probe = setup.host_probe;
+    let mut traced = Compensated::new(&mut raw, &setup.map, host_probe.probe_vector);
     let modes = ModeOptions {
         clearance_z_mm: Some(start_position(program).1),
         ..opts.modes
@@ -247,7 +266,7 @@ fn measure_program<'p>(
         .map(|f| measure_feature(&run, f, &mut traced, &mut learned))
         .collect();
     let machine_time_s = traced.readings().time_s;
-    let rows = traced.into_rows();
+    let rows = raw.into_rows();
     Ok(Measuring {
         program: aligned,
         measured,
@@ -271,12 +290,12 @@ fn start_machine<'a>(
         as_machined: &setup.truth,
         pose: program.placement,
     };
-    let probe_vector = probe_vector(program);
+    let stylus = program.stylus();
     let r = program.probe.tip_radius_mm;
     let mut true_probe = if opts.ideal {
-        TrueProbe::ideal(probe_vector, r)
+        TrueProbe::ideal(stylus, r)
     } else {
-        TrueProbe::realistic(probe_vector, r)
+        TrueProbe::realistic(stylus, r)
     };
     true_probe.shape = ProbeShape {
         shaft_radius_mm: program.probe.shaft_radius_mm,
@@ -290,7 +309,7 @@ fn start_machine<'a>(
         profile,
         true_probe,
         opts.seed,
-        start - probe_vector,
+        start - program.probe_vector(),
     )
     .map_err(|source| RunError::Machine {
         program: program.name.clone(),
@@ -298,21 +317,13 @@ fn start_machine<'a>(
     })
 }
 
-/// The embedded default profile, every error and all noise off with
-/// `ideal`.
-fn machine_profile(opts: &RunOptions) -> MachineProfile {
+/// The machine's profile, every error and all noise off with `ideal`.
+fn machine_profile(profile: &MachineProfile, opts: &RunOptions) -> MachineProfile {
     if opts.ideal {
-        MachineProfile::default().ideal()
+        profile.ideal()
     } else {
-        MachineProfile::default()
+        profile.clone()
     }
-}
-
-/// The embedded default bridge CMM, parsed once per process (a batch
-/// runs many parts on it).
-fn default_machine() -> MachineModel {
-    static MODEL: OnceLock<MachineModel> = OnceLock::new();
-    MODEL.get_or_init(MachineModel::default_bridge).clone()
 }
 
 /// The calibration of `--probe-cal`, else the program's, else none.
@@ -392,9 +403,4 @@ fn overall(features: &[FeatureReport]) -> Verdict {
     } else {
         Verdict::Pass
     }
-}
-
-/// The stylus vector of the program's probe (straight down), mm.
-pub(super) fn probe_vector(program: &Program) -> Vec3 {
-    Vec3::new(0.0, 0.0, -program.probe.stylus_length_mm)
 }

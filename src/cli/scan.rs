@@ -1,16 +1,18 @@
 //! `cmm scan PROGRAM.json... [--out DIR] [--seed N] [--jobs N] [--ideal]
 //! [--quiet] [--variants N] [--shard K/N] [--corrections FILE]
-//! [--probe-cal FILE]`.
+//! [--probe-cal FILE] [--machine URDF] [--machine-profile FILE]
+//! [--no-compensation]`.
 use std::path::PathBuf;
 
 use super::{CliError, Status};
 use crate::app::batch::{plan_parts, run_batch, run_part_traced, Part, PartResult};
-use crate::app::{load, probe_calibration, RunOptions, SimulatedPart};
+use crate::app::{load_on, probe_calibration, RunOptions, SimulatedPart};
 use crate::formats::serde_name;
 use crate::host::calibrate::file::ProbeCalibration;
 use crate::host::inspect::learned::CorrectionsFile;
 use crate::host::trace::trace_csv;
 use crate::output::OutputSet;
+use crate::program::MachineFiles;
 use crate::report::{Report, Verdict};
 
 /// Arguments of `cmm scan`.
@@ -55,6 +57,19 @@ pub struct ScanArgs {
     /// overrides the programs' `probe.calibration`.
     #[arg(long)]
     pub probe_cal: Option<PathBuf>,
+    /// The machine (URDF); overrides the programs' `machine` (the embedded
+    /// bridge CMM when neither is given).
+    #[arg(long)]
+    pub machine: Option<PathBuf>,
+    /// The machine profile (cmm-machine-profile/1: dynamics, noise,
+    /// geometric error terms); overrides the programs' `machine_profile`.
+    #[arg(long)]
+    pub machine_profile: Option<PathBuf>,
+    /// Measure without correcting the scale readings by the profile's
+    /// geometric error terms (the simulated machine keeps its errors):
+    /// shows what the compensation is worth.
+    #[arg(long)]
+    pub no_compensation: bool,
 }
 
 fn parse_shard(s: &str) -> Result<(usize, usize), String> {
@@ -88,10 +103,14 @@ pub const MAX_PARTS: usize = 100_000;
 /// as one unit.
 pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     check_counts(args)?;
+    let files = MachineFiles {
+        machine: args.machine.clone(),
+        profile: args.machine_profile.clone(),
+    };
     let mut programs = args
         .programs
         .iter()
-        .map(|p| load(p))
+        .map(|p| load_on(p, &files))
         .collect::<Result<Vec<_>, _>>()?;
     if let Some(file) = &args.as_machined {
         crate::app::override_as_machined(&mut programs, file)?;
@@ -108,6 +127,7 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     );
     let base = RunOptions {
         ideal: args.ideal,
+        compensation: !args.no_compensation,
         probe_calibration: args
             .probe_cal
             .as_deref()

@@ -14,10 +14,13 @@
 //! - [`compensation`]: the machine's geometric error map applied at the
 //!   stylus tip through the probe vector, and its iterative inverse (seed
 //!   003).
+//! - [`compensated`]: a machine seen through that map (the corrected
+//!   scale readings every mode measures and steers with).
 //! - [`head`]: the nominal probe-head model (URDF) giving a probe vector per
 //!   head orientation.
 
 pub mod calibrate;
+pub mod compensated;
 pub mod compensation;
 pub mod head;
 pub mod inspect;

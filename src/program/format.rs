@@ -22,6 +22,11 @@ pub struct ProgramFile {
     /// bridge CMM when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub machine: Option<String>,
+    /// Machine profile (`cmm-machine-profile/1`: control cycle, dynamics,
+    /// scale noise, the 21 geometric error terms), relative to the
+    /// program; the default profile when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub machine_profile: Option<String>,
     /// Nominal pose of the part on the machine table.
     #[serde(default)]
     pub placement: Placement,

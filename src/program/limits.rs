@@ -151,17 +151,17 @@ pub fn start_position(program: &super::Program) -> (crate::math::Point3, f64) {
     (Point3::new(centre.x, centre.y, top), top)
 }
 
-/// The run starts at [`start_position`] with the stylus vertical: ball and
-/// stylus top must both lie inside the travel `[lo, hi]` (machine
+/// The run starts at [`start_position`] with the stylus vertical (a head
+/// at rest): ball and probe mount must both lie inside the travel `[lo, hi]` (machine
 /// coordinates, mm), else the machine cannot start.
 pub(super) fn check_start(
     program: &super::Program,
     lo: [f64; 3],
     hi: [f64; 3],
 ) -> Result<(), ProgramError> {
-    use crate::math::{Point3, Vec3};
+    use crate::math::Point3;
     let (ball, _) = start_position(program);
-    let stylus_top = ball + Vec3::z() * program.probe.stylus_length_mm;
+    let stylus_top = ball - program.probe_vector();
     let inside = |q: Point3| (0..3).all(|k| q[k] >= lo[k] && q[k] <= hi[k]);
     if inside(ball) && inside(stylus_top) {
         return Ok(());

@@ -5,6 +5,7 @@
 
 pub mod format;
 pub mod limits;
+pub mod machine;
 mod resolve;
 
 use std::path::PathBuf;
@@ -13,7 +14,8 @@ pub use format::{
     AlignmentSpec, Defaults, FeatureSpec, FitElement, FitSpec, Mode, PlaneSpec, ProgramFile,
     PROGRAM_FORMAT,
 };
-pub use resolve::{load, read};
+pub use machine::{MachineFiles, Travel};
+pub use resolve::{load, read, read_on, ProfileSource, ScenarioSpec};
 
 use crate::geometry::{Plane, SectionCurve};
 use crate::math::{Mat3, Point3, Vec2, Vec3};
@@ -46,6 +48,12 @@ pub enum ProgramError {
     /// The referenced workpiece file is invalid.
     #[error(transparent)]
     Workpiece(#[from] WorkpieceError),
+    /// The machine file given on the command line is invalid.
+    #[error(transparent)]
+    Machine(#[from] crate::machine::MachineError),
+    /// The machine profile given on the command line is invalid.
+    #[error(transparent)]
+    Profile(#[from] crate::machine::ProfileError),
 }
 
 /// The nominal pose of the part on the machine: `x_machine = R x_part + t`.
@@ -166,6 +174,21 @@ impl Feature {
     }
 }
 
+impl Program {
+    /// The stylus in the probe mount's frame: straight down, its length,
+    /// mm.
+    pub fn stylus(&self) -> Vec3 {
+        Vec3::new(0.0, 0.0, -self.probe.stylus_length_mm)
+    }
+
+    /// The nominal probe vector (probe mount's linear position to the
+    /// ball centre, machine coordinates, mm): the stylus carried by the
+    /// machine's head at rest (the stylus itself without a head).
+    pub fn probe_vector(&self) -> Vec3 {
+        machine::machine_probe_vector(&self.machine, self.stylus())
+    }
+}
+
 /// A validated program with everything it refers to loaded.
 #[derive(Debug, Clone)]
 pub struct Program {
@@ -183,4 +206,6 @@ pub struct Program {
     pub features: Vec<Feature>,
     /// Alignment points (projected onto the design data), if any.
     pub alignment: Option<Vec<NominalPoint>>,
+    /// The nominal machine the program runs on.
+    pub machine: crate::machine::MachineModel,
 }

@@ -5,28 +5,13 @@ use super::format::{FeatureSpec, ProgramFile, PROGRAM_FORMAT};
 use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, ScanSettings};
 use crate::formats::as_machined::AsMachinedSpec;
 use crate::geometry::{Plane, SectionOptions};
+use crate::machine::MachineModel;
 use crate::math::{rotation_xyz_deg, Point3, Vec3};
 use crate::workpiece::section_faces;
 use crate::workpiece::Workpiece;
 
-/// Machine travel used to check that the part can be reached, mm
-/// (the embedded bridge CMM).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Travel {
-    /// Lower corner of the ball-centre working volume.
-    pub lo: [f64; 3],
-    /// Upper corner.
-    pub hi: [f64; 3],
-}
-
-impl Default for Travel {
-    fn default() -> Self {
-        Travel {
-            lo: [0.0, 0.0, 0.0],
-            hi: [700.0, 1000.0, 600.0],
-        }
-    }
-}
+use super::machine::Travel;
+use super::machine::{nominal_machine, MachineFiles};
 
 /// Largest distance from a touch point's given position to the design data, mm.
 const TOUCH_POINT_REACH_MM: f64 = 1.0;
@@ -76,21 +61,62 @@ pub fn load(file: &Path) -> Result<Program, ProgramError> {
 /// Only the application layer that builds a simulated world reads the
 /// scenario.
 pub fn read(file: &Path) -> Result<(Program, AsMachinedSpec), ProgramError> {
+    read_on(file, &MachineFiles::default()).map(|(p, s)| (p, s.as_machined))
+}
+
+/// What a program names for the simulation only (never given to the
+/// measuring side).
+#[derive(Debug, Clone, Default)]
+pub struct ScenarioSpec {
+    /// The `as_machined` block, as written (the nominal part when absent).
+    pub as_machined: AsMachinedSpec,
+    /// The machine profile: the command line's, else the program's
+    /// `machine_profile` (resolved beside the program), else none.
+    pub machine_profile: Option<ProfileSource>,
+}
+
+/// Where a machine profile comes from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ProfileSource {
+    /// The program's `machine_profile` key, resolved beside the program.
+    Program(PathBuf),
+    /// The command line.
+    CommandLine(PathBuf),
+}
+
+/// [`read`] on the machine files `files` names (each overrides the
+/// program's key).
+pub fn read_on(file: &Path, files: &MachineFiles) -> Result<(Program, ScenarioSpec), ProgramError> {
     let text = crate::jsonfile::read_text(file).map_err(|source| ProgramError::Io {
         file: file.to_path_buf(),
         source,
     })?;
     let spec = parse(&text, file)?;
-    let program = resolve(&spec, file, &Travel::default())?;
-    Ok((program, spec.as_machined.unwrap_or_default()))
+    let machine = nominal_machine(spec.machine.as_deref(), file, files)?;
+    let program = resolve(&spec, file, machine)?;
+    let machine_profile = match (&files.profile, &spec.machine_profile) {
+        (Some(p), _) => Some(ProfileSource::CommandLine(p.clone())),
+        (None, Some(key)) => Some(ProfileSource::Program(relative_to(file, key))),
+        (None, None) => None,
+    };
+    let scenario = ScenarioSpec {
+        as_machined: spec.as_machined.unwrap_or_default(),
+        machine_profile,
+    };
+    Ok((program, scenario))
 }
 
 fn parse(text: &str, file: &Path) -> Result<ProgramFile, ProgramError> {
     Ok(crate::jsonfile::parse_json(text, file)?)
 }
 
-/// Validates a parsed program; `file` locates relative paths and messages.
-pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Program, ProgramError> {
+/// Validates a parsed program on the nominal `machine`; `file` locates
+/// relative paths and messages.
+pub fn resolve(
+    spec: &ProgramFile,
+    file: &Path,
+    machine: MachineModel,
+) -> Result<Program, ProgramError> {
     let cx = Ctx { file };
     super::limits::check_program(spec, file)?;
     check_header(&cx, spec)?;
@@ -115,8 +141,9 @@ pub fn resolve(spec: &ProgramFile, file: &Path, travel: &Travel) -> Result<Progr
         placement,
         probe,
         features,
+        machine,
     };
-    check_reach(&cx, &program, travel)?;
+    check_reach(&cx, &program, &Travel::of(&program.machine))?;
     Ok(program)
 }
 
@@ -470,7 +497,7 @@ fn check_reach(cx: &Ctx, program: &Program, travel: &Travel) -> Result<(), Progr
             let ball = program
                 .placement
                 .to_machine(p + n * program.probe.tip_radius_mm);
-            let top = ball + Vec3::z() * program.probe.stylus_length_mm;
+            let top = ball - program.probe_vector();
             let inside = |q: Point3| (0..3).all(|k| q[k] >= travel.lo[k] && q[k] <= travel.hi[k]);
             if !inside(ball) || !inside(top) {
                 let reason = format!(
