@@ -29,11 +29,23 @@ pub fn part_clearance<'p>(
     }
 }
 
+/// `base` with the program's clearance margins.
+pub fn program_margins(program: &Program, base: ClearanceOptions) -> ClearanceOptions {
+    let m = program.clearance;
+    ClearanceOptions {
+        margin_mm: m.margin_mm,
+        tight_margin_mm: m.tight_margin_mm,
+        posture_margin_mm: m.posture_margin_mm,
+        ..base
+    }
+}
+
 /// Every feature (name, section curve index or touch point index) that the
 /// program's nominal probe cannot measure, and why.
 pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachable)> {
     let probe = HostProbe::nominal(program.probe_vector(), program.probe.tip_radius_mm);
-    let free = part_clearance(program, probe, ClearanceOptions::default());
+    let margins = program_margins(program, ClearanceOptions::default());
+    let free = part_clearance(program, probe, margins);
     let modes = ModeOptions {
         clearance_z_mm: Some(start_position(program).1),
         ..ModeOptions::default()

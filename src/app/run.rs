@@ -52,7 +52,7 @@ pub struct RunOptions {
     /// Move straight between measurements when the line is clear of the
     /// part (else always over the clearance height).
     pub direct_moves: bool,
-    /// Margins of the direct-move check.
+    /// The direct-move check's sampling (its margins are the program's).
     pub clearance: ClearanceOptions,
     /// Correct the scale readings by the machine profile's geometric
     /// error terms (the host's compensation map); `false` shows what the
@@ -249,7 +249,8 @@ fn measure_program<'p>(
         Ok(a) => a,
         Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
-    let clearance = super::reach::part_clearance(&aligned, host_probe, opts.clearance);
+    let margins = super::reach::program_margins(&aligned, opts.clearance);
+    let clearance = super::reach::part_clearance(&aligned, host_probe, margins);
     let free = Remembering::new(&clearance, &part.free_space);
     let run = Run {
         program: &aligned,

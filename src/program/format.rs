@@ -43,8 +43,31 @@ pub struct ProgramFile {
     /// to the design data; the features are then measured in that frame.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub alignment: Option<AlignmentSpec>,
+    /// Free distances every move that is not a measuring move keeps from
+    /// the design data (defaults when absent).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clearance: Option<ClearanceSpec>,
     /// What to measure, in order.
     pub features: Vec<FeatureSpec>,
+}
+
+/// Clearance margins of the moves between measurements, mm; each
+/// optional (its default when absent).
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct ClearanceSpec {
+    /// Free distance the ball and the stylus keep from the design data on
+    /// positioning moves, approaches and retracts (default 4).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub margin_mm: Option<f64>,
+    /// The smaller margin taken where the full one leaves no way, into
+    /// narrow bores and pockets (default 1; at most `margin_mm`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub tight_margin_mm: Option<f64>,
+    /// Free distance the stylus shaft and the probe body keep from the
+    /// design data while the ball measures (default 0.1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub posture_margin_mm: Option<f64>,
 }
 
 /// A best-fit alignment from touch points on the design surfaces.

@@ -3,6 +3,7 @@
 //! inspection runs. Everything is checked before anything is measured; every
 //! error names the file, the JSON path and the reason.
 
+mod clearance;
 pub mod format;
 pub mod limits;
 pub mod machine;
@@ -10,9 +11,10 @@ mod resolve;
 
 use std::path::PathBuf;
 
+pub use clearance::{ClearanceMargins, MAX_MARGIN_MM};
 pub use format::{
-    AlignmentSpec, Defaults, FeatureSpec, FitElement, FitSpec, Mode, PlaneSpec, ProgramFile,
-    PROGRAM_FORMAT,
+    AlignmentSpec, ClearanceSpec, Defaults, FeatureSpec, FitElement, FitSpec, Mode, PlaneSpec,
+    ProgramFile, PROGRAM_FORMAT,
 };
 pub use machine::{MachineFiles, Travel};
 pub use resolve::{load, read, read_on, ProfileSource, ScenarioSpec};
@@ -208,4 +210,6 @@ pub struct Program {
     pub alignment: Option<Vec<NominalPoint>>,
     /// The nominal machine the program runs on.
     pub machine: crate::machine::MachineModel,
+    /// Clearance margins of the moves between measurements.
+    pub clearance: ClearanceMargins,
 }

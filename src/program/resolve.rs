@@ -142,6 +142,7 @@ pub fn resolve(
         probe,
         features,
         machine,
+        clearance: super::clearance::margins(spec.clearance.as_ref(), file)?,
     };
     check_reach(&cx, &program, &Travel::of(&program.machine))?;
     Ok(program)
