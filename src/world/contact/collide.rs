@@ -130,6 +130,10 @@ pub struct PartCheck {
     order: Vec<(f64, u32)>,
     seeds: Vec<Point3>,
     exact_checks: u64,
+    /// How far the next point queries look, mm: the full reach for a
+    /// descent's first point, then its least distance so far plus the
+    /// margin (a farther point cannot lower it).
+    reach: f64,
 }
 
 impl PartCheck {
@@ -143,6 +147,7 @@ impl PartCheck {
             order: Vec::new(),
             seeds: Vec::new(),
             exact_checks: 0,
+            reach: opts.reach_mm,
         }
     }
 
@@ -305,6 +310,7 @@ impl PartCheck {
         seed: Point3,
         opts: &ProjectionOptions,
     ) -> Result<Result<Option<(f64, Point3)>, Strike>, ProjectionError> {
+        self.reach = self.opts.reach_mm;
         let mut c = match self.probe(ix, part, cyl, seed, opts)? {
             None => return Ok(Ok(None)),
             Some(Err(strike)) => return Ok(Err(strike)),
@@ -312,6 +318,8 @@ impl PartCheck {
         };
         let mut p = seed;
         for _ in 0..self.opts.max_steps {
+            let near = c.distance.max(0.0) + self.opts.margin_mm;
+            self.reach = near.min(self.opts.reach_mm);
             let support = cyl.support(-c.push, p);
             let mut best: Option<(Point3, TrueContact)> = None;
             for x in [cyl.closest(c.point), support] {
@@ -419,7 +427,7 @@ impl PartCheck {
         x: Point3,
         opts: &ProjectionOptions,
     ) -> Result<Option<Result<TrueContact, Strike>>, ProjectionError> {
-        let Some(c) = self.cursor.query(ix, part, x, self.opts.reach_mm, opts)? else {
+        let Some(c) = self.cursor.query(ix, part, x, self.reach, opts)? else {
             return Ok(None);
         };
         let pen = self.opts.penetration_mm;

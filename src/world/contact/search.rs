@@ -63,9 +63,11 @@ pub(crate) struct Cursor {
     near: Vec<u32>,
     warm: Vec<WarmFoot>,
     stamp: u64,
-    /// Reused buffers: the near leaves' bounds, the candidates.
+    /// Reused buffers: the near leaves' bounds, the candidates, the
+    /// leaves whose foot left their face's trim.
     bounds: Vec<(f64, u32)>,
     found: Vec<Candidate>,
+    off_trim: Vec<u32>,
 }
 
 /// The contact search of one simulated machine (see the module docs of
@@ -127,6 +129,7 @@ impl Cursor {
             stamp: 0,
             bounds: Vec::new(),
             found: Vec::new(),
+            off_trim: Vec::new(),
         }
     }
 
@@ -214,6 +217,7 @@ impl Cursor {
         self.stamp += 1;
         self.bounds.clear();
         self.found.clear();
+        self.off_trim.clear();
         let leaves = &ix.leaves.leaves;
         for &id in &self.near {
             if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(y)) {
@@ -258,7 +262,32 @@ impl Cursor {
                 continue;
             }
             // The foot leaves the trim: the leaf's closest point on the
-            // face lies on its trim boundary.
+            // face lies on its trim boundary, searched once every leaf's
+            // foot is known (the nearest of them prunes most segments).
+            self.off_trim.push(id);
+        }
+        self.boundary_feet(ix, (wp, am), y, reach, opts, &mut best);
+        floor.min(best)
+    }
+
+    /// Adds the trim-boundary feet of the leaves in `self.off_trim` that
+    /// come within the edge tie of `best` (lowered as they are found),
+    /// skipping every segment whose chord keeps farther.
+    fn boundary_feet(
+        &mut self,
+        ix: &PartIndex,
+        (wp, am): (&Workpiece, &AsMachined),
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+        best: &mut f64,
+    ) {
+        let tie = self.opts.edge_tie_mm;
+        for &id in &self.off_trim {
+            let Some(leaf) = ix.leaves.leaves.get(id as usize) else {
+                continue;
+            };
+            let face = leaf.face;
             let segments = ix.leaves.segments.get(leaf.segments.clone());
             let chords = ix.leaves.chords.get(leaf.segments.clone());
             let chords = chords.unwrap_or_default().iter();
@@ -274,11 +303,10 @@ impl Cursor {
                         foot: f,
                         edge: true,
                     });
-                    best = best.min(df);
+                    *best = best.min(df);
                 }
             }
         }
-        floor.min(best)
     }
 
     /// The answer from `self.found`: the closest foot, signed by the sign
