@@ -9,6 +9,7 @@ pub mod trim;
 
 pub use nurbs::bezier::BezierPatch;
 pub use nurbs::curve::NurbsCurve;
+pub use nurbs::elevate::ElevateError;
 pub use nurbs::insert::InsertError;
 pub use nurbs::jet::Jet2;
 pub use nurbs::knots::{KnotError, KnotVector};

@@ -3,18 +3,21 @@
 //! reparameterisation to `[0, 1]`, knot merging and raising a line's degree.
 //!
 //! The ruled surface `(1 - v) C1(u) + v C2(u)` is a tensor-product NURBS of
-//! degree 1 in `v` when both rails share degree, knots and weights; the
-//! rails are brought to that form exactly where possible (lines take any
-//! degree and knot vector; rational rails must have proportional weights
-//! after knot merging, as two arcs of equal sweep do). Both forms (equal arc
-//! length, equal parameter) are read as equal relative parameter, which is
-//! exact for form 1 and for rails whose speeds are proportional.
+//! degree 1 in `v` when both rails share degree, knots and weights. Any two
+//! rails are brought to that form exactly: a line is raised onto the other
+//! rail's knots, another curve of lower degree is elevated, knots are
+//! merged, and rational rails whose weights are then not proportional are
+//! each multiplied (homogeneously) by the other's weight function, so both
+//! share the weight function `w1 w2`. Both forms (equal arc length, equal
+//! parameter) are read as equal relative parameter, which is exact for
+//! form 1 and for rails whose speeds are proportional.
 use super::entities::{Affine, Fields, Model};
 use super::surfaces::curve_nurbs;
 use crate::cad::error::CadResult;
 use crate::cad::nurbs::{control_points, new_curve, weights, NurbsCurve};
 use crate::formats::workpiece::SurfaceSpec;
 use crate::math::Point3;
+use std::cmp::Ordering;
 
 /// Knots closer than this (relative to the domain length) are the same knot.
 const KNOT_SNAP: f64 = 1e-10;
@@ -152,42 +155,63 @@ fn is_line(c: &NurbsCurve) -> bool {
 }
 
 /// Two curves on `[0, 1]` brought to the same degree, knots and weights.
+///
+/// The lower degree is raised to the higher (exactly) and the knots are
+/// merged. Where the weights are then not proportional, each curve's
+/// homogeneous form is multiplied by the other's weight function instead:
+/// both get the weight function `w_a w_b` (degree `p_a + p_b`), and the
+/// surface is still exactly `(1 - v) C1(u) + v C2(u)`.
 fn compatible(a: &NurbsCurve, b: &NurbsCurve) -> Result<(NurbsCurve, NurbsCurve), String> {
-    let (pa, pb) = (a.knots().degree(), b.knots().degree());
-    if pa != pb {
-        return match (is_line(a), is_line(b)) {
-            (true, _) if is_polynomial(b) => {
-                Ok((raise_line(a, pb, b.knots().as_slice())?, b.clone()))
-            }
-            (_, true) if is_polynomial(a) => {
-                Ok((a.clone(), raise_line(b, pa, a.knots().as_slice())?))
-            }
-            _ => Err(format!(
-                "rails of degree {pa} and {pb} (only a line can be raised exactly)"
-            )),
-        };
+    let (ea, eb) = same_degree(a, b)?;
+    let (ea, eb) = merge_knots(&ea, &eb)?;
+    if let Some(eb) = rescaled_to(&ea, &eb)? {
+        return Ok((ea, eb));
     }
-    let (a, b) = merge_knots(a, b)?;
-    let (wa, wb) = (weights(&a), weights(&b));
+    let ra = a.reweighted_by(b).map_err(|e| e.to_string())?;
+    let rb = b.reweighted_by(a).map_err(|e| e.to_string())?;
+    let (ra, rb) = merge_knots(&ra, &rb)?;
+    match rescaled_to(&ra, &rb)? {
+        Some(rb) => Ok((ra, rb)),
+        None => Err("rails' weight functions differ after reweighting".into()),
+    }
+}
+
+/// The two curves at one degree: a line raised onto the other polynomial
+/// rail's knots, any other curve of lower degree elevated.
+fn same_degree(a: &NurbsCurve, b: &NurbsCurve) -> Result<(NurbsCurve, NurbsCurve), String> {
+    let (pa, pb) = (a.knots().degree(), b.knots().degree());
+    let elevate = |c: &NurbsCurve, t: usize| c.elevate_degree(t).map_err(|e| e.to_string());
+    match pa.cmp(&pb) {
+        Ordering::Equal => Ok((a.clone(), b.clone())),
+        Ordering::Less if is_line(a) && is_polynomial(b) => {
+            Ok((raise_line(a, pb, b.knots().as_slice())?, b.clone()))
+        }
+        Ordering::Greater if is_line(b) && is_polynomial(a) => {
+            Ok((a.clone(), raise_line(b, pa, a.knots().as_slice())?))
+        }
+        Ordering::Less => Ok((elevate(a, pb - pa)?, b.clone())),
+        Ordering::Greater => Ok((a.clone(), elevate(b, pa - pb)?)),
+    }
+}
+
+/// `b` with its weights scaled by the ratio of the first weights (so they
+/// equal `a`'s), when `a`'s and `b`'s (same knots) are proportional to
+/// within [`WEIGHT_TOL`]; `None` when not.
+fn rescaled_to(a: &NurbsCurve, b: &NurbsCurve) -> Result<Option<NurbsCurve>, String> {
+    let (wa, wb) = (weights(a), weights(b));
     let ratio = wa.first().zip(wb.first()).map_or(1.0, |(x, y)| x / y);
     let proportional = wa
         .iter()
         .zip(&wb)
         .all(|(x, y)| (x - ratio * y).abs() <= WEIGHT_TOL * x.abs());
     if !proportional {
-        return Err(
-            "rails with different rational weights (not an exact NURBS ruled surface)".into(),
-        );
+        return Ok(None);
     }
     let scaled = wb.iter().map(|w| w * ratio).collect();
-    let b = new_curve(
-        pb,
-        b.knots().as_slice().to_vec(),
-        &control_points(&b),
-        scaled,
-    )
-    .map_err(|e| e.to_string())?;
-    Ok((a, b))
+    let knots = b.knots().as_slice().to_vec();
+    new_curve(b.knots().degree(), knots, &control_points(b), scaled)
+        .map(Some)
+        .map_err(|e| e.to_string())
 }
 
 /// Inserts into each curve the knots of the other it lacks.

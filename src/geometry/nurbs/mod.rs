@@ -6,10 +6,12 @@
 
 pub mod bezier;
 pub mod curve;
+pub mod elevate;
 pub mod insert;
 pub mod jet;
 pub mod knots;
 mod power;
+mod segments;
 pub mod surface;
 
 use crate::math::{Vec3, Vec4};
