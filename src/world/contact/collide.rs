@@ -43,7 +43,8 @@
 //!   its trim, over a hole too: they only choose the seeds, the descent's
 //!   point queries honour the trims.
 use super::search::{Cursor, PartIndex};
-use super::shapes::Cylinder;
+use super::shapes::{Cylinder, Segment};
+use super::tree::Shape;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::math::{Point3, Vec3};
@@ -78,6 +79,11 @@ pub struct CollisionOptions {
     /// and slab hold the true surface over it, so the bound is a true
     /// lower bound); the free-air bound is then at most that bound.
     pub certify_mm: f64,
+    /// The leaves near the axis are listed this much (mm) beyond what a
+    /// check needs, and the list serves the next checks while neither
+    /// axis end has moved farther than that (a leaf's bound from the axis
+    /// changes by at most the larger end move).
+    pub list_slack_mm: f64,
 }
 
 impl Default for CollisionOptions {
@@ -90,6 +96,7 @@ impl Default for CollisionOptions {
             seed_merge_mm: 1.0,
             reach_mm: 5.0,
             certify_mm: 0.05,
+            list_slack_mm: 2.0,
         }
     }
 }
@@ -130,6 +137,10 @@ pub struct PartCheck {
     order: Vec<(f64, u32)>,
     seeds: Vec<Point3>,
     exact_checks: u64,
+    /// The leaves listed near the axis: the axis ends and the distance
+    /// (mm) they were listed within, and the leaves.
+    listed_at: Option<(Point3, Point3, f64)>,
+    listed: Vec<u32>,
     /// How far the next point queries look, mm: the full reach for a
     /// descent's first point, then its least distance so far plus the
     /// margin (a farther point cannot lower it).
@@ -147,6 +158,8 @@ impl PartCheck {
             order: Vec::new(),
             seeds: Vec::new(),
             exact_checks: 0,
+            listed_at: None,
+            listed: Vec::new(),
             reach: opts.reach_mm,
         }
     }
@@ -155,6 +168,7 @@ impl PartCheck {
     pub fn reset(&mut self) {
         self.anchor = None;
         self.warm = None;
+        self.listed_at = None;
         self.cursor.reset();
     }
 
@@ -226,9 +240,7 @@ impl PartCheck {
     ) -> Result<Result<f64, Strike>, ProjectionError> {
         let seg = cyl.segment();
         let leaves = &ix.leaves.leaves;
-        self.order.clear();
-        let listed = cyl.radius + self.opts.margin_mm;
-        ix.tree.within_bounds(leaves, seg, listed, &mut self.order);
+        self.near_leaves(ix, seg, cyl.radius + self.opts.margin_mm);
         if self.order.is_empty() {
             return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
         }
@@ -297,6 +309,41 @@ impl PartCheck {
             (t / cyl.length.max(1e-300), v - cyl.axis * t)
         });
         Ok(Ok(floor))
+    }
+
+    /// Fills `self.order` with every leaf whose bound from `seg` is below
+    /// `radius`, with its bound (in no particular order): from the listed
+    /// leaves while the list serves, else from the tree (listing again,
+    /// [`CollisionOptions::list_slack_mm`] wider).
+    fn near_leaves(&mut self, ix: &PartIndex, seg: Segment, radius: f64) {
+        let leaves = &ix.leaves.leaves;
+        self.order.clear();
+        let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
+        let fresh = self
+            .listed_at
+            .is_some_and(|l| l.2 - moved(l) >= radius);
+        if !fresh {
+            let wide = radius + self.opts.list_slack_mm;
+            ix.tree.within_bounds(leaves, seg, wide, &mut self.order);
+            self.listed.clear();
+            self.listed.extend(self.order.iter().map(|o| o.1));
+            self.listed_at = Some((seg.a, seg.b, wide));
+            self.order.retain(|o| o.0 < radius);
+            return;
+        }
+        let r2 = radius * radius;
+        for &id in &self.listed {
+            let Some(l) = leaves.get(id as usize) else {
+                continue;
+            };
+            if seg.box_beyond(&l.aabb, r2) {
+                continue;
+            }
+            let bound = seg.leaf_bound(l);
+            if bound < radius {
+                self.order.push((bound, id));
+            }
+        }
     }
 
     /// The descent of the signed distance over `cyl` from `seed`: the
