@@ -4,17 +4,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::repo;
+use common::{cmm, repo};
 use serde_json::Value;
-
-fn cmm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cmm"))
-        .args(args)
-        .output()
-        .unwrap()
-}
 
 /// The bore program with `clearance` set to `margins`, written to `dir`.
 fn bore_program(dir: &Path, margins: Value) -> String {

@@ -5,21 +5,9 @@
 mod common;
 
 use std::path::Path;
-use std::process::{Command, Output};
 
-use common::repo;
+use common::{arg as s, cmm, repo};
 use serde_json::Value;
-
-fn cmm(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_cmm"))
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn s(p: &Path) -> String {
-    p.to_string_lossy().into_owned()
-}
 
 fn report(dir: &Path) -> Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()

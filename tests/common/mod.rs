@@ -35,6 +35,19 @@ pub fn repo(rel: &str) -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join(rel)
 }
 
+/// Runs the `cmm` binary with `args`.
+pub fn cmm(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// A path as a command-line argument.
+pub fn arg(p: &std::path::Path) -> String {
+    p.to_string_lossy().into_owned()
+}
+
 pub fn example(stem: &str) -> Workpiece {
     let path = repo(&format!("workpieces/{stem}.json"));
     Workpiece::from_path(&path).unwrap_or_else(|e| panic!("{e}"))

@@ -319,9 +319,7 @@ impl PartCheck {
         let leaves = &ix.leaves.leaves;
         self.order.clear();
         let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
-        let fresh = self
-            .listed_at
-            .is_some_and(|l| l.2 - moved(l) >= radius);
+        let fresh = self.listed_at.is_some_and(|l| l.2 - moved(l) >= radius);
         if !fresh {
             let wide = radius + self.opts.list_slack_mm;
             ix.tree.within_bounds(leaves, seg, wide, &mut self.order);
