@@ -11,91 +11,17 @@
 //! then made active, with a line search without descent taken for
 //! convergence, leaves such a search off the minimum) against the least
 //! distance that shrinking grids around the foot find.
+mod bounds_support;
 mod common;
 
+use bounds_support::{
+    hints, local_reference, patch, reference, rounding_sweep, workpiece, ROUNDING_SWEEP_SEED,
+};
 use cmm::geometry::projection::{project_from, SearchStatus};
 use cmm::geometry::ProjectionOptions;
 use cmm::math::{Point3, Vec2, Vec3};
-use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece, WorkpieceFile};
+use cmm::workpiece::{SurfaceSpec, TrimSpec, Workpiece};
 use common::*;
-
-/// A small curved bicubic patch over `[u0, u1] x [v0, v1]` (one Bezier
-/// span), about 4 mm across, with mild weights.
-fn patch(r: &mut TestRng, (u0, u1): (f64, f64), (v0, v1): (f64, f64)) -> SurfaceSpec {
-    let cps = (0..4)
-        .map(|i| {
-            (0..4)
-                .map(|j| {
-                    let (x, y) = (i as f64 * 1.3, j as f64 * 1.3);
-                    // Bent and twisted: the Newton model couples u and v.
-                    let bulge = 0.35 * ((x - 2.0).powi(2) - 0.6 * (y - 2.0).powi(2))
-                        + 0.5 * (x - 2.0) * (y - 2.0);
-                    [
-                        x + uniform(r, -0.2, 0.2),
-                        y + uniform(r, -0.2, 0.2),
-                        bulge + uniform(r, -0.3, 0.3),
-                    ]
-                })
-                .collect()
-        })
-        .collect();
-    let weights = (0..4)
-        .map(|_| (0..4).map(|_| uniform(r, 0.7, 1.4)).collect())
-        .collect();
-    SurfaceSpec {
-        name: "patch".into(),
-        degree: [3, 3],
-        knots_u: vec![u0, u0, u0, u0, u1, u1, u1, u1],
-        knots_v: vec![v0, v0, v0, v0, v1, v1, v1, v1],
-        control_points: cps,
-        weights: Some(weights),
-        reversed: false,
-        trim: None,
-    }
-}
-
-/// Least distance from `p` to the patch over the parameter rectangle
-/// `[lo, hi]`: an 81 x 81 grid, then 9 x 9 grids shrinking by 4 around the
-/// best point, clamped to the rectangle, with the points evaluated from
-/// the definition.
-fn reference(spec: &SurfaceSpec, p: Point3, lo: [f64; 2], hi: [f64; 2]) -> f64 {
-    let dist = |u: f64, v: f64| (Point3::from(reference_point(spec, u, v)) - p).norm();
-    let grid = |c: [f64; 2], half: [f64; 2], n: usize, best: &mut (f64, [f64; 2])| {
-        for i in 0..=n {
-            for j in 0..=n {
-                let t = |k: usize, a: usize| {
-                    let x = c[a] - half[a] + 2.0 * half[a] * k as f64 / n as f64;
-                    x.clamp(lo[a], hi[a])
-                };
-                let (u, v) = (t(i, 0), t(j, 1));
-                let d = dist(u, v);
-                if d < best.0 {
-                    *best = (d, [u, v]);
-                }
-            }
-        }
-    };
-    let mid = [0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1])];
-    let mut half = [0.5 * (hi[0] - lo[0]), 0.5 * (hi[1] - lo[1])];
-    let mut best = (f64::INFINITY, mid);
-    grid(mid, half, 80, &mut best);
-    half = half.map(|h| h * 2.0 / 80.0 * 2.0);
-    for _ in 0..40 {
-        let c = best.1;
-        grid(c, half, 8, &mut best);
-        half = half.map(|h| h * 0.25);
-    }
-    best.0
-}
-
-fn workpiece(spec: SurfaceSpec) -> Workpiece {
-    from_file(&WorkpieceFile {
-        format: "cmm-workpiece/1".into(),
-        name: "bounds".into(),
-        units: "mm".into(),
-        surfaces: vec![spec],
-    })
-}
 
 /// Query points near the patch, most of them beyond an edge or a corner
 /// (feet on the bounds).
@@ -164,17 +90,6 @@ fn rectangular_trims_with_awkward_bounds_match_the_reference() {
         check_all(&wp, &spec, [tu0, tv0], [u1, tv1], &mut r);
     }
 }
-
-/// Bounds of the warm searches: thirds and tenths, whose `x0 + (b - x0)`
-/// often rounds to a neighbour of `b`, and domains far from 0.
-const ROUNDING: [(f64, f64); 6] = [
-    (0.0, 1.0 / 3.0),
-    (0.1, 0.7),
-    (0.1, 0.1 + 0.2),
-    (2.0 / 3.0, 10.0 / 3.0),
-    (1000.1, 1000.7),
-    (123.456, 123.456 + 1.0 / 3.0),
-];
 
 /// Faces of CTC 05 whose domain corners are at most this far apart (mm)
 /// are searched.
@@ -267,35 +182,12 @@ impl Tally {
     }
 }
 
-/// Hints spread over the box, half of them in its upper corner.
-fn hints(r: &mut TestRng, lo: [f64; 2], hi: [f64; 2], n: usize) -> Vec<Vec2> {
-    (0..n)
-        .map(|k| {
-            let from = if k % 2 == 0 { 0.0 } else { 0.8 };
-            let t = |a: usize, r: &mut TestRng| lo[a] + (hi[a] - lo[a]) * uniform(r, from, 1.0);
-            let u = t(0, r);
-            Vec2::new(u, t(1, r))
-        })
-        .collect()
-}
-
 #[test]
 fn warm_searches_reaching_rounding_bounds_end_at_minima() {
-    let mut r = rng(73);
     let mut tally = Tally::default();
-    for &(u0, u1) in &ROUNDING {
-        for &(v0, v1) in &ROUNDING {
-            let spec = patch(&mut r, (u0, u1), (v0, v1));
-            for _ in 0..40 {
-                // Mostly beyond the upper u or v edge: feet on those bounds.
-                let p = Point3::new(
-                    uniform(&mut r, 1.0, 7.0),
-                    uniform(&mut r, 1.0, 7.0),
-                    uniform(&mut r, -3.0, 3.0),
-                );
-                let hs = hints(&mut r, [u0, v0], [u1, v1], 6);
-                tally.run(&spec, p, &hs, [u0, v0], [u1, v1]);
-            }
+    for sp in rounding_sweep(&mut rng(ROUNDING_SWEEP_SEED)) {
+        for (p, hs) in &sp.queries {
+            tally.run(&sp.spec, *p, hs, sp.lo, sp.hi);
         }
     }
     tally.check();
@@ -393,32 +285,6 @@ const ULP_SHORT_CTC05: [([f64; 3], [f64; 2]); 4] = [
         [-0.939490989335026, 0.322748579303604],
     ),
 ];
-
-/// Least distance from `p` (mm) that grids of 9 x 9 points around `c`,
-/// clamped to `[lo, hi]` and halving 45 times from a tenth of the box,
-/// find, the points evaluated from the definition.
-fn local_reference(spec: &SurfaceSpec, p: Point3, c: Vec2, lo: [f64; 2], hi: [f64; 2]) -> f64 {
-    let dist = |x: [f64; 2]| (Point3::from(reference_point(spec, x[0], x[1])) - p).norm();
-    let mut best = (dist([c.x, c.y]), [c.x, c.y]);
-    let mut half = [0.05 * (hi[0] - lo[0]), 0.05 * (hi[1] - lo[1])];
-    for _ in 0..45 {
-        let c = best.1;
-        for i in 0..=8 {
-            for j in 0..=8 {
-                let at = |k: usize, a: usize| {
-                    (c[a] - half[a] + 2.0 * half[a] * k as f64 / 8.0).clamp(lo[a], hi[a])
-                };
-                let x = [at(i, 0), at(j, 1)];
-                let d = dist(x);
-                if d < best.0 {
-                    best = (d, x);
-                }
-            }
-        }
-        half = half.map(|h| h * 0.5);
-    }
-    best.0
-}
 
 /// A confirmed foot may be at most this much (mm) farther than the local
 /// reference around it.
