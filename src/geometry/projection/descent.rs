@@ -1,6 +1,9 @@
-//! The line search of a Newton step and its fallback: a step whose line
-//! search finds no descent ends the iteration only at a stationary point
-//! (to rounding); elsewhere a projected-gradient step is tried.
+//! The line search of a Newton step and its fallback. A Newton step that,
+//! clamped into the box, does not point downhill is not searched along,
+//! and a line search takes only decreases of the squared distance beyond
+//! its rounding. When no step helps, the iteration ends only at a
+//! stationary point (to rounding); elsewhere a projected-gradient step is
+//! tried.
 use super::newton::{evaluate_at, gradient, Bounds, Foot};
 use super::ProjectionOptions;
 use crate::geometry::Jet2;
@@ -24,8 +27,17 @@ pub(super) enum Descent {
 /// place of its magnitude), for the stationarity test.
 const EVAL_ROUNDING_ULPS: f64 = 64.0;
 
+/// Least decrease of the squared distance that a line search takes, in
+/// units of `f64::EPSILON` times the squared distance (about a unit in the
+/// last place of it): summing and rounding the squares changes it by a few
+/// such units, so a smaller change tells nothing of descent. A search that
+/// sees no more is left to the stationarity test, whose tolerance is wider.
+const DECREASE_ROUNDING_ULPS: f64 = 4.0;
+
 /// Line search along the Newton step from `foot` to `target` (a point of
-/// the box), with the projected-gradient fallback.
+/// the box), with the projected-gradient fallback, taken at once when the
+/// step does not point downhill (a step clamped to a face of the box can
+/// point uphill though the unclamped one points down).
 pub(super) fn newton_line<F: Fn(Vec2, &mut Jet2)>(
     eval: &F,
     p: Point3,
@@ -44,7 +56,17 @@ pub(super) fn newton_line<F: Fn(Vec2, &mut Jet2)>(
             bounds.snap(x0 + delta * t)
         }
     };
-    match backtrack(eval, p, foot, path, opts) {
+    // Along a step that points uphill the backtracking can end at steps so
+    // short that the rounding of the parameters decides whether the
+    // distance drops, and the iteration creeps; the projected-gradient
+    // step points downhill.
+    let descends = gradient(&foot.d, p).dot(&delta) < 0.0;
+    let found = if descends {
+        backtrack(eval, p, foot, path, opts)
+    } else {
+        None
+    };
+    match found {
         Some(true) => Descent::Full,
         Some(false) => Descent::Partial,
         None if is_stationary(&foot.d, p, foot.uv, bounds, opts) => Descent::Stationary,
@@ -83,7 +105,8 @@ fn gradient_step<F: Fn(Vec2, &mut Jet2)>(
 }
 
 /// Backtracking: moves `foot` to the first of `path(1), path(1/2), ...`
-/// that lowers the distance and tells whether it was `path(1)`; `None`
+/// that lowers the squared distance by more than its rounding (see
+/// [`DECREASE_ROUNDING_ULPS`]) and tells whether it was `path(1)`; `None`
 /// (with `foot` as it was) when none does.
 fn backtrack<F: Fn(Vec2, &mut Jet2), X: Fn(f64) -> Vec2>(
     eval: &F,
@@ -93,6 +116,7 @@ fn backtrack<F: Fn(Vec2, &mut Jet2), X: Fn(f64) -> Vec2>(
     opts: &ProjectionOptions,
 ) -> Option<bool> {
     let (x0, dist0, it) = (foot.uv, foot.dist2, foot.iterations);
+    let min_decrease = DECREASE_ROUNDING_ULPS * f64::EPSILON * dist0;
     let mut t = 1.0;
     for _ in 0..=opts.max_halvings {
         let x = path(t);
@@ -100,7 +124,7 @@ fn backtrack<F: Fn(Vec2, &mut Jet2), X: Fn(f64) -> Vec2>(
             break;
         }
         evaluate_at(eval, p, foot, x, it);
-        if foot.dist2 < dist0 {
+        if foot.dist2 < dist0 - min_decrease {
             return Some(t == 1.0);
         }
         t *= 0.5;
@@ -138,4 +162,40 @@ pub(super) fn is_stationary(
         let s = tangents.get(k).map_or(0.0, |t| t.norm());
         bounds.pinned(x, g, k) || g[k].abs() <= tol * s + slack
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec3;
+
+    /// The point `(1, 0, v)` for `u <= 0`, `(1 - shift, 0, v)` for `u > 0`:
+    /// a step to `u > 0` brings it closer to the origin by `shift` (only
+    /// the point of the jet is set; the line search reads no derivative).
+    fn line(shift: f64) -> impl Fn(Vec2, &mut Jet2) {
+        move |x: Vec2, out: &mut Jet2| {
+            let along = if x.x > 0.0 { 1.0 - shift } else { 1.0 };
+            out.d = [Vec3::zeros(); 6];
+            out.d[0] = Vec3::new(along, 0.0, x.y);
+        }
+    }
+
+    /// Whether a line search along u from (0, 0) on `line(shift)`, with
+    /// the query point at the origin, takes a step.
+    fn takes_step(shift: f64) -> bool {
+        let (eval, p) = (line(shift), Point3::origin());
+        let mut foot = Foot::unevaluated(Vec2::zeros());
+        evaluate_at(&eval, p, &mut foot, Vec2::zeros(), 0);
+        let path = |t: f64| Vec2::new(t, 0.0);
+        let taken = backtrack(&eval, p, &mut foot, path, &ProjectionOptions::default());
+        taken.is_some() && foot.uv != Vec2::zeros()
+    }
+
+    #[test]
+    fn a_line_search_takes_no_decrease_within_rounding() {
+        // 1 - EPSILON / 2 is the next double below 1: the squared distance
+        // drops from 1 by one unit in the last place, 1 - EPSILON.
+        assert!(!takes_step(f64::EPSILON / 2.0));
+        assert!(takes_step(1e-6));
+    }
 }
