@@ -204,7 +204,7 @@ impl Setup {
             truth.clone()
         };
         let map = if opts.compensation {
-            ErrorMap::new(profile.geometric.clone())
+            super::calibrate::simulate::host_error_map(profile)
         } else {
             ErrorMap::none()
         };

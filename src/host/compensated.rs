@@ -14,7 +14,9 @@ use crate::seam::{Cmm, HeadCommandError, Readings};
 /// vector `probe_vector` (machine coordinates, mm).
 pub struct Compensated<'a, C: ?Sized> {
     inner: &'a mut C,
-    map: &'a ErrorMap,
+    /// The map, `None` when it corrects nothing (decided once, not every
+    /// cycle).
+    map: Option<&'a ErrorMap>,
     probe_vector: Vec3,
 }
 
@@ -23,14 +25,14 @@ impl<'a, C: ?Sized> Compensated<'a, C> {
     pub fn new(inner: &'a mut C, map: &'a ErrorMap, probe_vector: Vec3) -> Self {
         Compensated {
             inner,
-            map,
+            map: (!map.is_zero()).then_some(map),
             probe_vector,
         }
     }
 
     fn correct(&self, mut r: Readings) -> Readings {
-        if !self.map.is_zero() {
-            r.scales = self.map.compensate(r.scales, &self.probe_vector);
+        if let Some(map) = self.map {
+            r.scales = map.compensate(r.scales, &self.probe_vector);
         }
         r
     }
