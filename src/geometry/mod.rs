@@ -16,6 +16,8 @@ pub use nurbs::knots::{KnotError, KnotVector};
 pub use nurbs::surface::{Curvature, NurbsSurface, SurfaceDerivs};
 pub use nurbs::NurbsError;
 pub use plane::{Plane, PlaneError};
-pub use projection::{Projection, ProjectionError, ProjectionIndex, ProjectionOptions};
+pub use projection::{
+    HullShadows, Projection, ProjectionError, ProjectionIndex, ProjectionOptions,
+};
 pub use section::{SectionCurve, SectionOptions, SectionPoint};
 pub use trim::Trim;

@@ -4,6 +4,7 @@
 
 pub mod examples;
 pub use crate::formats::workpiece as format;
+mod faces_near;
 mod near;
 mod section;
 #[cfg(test)]
@@ -18,7 +19,7 @@ use crate::geometry::{
 };
 use crate::math::{Point3, Vec2};
 pub use format::{SurfaceSpec, TrimSpec, WorkpieceFile, WORKPIECE_FORMAT};
-pub use near::{FeetWithinReach, FootHint, KnownFoot};
+pub use near::{FaceList, FeetWithinReach, FootHint, KnownFoot, Reach};
 pub use section::section_faces;
 
 /// Why a workpiece could not be loaded.
@@ -73,9 +74,9 @@ pub struct Workpiece {
     pub faces: Vec<Face>,
     /// Projection tolerances used for every query.
     pub options: ProjectionOptions,
-    /// Every face's box in one array (made on first use): a query that
-    /// passes over all faces reads them without touching the faces.
-    root_boxes: std::sync::OnceLock<Vec<[f64; 6]>>,
+    /// Every face's box in one tree (made on first use): a query finds
+    /// the faces near a point without touching the others.
+    face_tree: std::sync::OnceLock<faces_near::FaceTree>,
 }
 
 /// The global closest point over all faces.
@@ -128,7 +129,7 @@ impl Workpiece {
             name,
             faces,
             options,
-            root_boxes: std::sync::OnceLock::new(),
+            face_tree: std::sync::OnceLock::new(),
         }
     }
 
@@ -136,25 +137,46 @@ impl Workpiece {
     /// infinite for no such face.
     #[inline]
     pub fn face_box_distance(&self, i: usize, p: Point3) -> f64 {
-        let boxes = self.root_boxes.get_or_init(|| {
-            (self.faces.iter())
+        self.face_tree().distance(i, p)
+    }
+
+    /// The faces whose box comes no farther than `d` (mm) from `p`, in
+    /// ascending order, into `out`; every face when `d` is not finite.
+    pub fn faces_within(&self, p: Point3, d: f64, out: &mut Vec<usize>) {
+        self.face_tree().within(p, d, out);
+    }
+
+    /// The faces whose box meets the box from `lo` to `hi`, in ascending
+    /// order, into `out` (a face without a box never does).
+    pub fn faces_overlapping(&self, lo: Point3, hi: Point3, out: &mut Vec<usize>) {
+        self.face_tree().overlapping(lo, hi, out);
+    }
+
+    /// The least of `best` and `value(face, box distance)` over the faces
+    /// whose box comes nearer to `p` than the least so far, nearer boxes
+    /// first (mm): with `value` a lower bound of a face's distance that is
+    /// at least its box distance (its leaf boxes, say), a lower bound of
+    /// the part's distance from `p`. `value` may leave a face out (`None`).
+    pub fn nearest_face_box(
+        &self,
+        p: Point3,
+        best: f64,
+        value: impl FnMut(usize, f64) -> Option<f64>,
+    ) -> f64 {
+        self.face_tree().nearest(p, best, value)
+    }
+
+    fn face_tree(&self) -> &faces_near::FaceTree {
+        self.face_tree.get_or_init(|| {
+            let boxes: Vec<faces_near::FaceBox> = (self.faces.iter())
                 .map(|f| {
                     f.index.root_box().map_or([f64::NAN; 6], |(lo, hi)| {
                         [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z]
                     })
                 })
-                .collect()
-        });
-        let Some(b) = boxes.get(i) else {
-            return f64::INFINITY;
-        };
-        let gap = |k: usize| (b[k] - p[k]).max(p[k] - b[k + 3]).max(0.0);
-        let d2 = gap(0).powi(2) + gap(1).powi(2) + gap(2).powi(2);
-        if d2.is_nan() {
-            f64::INFINITY
-        } else {
-            d2.sqrt()
-        }
+                .collect();
+            faces_near::FaceTree::new(&boxes)
+        })
     }
 
     /// Index of the face called `name`.

@@ -10,7 +10,10 @@ use crate::geometry::ProjectionError;
 use crate::math::Point3;
 use far::FarLeaves;
 pub use hint::{FootHint, KnownFoot};
-pub use reach::FeetWithinReach;
+pub use reach::{FaceList, FeetWithinReach, Reach};
+
+/// Room for the faces near a query point (more only costs an allocation).
+const NEAR_FACES: usize = 16;
 
 /// Relative slack on the squared search radius of a face, so that
 /// rounding cannot drop a point right at it (the exact tests follow).
@@ -48,7 +51,7 @@ impl Workpiece {
     pub fn closest_point_tracked(
         &self,
         p: Point3,
-        faces: impl Iterator<Item = usize> + Clone,
+        faces: impl FaceList,
         hint: &mut Option<FootHint>,
     ) -> Result<FaceProjection, ProjectionError> {
         self.closest_point_reaching(p, faces, hint, None)
@@ -74,11 +77,11 @@ impl Workpiece {
     pub fn closest_point_reaching(
         &self,
         p: Point3,
-        faces: impl Iterator<Item = usize> + Clone,
+        faces: impl FaceList,
         hint: &mut Option<FootHint>,
-        reach: Option<&dyn Fn(usize, f64) -> f64>,
+        reach: Option<&dyn Reach>,
     ) -> Result<FaceProjection, ProjectionError> {
-        let warm = hint.as_mut().filter(|h| faces.clone().any(|i| i == h.face));
+        let warm = hint.as_mut().filter(|h| faces.holds(h.face));
         if let Some(h) = warm {
             if let Some(found) = self.closest_point_warm(p, faces.clone(), h, reach)? {
                 return Ok(found);
@@ -106,9 +109,9 @@ impl Workpiece {
     fn closest_point_warm(
         &self,
         p: Point3,
-        faces: impl Iterator<Item = usize>,
+        faces: impl FaceList,
         h: &mut FootHint,
-        reach: Option<&dyn Fn(usize, f64) -> f64>,
+        reach: Option<&dyn Reach>,
     ) -> Result<Option<FaceProjection>, ProjectionError> {
         let Some(face) = self.faces.get(h.face) else {
             return Ok(None);
@@ -123,10 +126,18 @@ impl Workpiece {
         if face.trim.as_ref().is_some_and(|t| !t.contains(h.foot.uv)) {
             return Ok(None);
         }
+        // Only faces whose box comes within the widest reach can hold a
+        // closer point or need a search (the loop below skips the others
+        // by the same box test).
         let own = h.face;
-        for i in faces.filter(|&i| i != own) {
+        let first = h.foot.dist2.sqrt();
+        let cap = reach.map_or(first, |r| r.cap(first).max(first));
+        let mut near = Vec::with_capacity(NEAR_FACES);
+        self.faces_within(p, cap, &mut near);
+        faces.select(&mut near);
+        for i in near.into_iter().filter(|&i| i != own) {
             let best = h.foot.dist2.sqrt();
-            let within = reach.map_or(best, |r| r(i, best).max(best));
+            let within = reach.map_or(best, |r| r.of(i, best).max(best));
             if let Some((leaf, found)) = self.face_within(p, i, within, &mut h.far)? {
                 if found.dist2 < h.foot.dist2 {
                     (h.face, h.leaf, h.foot) = (i, leaf, found);

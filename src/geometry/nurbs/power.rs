@@ -154,6 +154,36 @@ impl PowerPatches {
         true
     }
 
+    /// The point at a parameter already clamped into the domain: the same
+    /// sums, in the same order, as [`Self::derivs_polynomial`] (and, for a
+    /// rational surface, [`Self::derivs`] followed by the division by the
+    /// weight) give at order 0, without their derivative tables.
+    #[inline]
+    pub fn point(&self, u: f64, v: f64) -> Option<Vec3> {
+        if self.coef3.is_empty() {
+            let (patch, (s, _), (t, _)) = self.patch_at(&self.coef, u, v)?;
+            let a = self.sum0(patch, s, t);
+            Some(xyz_of(&a) / a.w)
+        } else {
+            let (patch, (s, _), (t, _)) = self.patch_at(&self.coef3, u, v)?;
+            Some(self.sum0(patch, s, t))
+        }
+    }
+
+    /// `sum_i s^i sum_j t^j c_ij` over one patch's coefficients.
+    #[inline(always)]
+    fn sum0<V: Coef>(&self, patch: &[V], s: f64, t: f64) -> V {
+        let [p, q] = self.degree;
+        match (p + 1, q + 1) {
+            (4, 4) => sum0::<V, 4, 4>(patch, s, t),
+            (3, 3) => sum0::<V, 3, 3>(patch, s, t),
+            (2, 2) => sum0::<V, 2, 2>(patch, s, t),
+            (3, 2) => sum0::<V, 3, 2>(patch, s, t),
+            (2, 3) => sum0::<V, 2, 3>(patch, s, t),
+            (np, nq) => sum0_any(patch, (s, np), (t, nq)),
+        }
+    }
+
     /// Homogeneous derivatives `aw[k][l]` for `k + l <= nd` (nd <= 3) at a
     /// parameter already clamped into the domain.
     pub fn derivs(&self, u: f64, v: f64, nd: usize) -> [[Vec4; 4]; 4] {
@@ -213,6 +243,49 @@ fn kernel_any<V: Coef>(
         }
     }
     combine(&rows[..np], su, nd)
+}
+
+/// `s^0 .. s^(N-1)`, each power the last one times `s`.
+#[inline(always)]
+fn powers<const N: usize>(s: f64) -> [f64; N] {
+    let mut out = [1.0; N];
+    for i in 1..N {
+        out[i] = out[i - 1] * s;
+    }
+    out
+}
+
+/// [`PowerPatches::sum0`] for compile-time patch sizes: each row summed
+/// along `t` first, then the rows along `s` (the kernels' order).
+#[inline(always)]
+fn sum0<V: Coef, const NP: usize, const NQ: usize>(patch: &[V], s: f64, t: f64) -> V {
+    let (ps, pt) = (powers::<NP>(s), powers::<NQ>(t));
+    let mut acc = V::zero();
+    for (c, &si) in patch.chunks_exact(NQ).zip(&ps) {
+        let mut row = V::zero();
+        for j in 0..NQ {
+            row += c[j] * pt[j];
+        }
+        acc += row * si;
+    }
+    acc
+}
+
+/// [`sum0`] for any patch size (at most [`CAP`] by [`CAP`]).
+fn sum0_any<V: Coef>(patch: &[V], (s, np): (f64, usize), (t, nq): (f64, usize)) -> V {
+    let (ps, pt) = (powers::<CAP>(s), powers::<CAP>(t));
+    let mut acc = V::zero();
+    for (c, &si) in patch.chunks_exact(nq).zip(&ps).take(np) {
+        let row = c.iter().zip(&pt).fold(V::zero(), |a, (&cij, &tj)| a + cij * tj);
+        acc += row * si;
+    }
+    acc
+}
+
+/// The Euclidean part of a homogeneous point.
+#[inline(always)]
+fn xyz_of(a: &Vec4) -> Vec3 {
+    Vec3::new(a.x, a.y, a.z)
 }
 
 /// Vectors the kernels sum: homogeneous `Vec4` or Euclidean `Vec3`.

@@ -186,6 +186,12 @@ impl NurbsSurface {
 
     /// The point `S(u, v)`.
     pub fn point(&self, u: f64, v: f64) -> Point3 {
+        if let Some(fast) = self.fast.get_or_init(|| PowerPatches::new(self)) {
+            let uv = self.clamp(Vec2::new(u, v));
+            if let Some(p) = fast.point(uv.x, uv.y) {
+                return Point3::from(p);
+            }
+        }
         self.derivs(u, v, 0).point()
     }
 

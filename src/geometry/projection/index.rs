@@ -58,6 +58,40 @@ struct Obb {
     half: [f64; 3],
 }
 
+/// A convex shape as the separating-axis tests of
+/// [`ProjectionIndex::leaf_near`] see it: its points, its edge directions,
+/// and its shadows on the world axes, its face normals and their cross
+/// products with its edges (the same for every face's index, so made once
+/// per shape).
+#[derive(Debug, Clone)]
+pub struct HullShadows {
+    hull: Vec<Point3>,
+    edges: Vec<Vec3>,
+    /// The world axes' shadows, then the normals', then the crossed axes'.
+    fixed: Vec<Shadow>,
+    normals: usize,
+}
+
+impl HullShadows {
+    /// The convex hull of `hull`, a shape with the face normals `normals`
+    /// and the edge directions `edges` (unit vectors).
+    pub fn new(hull: &[Point3], (normals, edges): (&[Vec3], &[Vec3])) -> HullShadows {
+        let world = [Vec3::x(), Vec3::y(), Vec3::z()];
+        let mut fixed: Vec<Shadow> = Vec::with_capacity(3 + normals.len() + 3 * edges.len());
+        fixed.extend(
+            (world.iter().chain(normals).copied())
+                .chain(crossed(&world, edges))
+                .map(|u| (u, extent(hull, &u))),
+        );
+        HullShadows {
+            hull: hull.to_vec(),
+            edges: edges.to_vec(),
+            fixed,
+            normals: normals.len(),
+        }
+    }
+}
+
 #[derive(Debug, Clone, Copy)]
 struct Aabb {
     min: Point3,
@@ -152,51 +186,42 @@ impl ProjectionIndex {
 
     /// A leaf (its node, as [`Self::box_distance_near`] returns it, for the
     /// next query's `hint`) whose boxes may come within `reach` (mm) of the
-    /// convex hull of `hull`, a shape with the face normals `normals` and
-    /// the edge directions `edges` (unit vectors); `hint` is tried first.
+    /// convex hull of `shape` (see [`HullShadows::new`]); `hint` is tried
+    /// first.
     /// `None` when each leaf is at least `reach` from the shape along an
     /// axis of the separating-axis test (its normals, the boxes' own axes
     /// and their cross products with its edges). A gap along one axis
     /// bounds the distance from below, so a leaf that is farther may still
     /// be returned, never the other way round.
-    pub fn leaf_near(
-        &self,
-        hull: &[Point3],
-        (normals, edges): (&[Vec3], &[Vec3]),
-        reach: f64,
-        hint: Option<usize>,
-    ) -> Option<usize> {
-        // The shape's shadows on the axes of the axis-aligned boxes' tests.
-        let world = [Vec3::x(), Vec3::y(), Vec3::z()];
-        let mut fixed: Vec<Shadow> = Vec::with_capacity(3 + normals.len() + 3 * edges.len());
-        fixed.extend(
-            (world.iter().chain(normals).copied())
-                .chain(crossed(&world, edges))
-                .map(|u| (u, extent(hull, &u))),
-        );
-        let on_normals = fixed.get(3..3 + normals.len()).unwrap_or_default();
+    pub fn leaf_near(&self, shape: &HullShadows, reach: f64, hint: Option<usize>) -> Option<usize> {
+        let on_normals = shape.fixed.get(3..3 + shape.normals).unwrap_or_default();
         let near_leaf = |i: usize| -> bool {
             let Some(node) = self.nodes.get(i) else {
                 return false;
             };
             let obb = node.kind.ok().and_then(|leaf| self.leaves.get(leaf));
             obb.is_some_and(|l| {
-                !node.aabb.separated(&fixed, reach)
-                    && !(l.obb).separated(hull, on_normals, edges, reach)
+                !node.aabb.separated(&shape.fixed, reach)
+                    && !(l.obb).separated(&shape.hull, on_normals, &shape.edges, reach)
             })
         };
         if let Some(h) = hint.filter(|&h| near_leaf(h)) {
             return Some(h);
         }
+        // Most faces are cleared by the root box alone, before any stack.
+        let root = self.nodes.len().checked_sub(1)?;
+        if (self.nodes.get(root)).is_some_and(|n| n.aabb.separated(&shape.fixed, reach)) {
+            return None;
+        }
         let mut stack = Vec::with_capacity(64);
-        stack.extend(self.nodes.len().checked_sub(1));
+        stack.push(root);
         while let Some(i) = stack.pop() {
             let Some(node) = self.nodes.get(i) else {
                 continue;
             };
             match node.kind {
                 Ok(_) if near_leaf(i) => return Some(i),
-                Err((a, b)) if !node.aabb.separated(&fixed, reach) => stack.extend([a, b]),
+                Err((a, b)) if !node.aabb.separated(&shape.fixed, reach) => stack.extend([a, b]),
                 _ => {}
             }
         }

@@ -18,7 +18,7 @@ mod newton;
 mod status;
 mod trimmed;
 
-pub use index::ProjectionIndex;
+pub use index::{HullShadows, ProjectionIndex};
 pub(crate) use index::{LeafMemo, NoMemo};
 pub(crate) use newton::{
     local_minimum, local_minimum_cached, minimise_cached, minimise_with, Bounds, Foot,

@@ -30,7 +30,8 @@ use crate::host::modes::FreeSpace;
 use crate::math::{Point3, Vec3};
 use crate::program::Pose;
 use crate::seam::ProbePart;
-use crate::workpiece::{FootHint, Workpiece};
+use crate::workpiece::Workpiece;
+use area::AreaCheck;
 
 /// Smallest sampling step the check accepts, mm (a floor for a zero or
 /// negative `step_mm`, which would never stop cutting).
@@ -225,29 +226,6 @@ struct Axes {
     edges: Vec<Vec3>,
 }
 
-/// The check of one area: what it must keep and what it has learnt.
-struct AreaCheck {
-    /// Ball radius plus margin, mm.
-    need: f64,
-    /// Pieces whose points all lie within this of their samples are judged
-    /// by the samples, mm.
-    fine_reach: f64,
-    /// The area's separating axes.
-    axes: Axes,
-    /// The last sample's box distances per face, mm.
-    bounds: Vec<f64>,
-    /// The faces whose boxes came closer than required to the last
-    /// sample.
-    faces: Vec<usize>,
-    /// Where the last exact foot lay, to start the next projection from.
-    hint: Option<FootHint>,
-    /// Per face, the leaf the last box query found nearest or near, to try
-    /// first in the next.
-    leaves: Vec<Option<usize>>,
-    /// The face whose boxes were found near last.
-    near_face: usize,
-}
-
 /// What is known of a piece's sample before looking at it.
 #[derive(Debug, Clone, Copy)]
 struct Known {
@@ -299,81 +277,6 @@ impl PartClearance<'_> {
         }
     }
 
-    /// Whether some face's leaf boxes may come within the required
-    /// distance of `piece` (with the axes of the area it was cut from).
-    /// The face found near last is tried first.
-    fn boxes_near(&self, piece: &Piece, check: &mut AreaCheck) -> bool {
-        let hull = piece.corners();
-        let axes = (check.axes.normals.as_slice(), check.axes.edges.as_slice());
-        let faces = &self.workpiece.faces;
-        let order = (0..faces.len()).map(|k| (check.near_face + k) % faces.len());
-        let near = order.clone().find(|&i| {
-            let (Some(face), Some(hint)) = (faces.get(i), check.leaves.get_mut(i)) else {
-                return false;
-            };
-            let leaf = face.index.leaf_near(&hull, axes, check.need, *hint);
-            *hint = leaf.or(*hint);
-            leaf.is_some()
-        });
-        check.near_face = near.unwrap_or(check.near_face);
-        near.is_some()
-    }
-
-    /// A lower bound of the distance from `q` (part) to the part, mm: the
-    /// distance to the faces' nearest leaf boxes, exact once that comes
-    /// closer than the required distance; projection failures count as
-    /// touching (0).
-    fn distance_bound(&self, q: Point3, check: &mut AreaCheck) -> f64 {
-        // Each face's root box first; a face's leaf boxes are searched only
-        // when its root box comes nearer than the nearest leaf box found so
-        // far (the face met last first): the root distance bounds the rest.
-        let faces = &self.workpiece.faces;
-        check.bounds.clear();
-        check
-            .bounds
-            .extend(faces.iter().map(|f| f.index.lower_bound(q)));
-        let mut best = f64::INFINITY;
-        let first = check.near_face.min(faces.len().saturating_sub(1));
-        let order = (0..faces.len()).map(|k| (first + k) % faces.len());
-        for i in order {
-            let (Some(f), Some(hint), Some(b)) = (
-                faces.get(i),
-                check.leaves.get_mut(i),
-                check.bounds.get_mut(i),
-            ) else {
-                continue;
-            };
-            if *b >= best {
-                continue;
-            }
-            let (d, nearest) = f.index.box_distance_near(q, *hint);
-            (*hint, *b) = (nearest, d);
-            best = best.min(d);
-        }
-        let bound = check.bounds.iter().copied().fold(f64::INFINITY, f64::min);
-        if bound >= check.need {
-            return bound;
-        }
-        self.exact_distance(q, check).unwrap_or(0.0)
-    }
-
-    /// The distance from `q` (part) to the faces whose boxes came closer
-    /// than required (a projection started from the check's last foot),
-    /// or the others' box distances where smaller, mm.
-    fn exact_distance(&self, q: Point3, check: &mut AreaCheck) -> Option<f64> {
-        let need = check.need;
-        let near = (check.bounds.iter().enumerate()).filter(|b| *b.1 < need);
-        check.faces.clear();
-        check.faces.extend(near.map(|b| b.0));
-        let found = self
-            .workpiece
-            .closest_point_near(q, &check.faces, check.hint);
-        let (fp, hint) = found.ok()?;
-        check.hint = hint.or(check.hint);
-        let far = check.bounds.iter().filter(|&&b| b >= need);
-        Some(far.fold(fp.projection.distance, |d, &b| d.min(b)))
-    }
-
     /// Decides `piece` if it can, with what is `known` of its sample:
     /// clear when the boxes keep it far enough; else by its sample,
     /// touching when that comes too close, clear when it is far enough for
@@ -409,16 +312,7 @@ impl PartClearance<'_> {
     /// Whether every point of `area` keeps `need` from the part (to the
     /// sampling `step`), cutting it as far as that takes.
     fn area_clear(&self, area: Piece, need: f64, step: f64) -> bool {
-        let mut check = AreaCheck {
-            need,
-            fine_reach: step * std::f64::consts::FRAC_1_SQRT_2,
-            axes: area.axes(),
-            bounds: Vec::with_capacity(self.workpiece.faces.len()),
-            faces: Vec::with_capacity(self.workpiece.faces.len()),
-            hint: None,
-            leaves: vec![None; self.workpiece.faces.len()],
-            near_face: 0,
-        };
+        let mut check = AreaCheck::new(need, step * std::f64::consts::FRAC_1_SQRT_2, &area);
         let start = Known {
             floor: 0.0,
             same: false,
@@ -540,6 +434,7 @@ impl FreeSpace for PartClearance<'_> {
     }
 }
 
+mod area;
 pub mod memo;
 
 #[cfg(test)]

@@ -6,6 +6,50 @@ use crate::geometry::ProjectionError;
 use crate::math::{Point3, Vec2};
 use crate::workpiece::{FaceProjection, Workpiece};
 
+/// How far from a point the faces other than the one of the least
+/// distance found so far are searched.
+pub trait Reach {
+    /// Face `face` is searched within this (mm) when the least distance so
+    /// far is `best`; it must not fall when `best` grows.
+    fn of(&self, face: usize, best: f64) -> f64;
+    /// At least [`Self::of`] for every face, mm.
+    fn cap(&self, best: f64) -> f64;
+}
+
+/// The faces a query looks at: an iterator over them (in the order the
+/// query takes them) that also tells whether it holds a face.
+pub trait FaceList: Iterator<Item = usize> + Clone {
+    /// Whether `face` is one of them.
+    fn holds(&self, face: usize) -> bool;
+
+    /// Keeps in `near` (ascending face indices) the faces of the list, in
+    /// the list's order.
+    fn select(&self, near: &mut Vec<usize>);
+}
+
+/// A range of face indices.
+impl FaceList for std::ops::Range<usize> {
+    fn holds(&self, face: usize) -> bool {
+        self.contains(&face)
+    }
+
+    fn select(&self, near: &mut Vec<usize>) {
+        near.retain(|i| self.contains(i));
+    }
+}
+
+/// A list of face indices (short: a feature's faces).
+impl FaceList for std::iter::Copied<std::slice::Iter<'_, usize>> {
+    fn holds(&self, face: usize) -> bool {
+        self.clone().any(|i| i == face)
+    }
+
+    fn select(&self, near: &mut Vec<usize>) {
+        let listed = self.clone().filter(|i| near.binary_search(i).is_ok());
+        *near = listed.collect();
+    }
+}
+
 /// The result of [`Workpiece::feet_within_reach`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct FeetWithinReach {
@@ -27,7 +71,7 @@ impl Workpiece {
         &self,
         y: Point3,
         near: Option<&KnownFoot>,
-        reach: impl Fn(usize, f64) -> f64,
+        reach: &impl Reach,
     ) -> Result<FeetWithinReach, ProjectionError> {
         let mut hint = near.and_then(|k| k.hint);
         let known = near.map(|k| (k.query, &k.foot));
@@ -47,7 +91,7 @@ impl Workpiece {
         y: Point3,
         known: Option<(Point3, &FaceProjection)>,
         hint: &mut Option<FootHint>,
-        reach: impl Fn(usize, f64) -> f64,
+        reach: &impl Reach,
         mut seed: impl FnMut(usize, Vec2) -> Result<(), ProjectionError>,
     ) -> Result<(), ProjectionError> {
         let nearest = match known {
@@ -60,14 +104,20 @@ impl Workpiece {
         };
         // The global foot's distance is the least: each face is searched
         // within its reach of it, in face order (learning in the hint's
-        // memo of far leaves in place, when there is a hint).
+        // memo of far leaves in place, when there is a hint); a face whose
+        // box keeps farther than every reach is not looked at.
         let mut own = FarLeaves::default();
         let far = hint.as_mut().map_or(&mut own, |h| &mut h.far);
         let best = n.projection.distance;
-        for i in 0..self.faces.len() {
+        let mut near = Vec::with_capacity(super::NEAR_FACES);
+        self.faces_within(y, reach.cap(best), &mut near);
+        if let Err(at) = near.binary_search(&n.face) {
+            near.insert(at, n.face);
+        }
+        for i in near {
             if i == n.face {
                 seed(i, n.projection.uv)?;
-            } else if let Some(uv) = self.foot_within(y, i, reach(i, best), far)? {
+            } else if let Some(uv) = self.foot_within(y, i, reach.of(i, best), far)? {
                 seed(i, uv)?;
             }
         }
@@ -94,7 +144,7 @@ impl Workpiece {
     fn cold_feet_within_reach(
         &self,
         y: Point3,
-        reach: impl Fn(usize, f64) -> f64,
+        reach: &impl Reach,
         mut seed: impl FnMut(usize, Vec2) -> Result<(), ProjectionError>,
     ) -> Result<(), ProjectionError> {
         let mut order: Vec<(f64, usize)> = (self.faces.iter().enumerate())
@@ -105,7 +155,7 @@ impl Workpiece {
         let mut best = f64::INFINITY;
         let mut far = FarLeaves::default();
         for (lb, i) in order {
-            let within = reach(i, best);
+            let within = reach.of(i, best);
             let (Some(f), false) = (self.faces.get(i), lb > within) else {
                 continue;
             };
@@ -118,7 +168,7 @@ impl Workpiece {
             }
         }
         found.sort_by_key(|s| s.0);
-        for (i, _, uv) in found.into_iter().filter(|s| s.1 <= reach(s.0, best)) {
+        for (i, _, uv) in found.into_iter().filter(|s| s.1 <= reach.of(s.0, best)) {
             seed(i, uv)?;
         }
         Ok(())

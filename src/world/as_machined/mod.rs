@@ -56,6 +56,27 @@ pub struct AsMachined {
     pub(crate) pieces: crate::world::contact::PieceCache,
 }
 
+/// How far the true part's seeds are sought beyond the nominal distance
+/// `d` (see [`AsMachined::seed_reach`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SeedReach<'a> {
+    part: &'a AsMachined,
+    stretch: f64,
+    /// Twice the largest form height over all faces, stretched, mm.
+    widest: f64,
+}
+
+impl crate::workpiece::Reach for SeedReach<'_> {
+    fn of(&self, face: usize, best: f64) -> f64 {
+        best + (2.0 * self.part.max_height(face) * self.stretch + 1e-6 * (1.0 + best))
+    }
+
+    fn cap(&self, best: f64) -> f64 {
+        // A relative hair above the widest face's reach, for rounding.
+        (best + (self.widest + 1e-6 * (1.0 + best))) * (1.0 + 1e-12)
+    }
+}
+
 /// The closest point on the as-machined surface.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct TrueProjection {
@@ -310,7 +331,7 @@ impl AsMachined {
     ) -> Result<TrueProjection, ProjectionError> {
         let y = self.inverse_point(x);
         let mut best: Option<TrueProjection> = None;
-        wp.for_feet_within_reach(y, known, hint, self.seed_reach(), |face, uv| {
+        wp.for_feet_within_reach(y, known, hint, &self.seed_reach(), |face, uv| {
             let foot = self.newton(wp, x, face, uv)?;
             if best.is_none_or(|b| foot.dist2.sqrt() < b.distance) {
                 best = Some(self.finish(wp, x, face, &foot));
@@ -327,9 +348,16 @@ impl AsMachined {
     /// How far from `T^-1(x)` the true closest point's seeds are sought:
     /// on face `i`, within `reach(i, d)` of it, `d` its nominal distance
     /// (the form moves a face by at most max|h|, stretched by T).
-    pub fn seed_reach(&self) -> impl Fn(usize, f64) -> f64 + '_ {
+    pub fn seed_reach(&self) -> SeedReach<'_> {
         let stretch = self.stretch();
-        move |i: usize, best: f64| best + (2.0 * self.max_height(i) * stretch + 1e-6 * (1.0 + best))
+        // Every face's terms are among all terms: their amplitudes (never
+        // negative) sum to no more, rounding included.
+        let all = self.terms.iter().map(|(f, _)| f.amplitude()).sum::<f64>();
+        SeedReach {
+            part: self,
+            stretch,
+            widest: 2.0 * all * stretch,
+        }
     }
 
     /// Largest factor by which `T` stretches lengths.
