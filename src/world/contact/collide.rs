@@ -42,6 +42,7 @@
 //!   earlier one). The leaves' boxes bound the whole of a leaf crossed by
 //!   its trim, over a hole too: they only choose the seeds, the descent's
 //!   point queries honour the trims.
+use super::line::{least_on_segment, LineLimits, Look};
 use super::search::{Cursor, PartIndex};
 use super::shapes::{Cylinder, Segment};
 use super::tree::Shape;
@@ -110,8 +111,12 @@ pub struct Strike {
     pub depth_mm: f64,
 }
 
-/// Points of the golden-section search along a descent's support step.
+/// Most looks of the search along a descent's support step.
 const LINE_STEPS: usize = 12;
+
+/// The ends of a descent's support step, each with its look (the far
+/// end's `None` beyond reach).
+type LineEnds = ((Point3, TrueContact), (Point3, Option<TrueContact>));
 
 /// The last exact check: the axis ends, a lower bound of the cylinder's
 /// distance to the part (mm), and the factor `2 radius / |b - a|` by which
@@ -367,16 +372,22 @@ impl PartCheck {
             self.reach = near.min(self.opts.reach_mm);
             let support = cyl.support(-c.push, p);
             let mut best: Option<(Point3, TrueContact)> = None;
+            let mut at_support = None;
             for x in [cyl.closest(c.point), support] {
                 if (x - p).norm() <= 1e-12 {
                     continue;
                 }
                 match self.probe(ix, part, cyl, x, opts)? {
                     Some(Err(strike)) => return Ok(Err(strike)),
-                    Some(Ok(cx)) if best.is_none_or(|b| cx.distance < b.1.distance) => {
-                        best = Some((x, cx));
+                    Some(Ok(cx)) => {
+                        if x == support {
+                            at_support = Some(cx);
+                        }
+                        if best.is_none_or(|b| cx.distance < b.1.distance) {
+                            best = Some((x, cx));
+                        }
                     }
-                    _ => {}
+                    None => {}
                 }
             }
             // The support point overshoots where the distance keeps falling
@@ -386,7 +397,8 @@ impl PartCheck {
             let tol = self.opts.tolerance_mm;
             let support_better = best.is_some_and(|b| b.0 == support);
             if slope < -10.0 * tol && !support_better {
-                match self.line_search(ix, part, cyl, (p, support), opts)? {
+                let ends = ((p, c), (support, at_support));
+                match self.line_search(ix, part, cyl, ends, opts)? {
                     Err(strike) => return Ok(Err(strike)),
                     Ok(Some((x, cx))) if best.is_none_or(|b| cx.distance < b.1.distance) => {
                         best = Some((x, cx));
@@ -404,61 +416,50 @@ impl PartCheck {
         Ok(Ok(Some((c.distance, p))))
     }
 
-    /// The least signed distance on the segment `from..to` of `cyl` by a
-    /// golden-section search ([`LINE_STEPS`] points), or the strike.
+    /// The least signed distance on the segment `from..to` of `cyl`, from
+    /// the looks at its ends (the distance falling at `from`; `None`
+    /// beyond reach at `to`), by [`least_on_segment`] with the distance's
+    /// slopes from the push directions; the best inner point, or the
+    /// strike.
     fn line_search(
         &mut self,
         ix: &PartIndex,
         part: (&Workpiece, &AsMachined),
         cyl: &Cylinder,
-        (from, to): (Point3, Point3),
+        ((from, at_from), (to, at_to)): LineEnds,
         opts: &ProjectionOptions,
     ) -> Result<Result<Option<(Point3, TrueContact)>, Strike>, ProjectionError> {
-        let at = |g: f64| from + (to - from) * g;
-        let f = |this: &mut Self,
-                 g: f64|
-         -> Result<Result<Option<TrueContact>, Strike>, ProjectionError> {
-            Ok(match this.probe(ix, part, cyl, at(g), opts)? {
-                None => Ok(None),
-                Some(Err(strike)) => Err(strike),
-                Some(Ok(c)) => Ok(Some(c)),
-            })
+        let d = to - from;
+        let look_of = |at: f64, c: Option<TrueContact>| Look {
+            at,
+            value: c.map_or(f64::INFINITY, |c| c.distance),
+            slope: c.map(|c| c.push.dot(&d)),
         };
-        let value = |c: &Option<TrueContact>| c.map_or(f64::INFINITY, |c| c.distance);
-        let k = 0.5 * (5f64.sqrt() - 1.0);
-        let (mut lo, mut hi) = (0.0, 1.0);
-        let (mut x1, mut x2) = (hi - k * (hi - lo), lo + k * (hi - lo));
-        let mut f1 = match f(self, x1)? {
-            Err(s) => return Ok(Err(s)),
-            Ok(c) => c,
+        let limits = LineLimits {
+            length_mm: d.norm(),
+            tolerance_mm: self.opts.tolerance_mm,
+            max_looks: LINE_STEPS,
         };
-        let mut f2 = match f(self, x2)? {
-            Err(s) => return Ok(Err(s)),
-            Ok(c) => c,
-        };
-        for _ in 2..LINE_STEPS {
-            if value(&f1) <= value(&f2) {
-                (hi, x2, f2) = (x2, x1, f1);
-                x1 = hi - k * (hi - lo);
-                f1 = match f(self, x1)? {
-                    Err(s) => return Ok(Err(s)),
-                    Ok(c) => c,
-                };
-            } else {
-                (lo, x1, f1) = (x1, x2, f2);
-                x2 = lo + k * (hi - lo);
-                f2 = match f(self, x2)? {
-                    Err(s) => return Ok(Err(s)),
-                    Ok(c) => c,
-                };
-            }
+        let mut found: Vec<(f64, TrueContact)> = Vec::new();
+        let ends = (look_of(0.0, Some(at_from)), look_of(1.0, at_to));
+        let searched = least_on_segment(ends.0, ends.1, limits, |g| {
+            let c = match self.probe(ix, part, cyl, from + d * g, opts) {
+                Err(e) => return Err(Err(e)),
+                Ok(Some(Err(strike))) => return Err(Ok(strike)),
+                Ok(Some(Ok(c))) => Some(c),
+                Ok(None) => None,
+            };
+            found.extend(c.map(|c| (g, c)));
+            Ok(look_of(g, c))
+        });
+        match searched {
+            Err(Err(e)) => Err(e),
+            Err(Ok(strike)) => Ok(Err(strike)),
+            Ok(best) => Ok(Ok(best.and_then(|b| {
+                let (g, c) = found.iter().find(|f| f.0 == b.at)?;
+                Some((from + d * *g, *c))
+            }))),
         }
-        let best = if value(&f1) <= value(&f2) {
-            f1.map(|c| (at(x1), c))
-        } else {
-            f2.map(|c| (at(x2), c))
-        };
-        Ok(Ok(best))
     }
 
     /// The signed distance at `x` (a point of `cyl`) with its foot, or the

@@ -36,6 +36,7 @@
 mod chord_tests;
 mod collide;
 mod leaves;
+mod line;
 mod pieces;
 mod search;
 mod shapes;

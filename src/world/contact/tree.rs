@@ -60,43 +60,54 @@ impl LeafTree {
             nodes: Vec::with_capacity(2 * leaves.len() / BUCKET + 1),
             order: (0..leaves.len() as u32).collect(),
         };
+        let boxes: Vec<(Aabb, Point3)> = (leaves.iter())
+            .map(|l| (l.aabb, l.aabb.centre()))
+            .collect();
         if !leaves.is_empty() {
-            tree.build(leaves, 0, leaves.len());
+            tree.build(&boxes, 0, leaves.len());
         }
         tree
     }
 
-    /// Builds the node over `order[lo..hi]`; returns its index.
-    fn build(&mut self, leaves: &[Leaf], lo: usize, hi: usize) -> u32 {
-        let ids = self.order.get(lo..hi).unwrap_or_default();
-        let box_of = |i: &u32| leaves.get(*i as usize).map_or(Aabb::empty(), |l| l.aabb);
-        let aabb = ids
-            .iter()
-            .map(box_of)
-            .fold(Aabb::empty(), |a, b| a.union(&b));
+    /// Builds the node over `order[lo..hi]` (`boxes`: every leaf's box
+    /// and its centre); returns its index.
+    fn build(&mut self, boxes: &[(Aabb, Point3)], lo: usize, hi: usize) -> u32 {
+        let empty = (Aabb::empty(), Point3::origin());
+        let of = |i: &u32| boxes.get(*i as usize).unwrap_or(&empty);
         let at = self.nodes.len() as u32;
         self.nodes.push(Node {
-            aabb,
+            aabb: Aabb::empty(),
             a: lo as u32,
             b: hi as u32,
             leaf: true,
         });
-        if hi - lo <= BUCKET {
-            return at;
-        }
-        let centres = ids.iter().map(|i| box_of(i).centre());
-        let spread = centres.fold(Aabb::empty(), |a, c| a.union(&Aabb { min: c, max: c }));
-        let axis = (spread.max - spread.min).imax();
-        let mid = (lo + hi) / 2;
-        if let Some(slice) = self.order.get_mut(lo..hi) {
-            slice.select_nth_unstable_by(mid - lo, |x, y| {
-                box_of(x).centre()[axis].total_cmp(&box_of(y).centre()[axis])
+        let ids = self.order.get(lo..hi).unwrap_or_default();
+        let aabb = if hi - lo <= BUCKET {
+            (ids.iter()).fold(Aabb::empty(), |a, i| a.union(&of(i).0))
+        } else {
+            let spread = (ids.iter()).fold(Aabb::empty(), |a, i| {
+                a.union(&Aabb {
+                    min: of(i).1,
+                    max: of(i).1,
+                })
             });
-        }
-        let left = self.build(leaves, lo, mid);
-        let right = self.build(leaves, mid, hi);
+            let axis = (spread.max - spread.min).imax();
+            let mid = (lo + hi) / 2;
+            if let Some(slice) = self.order.get_mut(lo..hi) {
+                slice.select_nth_unstable_by(mid - lo, |x, y| of(x).1[axis].total_cmp(&of(y).1[axis]));
+            }
+            let left = self.build(boxes, lo, mid);
+            let right = self.build(boxes, mid, hi);
+            if let Some(n) = self.nodes.get_mut(at as usize) {
+                (n.a, n.b, n.leaf) = (left, right, false);
+            }
+            // The union of the children's boxes is the union of their
+            // leaves' boxes (min and max are exact).
+            let child = |c: u32| self.nodes.get(c as usize).map_or(Aabb::empty(), |n| n.aabb);
+            child(left).union(&child(right))
+        };
         if let Some(n) = self.nodes.get_mut(at as usize) {
-            (n.a, n.b, n.leaf) = (left, right, false);
+            n.aabb = aabb;
         }
         at
     }
