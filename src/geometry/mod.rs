@@ -1,6 +1,7 @@
 //! Geometry kernel: NURBS curves and surfaces, closest-point projection,
 //! plane sections and offsets. f64, millimetres.
 
+mod chord_tree;
 pub mod nurbs;
 pub mod plane;
 pub mod projection;

@@ -2,6 +2,7 @@
 //! its holes, all closed polylines in the (u, v) domain.
 use std::sync::OnceLock;
 
+use crate::geometry::chord_tree::ChordTree;
 use crate::geometry::NurbsSurface;
 use crate::math::{Point3, Vec2};
 
@@ -15,6 +16,8 @@ pub struct Trim {
     /// The loop edges' images on the trimmed surface, made on first use
     /// (a trim belongs to one surface).
     chords: OnceLock<Vec<Chord>>,
+    /// A box tree over `chords`, made on first use.
+    chord_tree: OnceLock<ChordTree>,
     /// The loop edges by bands of `v`, made on first use.
     bands: OnceLock<Bands>,
 }
@@ -138,6 +141,7 @@ impl Trim {
             lo,
             hi,
             chords: OnceLock::new(),
+            chord_tree: OnceLock::new(),
             bands: OnceLock::new(),
         }
     }
@@ -147,6 +151,22 @@ impl Trim {
     pub fn chords(&self, surface: &NurbsSurface) -> &[Chord] {
         self.chords
             .get_or_init(|| self.segments().map(|s| Chord::new(surface, s)).collect())
+    }
+
+    /// Calls `look(chord)` for every chord of [`Self::chords`] whose
+    /// [`Chord::lower_bound2`] from `p` is below the bound (at first
+    /// `bound`), nearer chords first as a box tree finds them; `look`
+    /// returns a new squared-distance bound when it found a closer point.
+    pub fn search_chords(
+        &self,
+        surface: &NurbsSurface,
+        p: Point3,
+        bound: f64,
+        mut look: impl FnMut(&Chord) -> Option<f64>,
+    ) -> f64 {
+        let chords = self.chords(surface);
+        let tree = self.chord_tree.get_or_init(|| ChordTree::new(chords));
+        tree.search(chords, p, bound, |i| chords.get(i).and_then(&mut look))
     }
 
     /// Whether `(u, v)` lies on the face (even-odd rule over all loops).

@@ -2,7 +2,7 @@
 //! straight line in (u, v) whose image on the surface is minimised over by a
 //! bounded one-dimensional Newton iteration.
 use super::{Foot, ProjectionError, ProjectionOptions, SearchStatus, UnconfirmedReason};
-use crate::geometry::{Jet2, NurbsSurface, SurfaceDerivs, Trim};
+use crate::geometry::{Jet2, NurbsSurface, Trim};
 use crate::math::{Point3, Vec2};
 
 /// The closest boundary point closer than `sqrt(best_dist2)`, if any.
@@ -13,25 +13,26 @@ pub(crate) fn closest_on_boundary(
     best_dist2: f64,
     opts: &ProjectionOptions,
 ) -> Result<Option<Foot>, ProjectionError> {
+    // Nearer chords first, as the trim's box tree finds them. The segment
+    // holding the least distance is searched whatever the order (its
+    // bound is below every other segment's least), so the answer is the
+    // same as a search of every segment.
     let mut best: Option<Foot> = None;
-    let mut bound = best_dist2;
-    for c in trim.chords(surface) {
-        if c.lower_bound2(p) >= bound {
-            continue;
-        }
+    trim.search_chords(surface, p, best_dist2, |c| {
         let foot = minimise_on_segment(surface, c.a, c.b, p, opts);
-        if foot.dist2 < bound {
-            bound = foot.dist2;
+        let closer = best.is_none_or(|b| foot.dist2 < b.dist2) && foot.dist2 < best_dist2;
+        closer.then(|| {
             best = Some(foot);
-        }
-    }
+            foot.dist2
+        })
+    });
     Ok(best)
 }
 
-fn foot_at(surface: &NurbsSurface, uv: Vec2, p: Point3) -> (Foot, SurfaceDerivs) {
-    let d = surface.derivs(uv.x, uv.y, 2);
+fn foot_at(surface: &NurbsSurface, uv: Vec2, p: Point3) -> (Foot, Jet2) {
+    let d = surface.jet2(uv.x, uv.y);
     let mut foot = Foot::unevaluated(uv);
-    foot.d = Jet2::from(&d);
+    foot.d = d;
     foot.dist2 = (d.point() - p).norm_squared();
     (foot, d)
 }
