@@ -339,12 +339,9 @@ impl PartCheck {
             let Some(l) = leaves.get(id as usize) else {
                 continue;
             };
-            if seg.box_beyond(&l.aabb, r2) {
-                continue;
-            }
-            let bound = seg.leaf_bound(l);
-            if bound < radius {
-                self.order.push((bound, id));
+            match seg.leaf_bound_within(l, r2) {
+                Some(bound) if bound < radius => self.order.push((bound, id)),
+                _ => {}
             }
         }
     }

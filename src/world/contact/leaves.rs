@@ -139,6 +139,13 @@ impl Leaf {
     /// surface over the leaf, mm.
     pub(crate) fn segment_lower_bound(&self, a: Point3, b: Point3) -> f64 {
         let d2 = super::shapes::segment_box(a, b, &self.aabb).0;
+        self.segment_lower_bound_from(d2, a, b)
+    }
+
+    /// [`Self::segment_lower_bound`] with the squared segment-box distance
+    /// `d2` known.
+    #[inline(always)]
+    pub(crate) fn segment_lower_bound_from(&self, d2: f64, a: Point3, b: Point3) -> f64 {
         d2.sqrt().max(self.slab.segment_dist(a, b))
     }
 

@@ -29,6 +29,19 @@ impl Shape for Segment {
     fn leaf_bound(&self, leaf: &Leaf) -> f64 {
         leaf.segment_lower_bound(self.a, self.b)
     }
+
+    /// The box test and the bound from one segment-box distance.
+    #[inline(always)]
+    fn leaf_bound_within(&self, leaf: &Leaf, r2: f64) -> Option<f64> {
+        let b = &leaf.aabb;
+        let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
+        let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
+        if gap.norm_squared() >= r2 {
+            return None;
+        }
+        let d2 = segment_box(self.a, self.b, b).0;
+        (d2 < r2).then(|| leaf.segment_lower_bound_from(d2, self.a, self.b))
+    }
 }
 
 /// The squared distance from the segment `a..b` to the box `bx` and the
@@ -59,7 +72,7 @@ pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
         }
     }
     let ts = ts.get_mut(..n).unwrap_or_default();
-    ts.sort_unstable_by(f64::total_cmp);
+    insertion_sort(ts);
     let mut best = (bx.dist2(a), 0.0);
     for w in ts.windows(2) {
         let &[t0, t1] = w else {
@@ -72,6 +85,18 @@ pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
         }
     }
     best
+}
+
+/// Sorts a few numbers (no NaN among them) in place.
+#[inline(always)]
+fn insertion_sort(ts: &mut [f64]) {
+    for i in 1..ts.len() {
+        let mut j = i;
+        while j > 0 && ts[j - 1] > ts[j] {
+            ts.swap(j - 1, j);
+            j -= 1;
+        }
+    }
 }
 
 /// [`segment_box`] of a segment along a coordinate axis (a stylus

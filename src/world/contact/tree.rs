@@ -18,6 +18,12 @@ pub(crate) trait Shape: Copy {
     }
     /// A lower bound of the distance to the true surface over `leaf`, mm.
     fn leaf_bound(&self, leaf: &Leaf) -> f64;
+    /// [`Self::leaf_bound`] when the leaf's box comes nearer than
+    /// `sqrt(r2)` (by [`Self::box_beyond`]), else `None`.
+    #[inline(always)]
+    fn leaf_bound_within(&self, leaf: &Leaf, r2: f64) -> Option<f64> {
+        (!self.box_beyond(&leaf.aabb, r2)).then(|| self.leaf_bound(leaf))
+    }
 }
 
 impl Shape for Point3 {
@@ -192,12 +198,9 @@ impl LeafTree {
                 let Some(l) = leaves.get(id as usize) else {
                     continue;
                 };
-                if p.box_beyond(&l.aabb, r2) {
-                    continue;
-                }
-                let bound = p.leaf_bound(l);
-                if bound < radius {
-                    visit(bound, id);
+                match p.leaf_bound_within(l, r2) {
+                    Some(bound) if bound < radius => visit(bound, id),
+                    _ => {}
                 }
             }
         }
