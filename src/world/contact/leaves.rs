@@ -242,6 +242,9 @@ pub(crate) struct Piece {
 pub(crate) struct Pieces {
     pub(crate) opts: LeafOptions,
     pieces: Vec<Piece>,
+    /// The leaf tree over the pieces' nominal boxes: each part refits it
+    /// to its own leaves ([`super::tree::LeafTree::refit`]).
+    pub(crate) tree: super::tree::LeafTree,
 }
 
 impl Pieces {
@@ -262,8 +265,15 @@ impl Pieces {
                 ctx.split(patch, mine, 0, &mut out);
             }
         }
+        let boxes: Vec<Aabb> = (out.iter())
+            .map(|p| Aabb {
+                min: p.nominal_box.0,
+                max: p.nominal_box.1,
+            })
+            .collect();
         Pieces {
             opts: *opts,
+            tree: super::tree::LeafTree::over(&boxes),
             pieces: out,
         }
     }

@@ -38,6 +38,8 @@ mod collide;
 mod leaves;
 mod line;
 mod pieces;
+#[cfg(test)]
+mod refit_tests;
 mod search;
 mod shapes;
 mod tree;

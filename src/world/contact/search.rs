@@ -44,8 +44,9 @@ pub(crate) struct PartIndex {
 impl PartIndex {
     /// The leaves and tree of the part `wp` as machined by `am`.
     pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> PartIndex {
-        let leaves = Leaves::of(&am.pieces.pieces(wp, &opts.leaves), am);
-        let tree = LeafTree::new(&leaves.leaves);
+        let pieces = am.pieces.pieces(wp, &opts.leaves);
+        let leaves = Leaves::of(&pieces, am);
+        let tree = pieces.tree.refit(&leaves.leaves);
         PartIndex { leaves, tree }
     }
 }

@@ -59,18 +59,46 @@ pub(crate) struct LeafTree {
 }
 
 impl LeafTree {
-    /// The tree over `leaves` (median splits along the longest side of the
-    /// boxes' centres).
-    pub(crate) fn new(leaves: &[Leaf]) -> LeafTree {
+    /// The tree over the boxes `boxes` (leaf `i` has `boxes[i]`; median
+    /// splits along the longest side of the boxes' centres).
+    pub(crate) fn over(boxes: &[Aabb]) -> LeafTree {
         let mut tree = LeafTree {
-            nodes: Vec::with_capacity(2 * leaves.len() / BUCKET + 1),
-            order: (0..leaves.len() as u32).collect(),
+            nodes: Vec::with_capacity(2 * boxes.len() / BUCKET + 1),
+            order: (0..boxes.len() as u32).collect(),
         };
-        let boxes: Vec<(Aabb, Point3)> = (leaves.iter())
-            .map(|l| (l.aabb, l.aabb.centre()))
-            .collect();
-        if !leaves.is_empty() {
-            tree.build(&boxes, 0, leaves.len());
+        let boxes: Vec<(Aabb, Point3)> = boxes.iter().map(|b| (*b, b.centre())).collect();
+        if !boxes.is_empty() {
+            tree.build(&boxes, 0, boxes.len());
+        }
+        tree
+    }
+
+    /// The same tree over `leaves` (as many as it was built over, in the
+    /// same order), its boxes made anew from theirs: the splits stay, so
+    /// it costs one pass. Any split answers every query the same way (the
+    /// queries are exact and their results do not depend on the order
+    /// the tree visits leaves in); splits made for nearly the same boxes
+    /// keep it as quick.
+    pub(crate) fn refit(&self, leaves: &[Leaf]) -> LeafTree {
+        let mut tree = self.clone();
+        // Children come after their parent: from the back, every child's
+        // box is made before its parent's.
+        for i in (0..tree.nodes.len()).rev() {
+            let Some(&node) = tree.nodes.get(i) else {
+                continue;
+            };
+            let aabb = if node.leaf {
+                let ids = tree.order.get(node.a as usize..node.b as usize);
+                (ids.unwrap_or_default().iter())
+                    .filter_map(|&l| leaves.get(l as usize))
+                    .fold(Aabb::empty(), |a, l| a.union(&l.aabb))
+            } else {
+                let child = |c: u32| tree.nodes.get(c as usize).map_or(Aabb::empty(), |n| n.aabb);
+                child(node.a).union(&child(node.b))
+            };
+            if let Some(n) = tree.nodes.get_mut(i) {
+                n.aabb = aabb;
+            }
         }
         tree
     }

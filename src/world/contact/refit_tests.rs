@@ -1,0 +1,82 @@
+//! The leaf tree made for the nominal pieces and refitted to a machined
+//! part's leaves answers every query as a look at every leaf does: the
+//! leaves within a distance of points and segments, and the nearest leaf
+//! bound, on a real part (the flange) moved, turned and stretched.
+use super::leaves::{LeafOptions, Leaves, Pieces};
+use super::shapes::Segment;
+use super::tree::{LeafTree, Shape};
+use crate::math::{Point3, Vec3};
+use crate::workpiece::Workpiece;
+use crate::world::as_machined::{AsMachined, AsMachinedSpec};
+use rand::{RngExt, SeedableRng};
+
+fn flange() -> Workpiece {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/io1-flange.stp");
+    Workpiece::from_path(&path).unwrap()
+}
+
+fn machined(wp: &Workpiece) -> AsMachined {
+    let spec: AsMachinedSpec = serde_json::from_str(
+        r#"{"transform":{"translate_mm":[0.4,-0.3,0.2],"rotate_deg":[0.5,-0.3,0.8],"scale":1.002},
+            "form":[{"kind":"offset","mm":0.02},
+                    {"kind":"bump","center_mm":[6,32.5,18.75],"radius_mm":3,"height_mm":0.05}]}"#,
+    )
+    .unwrap();
+    AsMachined::from_spec(&spec, wp).unwrap()
+}
+
+/// Every leaf whose bound from `shape` is below `radius`, by looking at
+/// each.
+fn brute<S: Shape>(leaves: &Leaves, shape: S, radius: f64) -> Vec<u32> {
+    let r2 = radius * radius;
+    (0..leaves.leaves.len() as u32)
+        .filter(|&i| {
+            let l = &leaves.leaves[i as usize];
+            shape.leaf_bound_within(l, r2).is_some_and(|b| b < radius)
+        })
+        .collect()
+}
+
+#[test]
+fn refitted_tree_answers_as_every_leaf_does() {
+    let wp = flange();
+    let pieces = Pieces::new(&wp, &LeafOptions::default());
+    let am = machined(&wp);
+    let leaves = Leaves::of(&pieces, &am);
+    let tree = pieces.tree.refit(&leaves.leaves);
+    let fresh = {
+        let boxes: Vec<_> = leaves.leaves.iter().map(|l| l.aabb).collect();
+        LeafTree::over(&boxes)
+    };
+    let (lo, hi) = leaves.leaves.iter().fold(
+        (Point3::from(Vec3::repeat(f64::INFINITY)), Point3::from(Vec3::repeat(f64::NEG_INFINITY))),
+        |(lo, hi), l| (lo.inf(&l.aabb.min), hi.sup(&l.aabb.max)),
+    );
+    let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(7);
+    // Points over the part's box and 2 mm beyond.
+    let mut point = || {
+        let t = Vec3::new(rng.random(), rng.random(), rng.random());
+        let span = hi - lo + Vec3::repeat(4.0);
+        Point3::from(lo.coords - Vec3::repeat(2.0) + span.component_mul(&t))
+    };
+    let mut hits = 0;
+    for k in 0..400 {
+        let p = point();
+        let q = point();
+        let radius = 0.5 + (k % 7) as f64;
+        let mut got = Vec::new();
+        tree.within(&leaves.leaves, p, radius, &mut got);
+        got.sort_unstable();
+        assert_eq!(got, brute(&leaves, p, radius), "point {p:?} within {radius}");
+        hits += got.len();
+        let seg = Segment { a: p, b: q };
+        let mut got = Vec::new();
+        tree.within(&leaves.leaves, seg, radius, &mut got);
+        got.sort_unstable();
+        assert_eq!(got, brute(&leaves, seg, radius), "segment {seg:?} within {radius}");
+        let all = (leaves.leaves.iter()).map(|l| p.leaf_bound(l)).fold(f64::INFINITY, f64::min);
+        assert_eq!(tree.nearest(&leaves.leaves, p), all);
+        assert_eq!(fresh.nearest(&leaves.leaves, p), all);
+    }
+    assert!(hits > 1000, "{hits}");
+}
