@@ -167,6 +167,11 @@ impl OutputSet {
             let tmp = temp_path(path);
             register(Pending::File(tmp.clone()));
             temps.push((tmp.clone(), path.clone()));
+            // Each temporary file is flushed to disk before any rename, so
+            // that after a power loss or OS crash a target holds either its
+            // old contents or the complete new file, never an empty or
+            // partial one (a process crash alone cannot cause that: the
+            // kernel still has the data). It costs one fsync per file.
             std::fs::File::create(&tmp)
                 .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
                 .map_err(|e| WriteError::new(path, e))?;

@@ -1,7 +1,9 @@
 //! `report.html`: one self-contained page (inline CSS and SVG, no scripts,
 //! no fonts, images or links outside the file) for a human reader.
 
-use super::markup::{escape, fixed, json_name};
+use std::fmt::Write;
+
+use super::markup::{json_name, push_escaped, push_fixed};
 use super::model::{FeatureReport, Report};
 use super::plots::{
     correction_text, deviation_plot, out_of_tolerance, outside_count, timeline_plot,
@@ -60,57 +62,75 @@ svg text.corr-label { font-weight: bold; fill: #5b2a86; }
 .corr-line { stroke: #8e5cc0; stroke-width: 1.5; stroke-dasharray: 3 3; }
 ";
 
+/// Bytes reserved for the page besides the stylesheet and the points.
+const PAGE_BYTES: usize = 16 * 1024;
+/// Typical bytes of the markup of one point (plots and tables).
+const POINT_BYTES: usize = 300;
+
 /// The whole page. Deterministic: no timestamps and no wall time, fixed
 /// number formatting, features in report order.
 pub fn report_html(report: &Report) -> String {
-    let title = escape(&format!("cmm report: {}", report.program));
-    let mut out = format!(
-        "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
-         <title>{title}</title>\n<style>{CSS}</style>\n</head>\n<body>\n"
-    );
-    out.push_str(&header(report));
-    out.push_str(&summary(report));
+    let points: usize = report.features.iter().map(|f| f.points.len()).sum();
+    let mut out = String::with_capacity(CSS.len() + PAGE_BYTES + points * POINT_BYTES);
+    out.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>");
+    push_escaped(&mut out, "cmm report: ");
+    push_escaped(&mut out, &report.program);
+    out.push_str("</title>\n<style>");
+    out.push_str(CSS);
+    out.push_str("</style>\n</head>\n<body>\n");
+    header(&mut out, report);
+    summary(&mut out, report);
     for (index, feature) in report.features.iter().enumerate() {
-        out.push_str(&feature_section(index, feature));
+        feature_section(&mut out, index, feature);
     }
     out.push_str("</body>\n</html>\n");
     out
 }
 
 /// A status word in its colour.
-fn status_badge(status: &impl serde::Serialize) -> String {
+fn status_badge(out: &mut String, status: &impl serde::Serialize) {
     let name = json_name(status);
-    format!(
-        "<span class=\"status {name}\">{}</span>",
-        name.to_uppercase()
-    )
+    out.push_str("<span class=\"status ");
+    out.push_str(&name);
+    out.push_str("\">");
+    out.push_str(&name.to_uppercase());
+    out.push_str("</span>");
 }
 
 /// Title and run facts.
-fn header(report: &Report) -> String {
-    let rows = [
-        ("Status", status_badge(&report.status)),
-        ("Seed", report.seed.to_string()),
-        ("Machine time", seconds(report.machine_time_s)),
-        (
-            "Ideal machine and probe",
-            ideal_text(report.ideal).to_string(),
-        ),
-        ("Probe", probe_text(report)),
-        ("Part to machine", placement(report)),
-    ];
-    let program = escape(&report.program);
-    let mut out = format!("<h1>Inspection report: {program}</h1>\n<table class=\"meta\">\n");
-    for (key, value) in rows {
-        out.push_str(&format!("<tr><td><b>{key}</b></td><td>{value}</td></tr>\n"));
-    }
+fn header(out: &mut String, report: &Report) {
+    out.push_str("<h1>Inspection report: ");
+    push_escaped(out, &report.program);
+    out.push_str("</h1>\n<table class=\"meta\">\n");
+    meta_row(out, "Status", |out| status_badge(out, &report.status));
+    meta_row(out, "Seed", |out| {
+        // Writing into a String cannot fail.
+        let _ = write!(out, "{}", report.seed);
+    });
+    meta_row(out, "Machine time", |out| {
+        seconds(out, report.machine_time_s)
+    });
+    meta_row(out, "Ideal machine and probe", |out| {
+        out.push_str(ideal_text(report.ideal));
+    });
+    meta_row(out, "Probe", |out| probe_text(out, report));
+    meta_row(out, "Part to machine", |out| placement(out, report));
     out.push_str("</table>\n");
-    out
+}
+
+/// One row of the run facts; `value` appends the value's markup.
+fn meta_row(out: &mut String, key: &str, value: impl FnOnce(&mut String)) {
+    out.push_str("<tr><td><b>");
+    out.push_str(key);
+    out.push_str("</b></td><td>");
+    value(out);
+    out.push_str("</td></tr>\n");
 }
 
 /// A machine time, `12.34 s`.
-fn seconds(time: f64) -> String {
-    format!("{} s", fixed(time, TIME_DECIMALS))
+fn seconds(out: &mut String, time: f64) {
+    push_fixed(out, time, TIME_DECIMALS);
+    out.push_str(" s");
 }
 
 /// What `--ideal` means, in words.
@@ -123,100 +143,131 @@ fn ideal_text(ideal: bool) -> &'static str {
 }
 
 /// Probe source, tip radius and probe vector (escaped).
-fn probe_text(report: &Report) -> String {
+fn probe_text(out: &mut String, report: &Report) {
     let probe = &report.probe;
-    format!(
-        "{}; tip radius {} mm; probe vector {} mm",
-        escape(&probe.source),
-        fixed(probe.tip_radius_mm, MATRIX_DECIMALS),
-        vector(probe.probe_vector_mm)
-    )
+    push_escaped(out, &probe.source);
+    out.push_str("; tip radius ");
+    push_fixed(out, probe.tip_radius_mm, MATRIX_DECIMALS);
+    out.push_str(" mm; probe vector ");
+    vector(out, probe.probe_vector_mm);
+    out.push_str(" mm");
 }
 
 /// `(x, y, z)` with fixed decimals.
-fn vector(v: [f64; 3]) -> String {
-    let parts: Vec<String> = v.iter().map(|c| fixed(*c, MATRIX_DECIMALS)).collect();
-    format!("({})", parts.join(", "))
+fn vector(out: &mut String, v: [f64; 3]) {
+    out.push('(');
+    for (k, c) in v.iter().enumerate() {
+        if k > 0 {
+            out.push_str(", ");
+        }
+        push_fixed(out, *c, MATRIX_DECIMALS);
+    }
+    out.push(')');
 }
 
 /// The rotation rows and the translation.
-fn placement(report: &Report) -> String {
+fn placement(out: &mut String, report: &Report) {
     let p = &report.part_to_machine;
-    let rows: Vec<String> = p.rotation.iter().map(|r| vector(*r)).collect();
-    format!(
-        "rotation [{}], translation {} mm",
-        rows.join(", "),
-        vector(p.translation_mm)
-    )
+    out.push_str("rotation [");
+    for (k, row) in p.rotation.iter().enumerate() {
+        if k > 0 {
+            out.push_str(", ");
+        }
+        vector(out, *row);
+    }
+    out.push_str("], translation ");
+    vector(out, p.translation_mm);
+    out.push_str(" mm");
 }
 
 /// The feature table with out-of-tolerance cells marked.
-fn summary(report: &Report) -> String {
-    let head = "<tr><th class=\"name\">Feature</th><th class=\"name\">Type</th><th>Status</th>\
-                <th>Points</th><th>Min (mm)</th><th>Max (mm)</th><th>Mean (mm)</th>\
-                <th>RMS (mm)</th><th>Tolerance (mm)</th><th>Out of tol.</th><th>Attempts</th></tr>\n";
-    let mut out = format!("<h2>Features</h2>\n<table class=\"summary\">\n{head}");
+fn summary(out: &mut String, report: &Report) {
+    out.push_str(
+        "<h2>Features</h2>\n<table class=\"summary\">\n\
+         <tr><th class=\"name\">Feature</th><th class=\"name\">Type</th><th>Status</th>\
+         <th>Points</th><th>Min (mm)</th><th>Max (mm)</th><th>Mean (mm)</th>\
+         <th>RMS (mm)</th><th>Tolerance (mm)</th><th>Out of tol.</th><th>Attempts</th></tr>\n",
+    );
     for (index, feature) in report.features.iter().enumerate() {
-        out.push_str(&summary_row(index, feature));
+        summary_row(out, index, feature);
     }
     out.push_str("</table>\n");
-    out
 }
 
 /// One row of the feature table.
-fn summary_row(index: usize, f: &FeatureReport) -> String {
+fn summary_row(out: &mut String, index: usize, f: &FeatureReport) {
     let (s, t) = (f.deviation_mm, f.tolerance_mm);
     let status = json_name(&f.status);
-    let link = format!("<a href=\"#feature-{}\">{}</a>", index + 1, escape(&f.name));
     let outside = outside_count(f);
-    let cells = [
-        td("name", &link),
-        td("text", &escape(&json_name(&f.kind))),
-        td(&status, &status),
-        td("", &f.points.len().to_string()),
-        stat_cell(f, s.min, s.min < t.lower),
-        stat_cell(f, s.max, s.max > t.upper),
-        stat_cell(f, s.mean, out_of_tolerance(s.mean, t)),
-        stat_cell(f, s.rms, false),
-        td("", &format!("{}..{}", mm(t.lower), mm(t.upper))),
-        td(if outside > 0 { "out" } else { "" }, &outside.to_string()),
-        td("", &f.attempts.len().to_string()),
-    ];
-    format!("<tr>{}</tr>\n", cells.concat())
+    out.push_str("<tr>");
+    td(out, "name", |out| {
+        let _ = write!(out, "<a href=\"#feature-{}\">", index + 1);
+        push_escaped(out, &f.name);
+        out.push_str("</a>");
+    });
+    td(out, "text", |out| push_escaped(out, &json_name(&f.kind)));
+    td(out, &status, |out| out.push_str(&status));
+    td(out, "", |out| count(out, f.points.len()));
+    stat_cell(out, f, s.min, s.min < t.lower);
+    stat_cell(out, f, s.max, s.max > t.upper);
+    stat_cell(out, f, s.mean, out_of_tolerance(s.mean, t));
+    stat_cell(out, f, s.rms, false);
+    td(out, "", |out| {
+        mm(out, t.lower);
+        out.push_str("..");
+        mm(out, t.upper);
+    });
+    let outside_class = if outside > 0 { "out" } else { "" };
+    td(out, outside_class, |out| count(out, outside));
+    td(out, "", |out| count(out, f.attempts.len()));
+    out.push_str("</tr>\n");
 }
 
-/// A table cell with an optional class; `content` is markup.
-fn td(class: &str, content: &str) -> String {
+/// A count in decimal.
+fn count(out: &mut String, n: usize) {
+    // Writing into a String cannot fail.
+    let _ = write!(out, "{n}");
+}
+
+/// A table cell with an optional class; `content` appends markup.
+fn td(out: &mut String, class: &str, content: impl FnOnce(&mut String)) {
     if class.is_empty() {
-        format!("<td>{content}</td>")
+        out.push_str("<td>");
     } else {
-        format!("<td class=\"{class}\">{content}</td>")
+        out.push_str("<td class=\"");
+        out.push_str(class);
+        out.push_str("\">");
     }
+    content(out);
+    out.push_str("</td>");
 }
 
 /// A deviation statistic: `-` without points, marked when out of tolerance.
-fn stat_cell(feature: &FeatureReport, value: f64, out: bool) -> String {
-    match (feature.points.is_empty(), out) {
-        (true, _) => td("", "-"),
-        (false, true) => td("out", &format!("&#9650; {}", mm(value))),
-        (false, false) => td("", &mm(value)),
+fn stat_cell(out: &mut String, feature: &FeatureReport, value: f64, outside: bool) {
+    match (feature.points.is_empty(), outside) {
+        (true, _) => td(out, "", |out| out.push('-')),
+        (false, true) => td(out, "out", |out| {
+            out.push_str("&#9650; ");
+            mm(out, value);
+        }),
+        (false, false) => td(out, "", |out| mm(out, value)),
     }
 }
 
 /// A length in mm with [`MM_DECIMALS`] decimals.
-fn mm(value: f64) -> String {
-    fixed(value, MM_DECIMALS)
+fn mm(out: &mut String, value: f64) {
+    push_fixed(out, value, MM_DECIMALS);
 }
 
 /// A feature's heading, notes, corrections and its three plots.
-fn feature_section(index: usize, feature: &FeatureReport) -> String {
-    let mut out = format!(
-        "<section id=\"feature-{}\">\n<h2>{} {}</h2>\n",
-        index + 1,
-        escape(&feature.name),
-        status_badge(&feature.status)
-    );
-    out.push_str(&notes(feature));
+fn feature_section(out: &mut String, index: usize, feature: &FeatureReport) {
+    // Writing into a String cannot fail.
+    let _ = write!(out, "<section id=\"feature-{}\">\n<h2>", index + 1);
+    push_escaped(out, &feature.name);
+    out.push(' ');
+    status_badge(out, &feature.status);
+    out.push_str("</h2>\n");
+    notes(out, feature);
     out.push_str("<h3>Deviation along the section</h3>\n");
     out.push_str(&deviation_plot(feature));
     out.push_str("<h3>Profile</h3>\n");
@@ -224,19 +275,23 @@ fn feature_section(index: usize, feature: &FeatureReport) -> String {
     out.push_str("<h3>Attempts and corrections</h3>\n");
     out.push_str(&timeline_plot(feature));
     out.push_str("</section>\n");
-    out
 }
 
 /// Notes and corrections as a list (nothing when there are none).
-fn notes(feature: &FeatureReport) -> String {
-    let corrections = feature.corrections.iter().map(correction_text);
-    let items: Vec<String> = feature.notes.iter().cloned().chain(corrections).collect();
-    if items.is_empty() {
-        return String::new();
+fn notes(out: &mut String, feature: &FeatureReport) {
+    if feature.notes.is_empty() && feature.corrections.is_empty() {
+        return;
     }
-    let lis: Vec<String> = items
-        .iter()
-        .map(|i| format!("<li>{}</li>", escape(i)))
-        .collect();
-    format!("<ul>\n{}\n</ul>\n", lis.join("\n"))
+    out.push_str("<ul>\n");
+    let corrections = feature.corrections.iter().map(correction_text);
+    let items = feature.notes.iter().cloned().chain(corrections);
+    for (k, item) in items.enumerate() {
+        if k > 0 {
+            out.push('\n');
+        }
+        out.push_str("<li>");
+        push_escaped(out, &item);
+        out.push_str("</li>");
+    }
+    out.push_str("\n</ul>\n");
 }

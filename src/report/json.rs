@@ -2,6 +2,11 @@
 
 use super::model::Report;
 
+/// Bytes reserved for the JSON besides the points.
+const BASE_BYTES: usize = 8 * 1024;
+/// Typical bytes of one pretty-printed point.
+const POINT_BYTES: usize = 550;
+
 /// The report as pretty-printed JSON with a trailing newline. Deterministic:
 /// keys in model field order, numbers as `serde_json` writes `f64`
 /// (shortest round-trip form; non-finite values become `null`).
@@ -11,14 +16,33 @@ pub fn to_json(report: &Report) -> String {
             text.push('\n');
             text
         }
-        // Unreachable for this model (no maps, no fallible Serialize impls);
-        // still valid JSON that names the problem rather than a panic.
-        Err(err) => format!(
-            "{{\"format\": {:?}, \"error\": {:?}}}\n",
-            report.format,
-            err.to_string()
-        ),
+        Err(err) => error_json(report, &err),
     }
+}
+
+/// [`to_json`] as UTF-8 bytes, written straight into a buffer sized for
+/// the report.
+pub fn to_json_bytes(report: &Report) -> Vec<u8> {
+    let points: usize = report.features.iter().map(|f| f.points.len()).sum();
+    let mut bytes = Vec::with_capacity(BASE_BYTES + points * POINT_BYTES);
+    match serde_json::to_writer_pretty(&mut bytes, report) {
+        Ok(()) => {
+            bytes.push(b'\n');
+            bytes
+        }
+        Err(err) => error_json(report, &err).into_bytes(),
+    }
+}
+
+/// The JSON written when serialisation fails. Unreachable for this model
+/// (no maps, no fallible Serialize impls); still valid JSON that names the
+/// problem rather than a panic.
+fn error_json(report: &Report, err: &serde_json::Error) -> String {
+    format!(
+        "{{\"format\": {:?}, \"error\": {:?}}}\n",
+        report.format,
+        err.to_string()
+    )
 }
 
 #[cfg(test)]
@@ -52,5 +76,6 @@ mod tests {
         assert!(text.ends_with("}\n"));
         assert!(text.contains("\n  \"seed\": 7,"));
         assert_eq!(text, to_json(&report));
+        assert_eq!(text.as_bytes(), to_json_bytes(&report));
     }
 }

@@ -1,24 +1,39 @@
 //! Text helpers shared by the writers: escaping for XML/HTML and CSV, and
-//! number formatting (deterministic, locale-free).
+//! number formatting (deterministic, locale-free), as new strings or
+//! appended to a caller's buffer.
+
+use std::fmt::Write;
+
+use super::decimal::push_std_fixed;
 
 /// Escapes `&`, `<`, `>`, `"` and `'` for XML/HTML text and attribute values;
 /// control characters other than tab, CR and LF (not allowed in XML 1.0)
 /// become U+FFFD.
 pub fn escape(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\t' | '\n' | '\r' => out.push(c),
-            c if c.is_control() => out.push('\u{FFFD}'),
-            c => out.push(c),
-        }
-    }
+    push_escaped(&mut out, text);
     out
+}
+
+/// Appends `text` escaped as by [`escape`].
+pub fn push_escaped(out: &mut String, text: &str) {
+    let mut plain = 0;
+    for (at, c) in text.char_indices() {
+        let replacement = match c {
+            '&' => "&amp;",
+            '<' => "&lt;",
+            '>' => "&gt;",
+            '"' => "&quot;",
+            '\'' => "&apos;",
+            '\t' | '\n' | '\r' => continue,
+            c if c.is_control() => "\u{FFFD}",
+            _ => continue,
+        };
+        out.push_str(&text[plain..at]);
+        out.push_str(replacement);
+        plain = at + c.len_utf8();
+    }
+    out.push_str(&text[plain..]);
 }
 
 /// A CSV field (RFC 4180): quoted when it holds a comma, quote, CR or LF.
@@ -30,23 +45,34 @@ pub fn csv_field(text: &str) -> String {
     }
 }
 
-/// A number exactly as `serde_json` writes it (shortest round-trip form,
-/// e.g. `0.1`, `1.0`, `-2.5e-7`); non-finite values as Rust prints them
-/// (`NaN`, `inf`, `-inf`), which JSON cannot hold (it writes `null`).
-pub fn json_number(value: f64) -> String {
-    match serde_json::Number::from_f64(value) {
-        Some(number) => number.to_string(),
-        None => value.to_string(),
-    }
+/// Appends a number exactly as `serde_json` writes it (shortest round-trip
+/// form, e.g. `0.1`, `1.0`, `-2.5e-7`); non-finite values as Rust prints
+/// them (`NaN`, `inf`, `-inf`), which JSON cannot hold (it writes `null`).
+pub fn push_json_number(out: &mut String, value: f64) {
+    // Writing into a String cannot fail.
+    let _ = match serde_json::Number::from_f64(value) {
+        Some(number) => write!(out, "{number}"),
+        None => write!(out, "{value}"),
+    };
 }
 
 /// Fixed-point formatting with `decimals` digits; `-0.000` becomes `0.000`
 /// so that output does not depend on the sign of tiny values.
 pub fn fixed(value: f64, decimals: usize) -> String {
-    let text = format!("{value:.decimals$}");
-    match text.strip_prefix('-') {
-        Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_string(),
-        _ => text,
+    let mut out = String::new();
+    push_fixed(&mut out, value, decimals);
+    out
+}
+
+/// Appends `value` as by [`fixed`].
+pub fn push_fixed(out: &mut String, value: f64, decimals: usize) {
+    let start = out.len();
+    push_std_fixed(out, value, decimals);
+    let written = &out.as_bytes()[start..];
+    if let Some((b'-', rest)) = written.split_first() {
+        if rest.iter().all(|&b| b == b'0' || b == b'.') {
+            out.remove(start);
+        }
     }
 }
 
@@ -76,6 +102,11 @@ mod tests {
 
     #[test]
     fn numbers_match_serde_json() {
+        let json_number = |v: f64| {
+            let mut out = String::new();
+            push_json_number(&mut out, v);
+            out
+        };
         for v in [0.1, 1.0, -2.5e-7, 1e21, 123456.789] {
             assert_eq!(json_number(v), serde_json::to_string(&v).unwrap());
         }
@@ -86,5 +117,36 @@ mod tests {
     fn fixed_drops_negative_zero() {
         assert_eq!(fixed(-0.00001, 3), "0.000");
         assert_eq!(fixed(-0.5, 1), "-0.5");
+        assert_eq!(fixed(-0.0, 0), "0");
+        assert_eq!(fixed(-0.4, 0), "0");
+        assert_eq!(fixed(-0.6, 0), "-1");
+        assert_eq!(fixed(f64::NEG_INFINITY, 2), "-inf");
+    }
+
+    #[test]
+    fn fixed_matches_the_format_macro_without_negative_zero() {
+        let values = [
+            -0.0, -1e-9, -0.00049, -0.0005, -0.00051, 0.125, -0.125, 2.5, -2.5,
+        ];
+        for value in values {
+            for decimals in 0..=8 {
+                let text = format!("{value:.decimals$}");
+                let expected = match text.strip_prefix('-') {
+                    Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest,
+                    _ => &text,
+                };
+                let mut out = String::from("<");
+                push_fixed(&mut out, value, decimals);
+                assert_eq!(out, format!("<{expected}"), "{value} at {decimals}");
+            }
+        }
+    }
+
+    #[test]
+    fn appending_escape_matches_escape_of_mixed_text() {
+        let text = "\u{1}ä<&>'\"\tend\u{7f}é";
+        let mut out = String::from("x");
+        push_escaped(&mut out, text);
+        assert_eq!(out, "x\u{FFFD}ä&lt;&amp;&gt;&apos;&quot;\tend\u{FFFD}é");
     }
 }

@@ -2,6 +2,7 @@
 //! (`report.json`, `points.csv`, `report.html`, `junit.xml`).
 
 pub mod csv;
+mod decimal;
 pub mod html;
 pub mod json;
 pub mod junit;

@@ -26,6 +26,8 @@ const BAR_HEIGHT: f64 = 18.0;
 const LEGEND_LINE: f64 = 18.0;
 /// Half-diagonal of a correction marker, px.
 const DIAMOND_PX: f64 = 6.0;
+/// Typical bytes of one point's marker and trace in the deviation plot.
+const POINT_MARKUP_BYTES: usize = 80;
 /// Decimals of machine times (s) in labels.
 const TIME_DECIMALS: usize = 2;
 /// Decimals of deviations (mm) in labels: 0.1 um.
@@ -88,6 +90,7 @@ pub fn deviation_plot(feature: &FeatureReport) -> String {
     let (xs, x_title) = positions(feature);
     let frame = deviation_frame(feature, &xs);
     let mut svg = Svg::new(PLOT_WIDTH, DEVIATION_HEIGHT, &title);
+    svg.reserve(feature.points.len() * POINT_MARKUP_BYTES);
     draw_band(&mut svg, &frame, feature.tolerance_mm);
     frame.draw_axes(&mut svg, x_title, "deviation (mm)");
     let (x0, x1) = (frame.x.lo, frame.x.hi);

@@ -29,6 +29,8 @@ const CLOSING_GAP: f64 = 1.5;
 const NOMINAL_DOT_PX: f64 = 2.5;
 /// Smallest extent of the drawing, mm (a single point still gets a scale).
 const MIN_EXTENT_MM: f64 = 1.0;
+/// Typical bytes of one point's needle and curve vertices in the plot.
+const POINT_MARKUP_BYTES: usize = 130;
 
 /// An orthonormal 2-D view of 3-D points: `(p - origin) . u` across,
 /// `(p - origin) . v` up.
@@ -207,6 +209,7 @@ pub fn profile_plot(feature: &FeatureReport) -> String {
     let amp = amplification(feature, &points, &view);
     let layers = Layers::new(feature, &points, &view, amp);
     let mut svg = Svg::new(PLOT_WIDTH, layers.fit.height, &title);
+    svg.reserve(points.len() * POINT_MARKUP_BYTES);
     layers.draw(
         &mut svg,
         feature.kind != crate::report::FeatureKind::TouchPoints,

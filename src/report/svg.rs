@@ -3,7 +3,7 @@
 //! that the output is deterministic and diff-friendly. Styling is by CSS
 //! class (the classes are defined in the HTML page's stylesheet).
 
-use super::markup::{escape, fixed};
+use super::markup::{fixed, push_escaped, push_fixed};
 
 /// Decimals of pixel coordinates.
 const PX_DECIMALS: usize = 2;
@@ -20,11 +20,18 @@ const TICK_PX: f64 = 5.0;
 /// Most ticks per axis.
 const MAX_TICKS: usize = 10;
 
-/// A pixel coordinate as text; a non-finite value (callers leave such
+/// Appends a pixel coordinate; a non-finite value (callers leave such
 /// points out) becomes 0 so that the SVG stays valid.
-pub fn px(value: f64) -> String {
-    fixed(if value.is_finite() { value } else { 0.0 }, PX_DECIMALS)
+pub fn push_px(out: &mut String, value: f64) {
+    push_fixed(
+        out,
+        if value.is_finite() { value } else { 0.0 },
+        PX_DECIMALS,
+    );
 }
+
+/// Bytes reserved for a new SVG: the frame, axes and captions of a plot.
+const INITIAL_CAPACITY: usize = 4096;
 
 /// An SVG document under construction.
 #[derive(Debug)]
@@ -35,45 +42,70 @@ pub struct Svg {
 impl Svg {
     /// Starts an inline `<svg>` of the given size (px) with an accessible title.
     pub fn new(width: f64, height: f64, title: &str) -> Svg {
-        let (w, h) = (px(width), px(height));
-        let out = format!(
-            "<svg class=\"plot\" width=\"{w}\" height=\"{h}\" viewBox=\"0 0 {w} {h}\" \
-             role=\"img\"><title>{}</title>\n",
-            escape(title)
-        );
-        Svg { out }
+        let mut svg = Svg {
+            out: String::with_capacity(INITIAL_CAPACITY),
+        };
+        svg.out.push_str("<svg class=\"plot\"");
+        svg.attr("width", width);
+        svg.attr("height", height);
+        svg.out.push_str(" viewBox=\"0 0 ");
+        push_px(&mut svg.out, width);
+        svg.out.push(' ');
+        push_px(&mut svg.out, height);
+        svg.out.push_str("\" role=\"img\"><title>");
+        push_escaped(&mut svg.out, title);
+        svg.out.push_str("</title>\n");
+        svg
+    }
+
+    /// Reserves room for `additional` more bytes of markup.
+    pub fn reserve(&mut self, additional: usize) {
+        self.out.reserve(additional);
+    }
+
+    /// ` name="value"` with a pixel value.
+    fn attr(&mut self, name: &str, value: f64) {
+        self.out.push(' ');
+        self.out.push_str(name);
+        self.out.push_str("=\"");
+        push_px(&mut self.out, value);
+        self.out.push('"');
+    }
+
+    /// ` class="class"/>` and the line end.
+    fn end_empty(&mut self, class: &str) {
+        self.out.push_str(" class=\"");
+        self.out.push_str(class);
+        self.out.push_str("\"/>\n");
     }
 
     /// A line segment.
     pub fn line(&mut self, a: (f64, f64), b: (f64, f64), class: &str) {
-        self.out.push_str(&format!(
-            "<line x1=\"{}\" y1=\"{}\" x2=\"{}\" y2=\"{}\" class=\"{class}\"/>\n",
-            px(a.0),
-            px(a.1),
-            px(b.0),
-            px(b.1)
-        ));
+        self.out.push_str("<line");
+        self.attr("x1", a.0);
+        self.attr("y1", a.1);
+        self.attr("x2", b.0);
+        self.attr("y2", b.1);
+        self.end_empty(class);
     }
 
     /// An axis-aligned rectangle from its top-left corner and size.
     pub fn rect(&mut self, corner: (f64, f64), size: (f64, f64), class: &str) {
-        self.out.push_str(&format!(
-            "<rect x=\"{}\" y=\"{}\" width=\"{}\" height=\"{}\" class=\"{class}\"/>\n",
-            px(corner.0),
-            px(corner.1),
-            px(size.0.max(0.0)),
-            px(size.1.max(0.0))
-        ));
+        self.out.push_str("<rect");
+        self.attr("x", corner.0);
+        self.attr("y", corner.1);
+        self.attr("width", size.0.max(0.0));
+        self.attr("height", size.1.max(0.0));
+        self.end_empty(class);
     }
 
     /// A circle.
     pub fn circle(&mut self, centre: (f64, f64), radius: f64, class: &str) {
-        self.out.push_str(&format!(
-            "<circle cx=\"{}\" cy=\"{}\" r=\"{}\" class=\"{class}\"/>\n",
-            px(centre.0),
-            px(centre.1),
-            px(radius)
-        ));
+        self.out.push_str("<circle");
+        self.attr("cx", centre.0);
+        self.attr("cy", centre.1);
+        self.attr("r", radius);
+        self.end_empty(class);
     }
 
     /// An open polyline (nothing for fewer than two points).
@@ -81,36 +113,46 @@ impl Svg {
         if points.len() < 2 {
             return;
         }
-        let coords: Vec<String> = points
-            .iter()
-            .map(|(x, y)| format!("{},{}", px(*x), px(*y)))
-            .collect();
-        self.out.push_str(&format!(
-            "<polyline points=\"{}\" class=\"{class}\"/>\n",
-            coords.join(" ")
-        ));
+        self.points_element("polyline", points, class);
     }
 
     /// A closed polygon.
     pub fn polygon(&mut self, points: &[(f64, f64)], class: &str) {
-        let coords: Vec<String> = points
-            .iter()
-            .map(|(x, y)| format!("{},{}", px(*x), px(*y)))
-            .collect();
-        self.out.push_str(&format!(
-            "<polygon points=\"{}\" class=\"{class}\"/>\n",
-            coords.join(" ")
-        ));
+        self.points_element("polygon", points, class);
+    }
+
+    /// `<tag points="x,y x,y ..." class="class"/>`.
+    fn points_element(&mut self, tag: &str, points: &[(f64, f64)], class: &str) {
+        /// Typical bytes of one `x,y` pair with its separator.
+        const PAIR_BYTES: usize = 14;
+        self.out.reserve(points.len() * PAIR_BYTES + 64);
+        self.out.push('<');
+        self.out.push_str(tag);
+        self.out.push_str(" points=\"");
+        for (k, (x, y)) in points.iter().enumerate() {
+            if k > 0 {
+                self.out.push(' ');
+            }
+            push_px(&mut self.out, *x);
+            self.out.push(',');
+            push_px(&mut self.out, *y);
+        }
+        self.out.push('"');
+        self.end_empty(class);
     }
 
     /// Text; `anchor` is `start`, `middle` or `end`.
     pub fn text(&mut self, at: (f64, f64), anchor: &str, class: &str, content: &str) {
-        self.out.push_str(&format!(
-            "<text x=\"{}\" y=\"{}\" text-anchor=\"{anchor}\" class=\"{class}\">{}</text>\n",
-            px(at.0),
-            px(at.1),
-            escape(content)
-        ));
+        self.out.push_str("<text");
+        self.attr("x", at.0);
+        self.attr("y", at.1);
+        self.out.push_str(" text-anchor=\"");
+        self.out.push_str(anchor);
+        self.out.push_str("\" class=\"");
+        self.out.push_str(class);
+        self.out.push_str("\">");
+        push_escaped(&mut self.out, content);
+        self.out.push_str("</text>\n");
     }
 
     /// Closes the element and returns the markup.

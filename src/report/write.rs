@@ -22,12 +22,12 @@ pub fn write_reports(dir: &Path, report: &Report) -> Result<(), WriteError> {
 /// Adds the four report files of `report` in `dir` to an output set.
 pub fn add_reports(set: &mut OutputSet, dir: &Path, report: &Report) {
     let contents = [
-        json::to_json(report),
-        csv::points_csv(report),
-        html::report_html(report),
-        junit::junit_xml(report),
+        json::to_json_bytes(report),
+        csv::points_csv(report).into_bytes(),
+        html::report_html(report).into_bytes(),
+        junit::junit_xml(report).into_bytes(),
     ];
-    for (name, text) in REPORT_FILES.iter().zip(contents) {
-        set.add(&dir.join(name), text.into_bytes());
+    for (name, bytes) in REPORT_FILES.iter().zip(contents) {
+        set.add(&dir.join(name), bytes);
     }
 }
