@@ -68,8 +68,8 @@ impl ChordTree {
         let of = |i: &usize| boxes.get(*i).copied();
         let ids = order.get(range.clone()).unwrap_or_default();
         let far = Point3::from(Vec3::repeat(f64::INFINITY));
-        let (lo, hi) = (ids.iter().filter_map(of))
-            .fold((far, -far), |(l, h), (a, b)| (l.inf(&a), h.sup(&b)));
+        let (lo, hi) =
+            (ids.iter().filter_map(of)).fold((far, -far), |(l, h), (a, b)| (l.inf(&a), h.sup(&b)));
         let kind = if range.len() <= BUCKET {
             Kind::Chords(range)
         } else {
@@ -106,10 +106,18 @@ impl ChordTree {
             };
             match &node.kind {
                 Kind::Split(l, r) => {
-                    let near = |c: usize| self.nodes.get(c).map_or(f64::INFINITY, |n| dist2((n.lo, n.hi), p));
+                    let near = |c: usize| {
+                        self.nodes
+                            .get(c)
+                            .map_or(f64::INFINITY, |n| dist2((n.lo, n.hi), p))
+                    };
                     let (dl, dr) = (near(*l), near(*r));
                     // The nearer child is looked at first (pushed last).
-                    let pair = if dl <= dr { [(dr, *r), (dl, *l)] } else { [(dl, *l), (dr, *r)] };
+                    let pair = if dl <= dr {
+                        [(dr, *r), (dl, *l)]
+                    } else {
+                        [(dl, *l), (dr, *r)]
+                    };
                     stack.extend(pair.into_iter().filter(|c| c.0 < bound));
                 }
                 Kind::Chords(range) => {

@@ -162,7 +162,11 @@ impl FaceTree {
             };
             match &node.kind {
                 Kind::Split(l, r) => {
-                    let dist = |c: usize| self.nodes.get(c).map_or(f64::INFINITY, |n| box_distance(&n.aabb, p));
+                    let dist = |c: usize| {
+                        self.nodes
+                            .get(c)
+                            .map_or(f64::INFINITY, |n| box_distance(&n.aabb, p))
+                    };
                     let (dl, dr) = (dist(*l), dist(*r));
                     // The nearer child is looked at first (pushed last).
                     if dl <= dr {
@@ -192,7 +196,9 @@ impl FaceTree {
     /// face or one without a box).
     #[inline(always)]
     pub(crate) fn distance(&self, f: usize, p: Point3) -> f64 {
-        self.boxes.get(f).map_or(f64::INFINITY, |b| box_distance(b, p))
+        self.boxes
+            .get(f)
+            .map_or(f64::INFINITY, |b| box_distance(b, p))
     }
 }
 
@@ -220,9 +226,11 @@ fn union(boxes: &[FaceBox], faces: &[usize]) -> FaceBox {
 fn sort_along_longest(boxes: &[FaceBox], faces: &mut [usize]) {
     let centre = |f: usize, k: usize| boxes.get(f).map_or(0.0, |b| b[k] + b[k + 3]);
     let spread = |k: usize| {
-        let (lo, hi) = faces.iter().fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &f| {
-            (l.min(centre(f, k)), h.max(centre(f, k)))
-        });
+        let (lo, hi) = faces
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), &f| {
+                (l.min(centre(f, k)), h.max(centre(f, k)))
+            });
         hi - lo
     };
     let axis = (0..3)

@@ -276,7 +276,10 @@ fn sum0_any<V: Coef>(patch: &[V], (s, np): (f64, usize), (t, nq): (f64, usize)) 
     let (ps, pt) = (powers::<CAP>(s), powers::<CAP>(t));
     let mut acc = V::zero();
     for (c, &si) in patch.chunks_exact(nq).zip(&ps).take(np) {
-        let row = c.iter().zip(&pt).fold(V::zero(), |a, (&cij, &tj)| a + cij * tj);
+        let row = c
+            .iter()
+            .zip(&pt)
+            .fold(V::zero(), |a, (&cij, &tj)| a + cij * tj);
         acc += row * si;
     }
     acc

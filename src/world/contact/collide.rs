@@ -42,7 +42,8 @@
 //!   earlier one). The leaves' boxes bound the whole of a leaf crossed by
 //!   its trim, over a hole too: they only choose the seeds, the descent's
 //!   point queries honour the trims.
-use super::line::{least_on_segment, LineLimits, Look};
+mod descent;
+
 use super::search::{Cursor, PartIndex};
 use super::shapes::{Cylinder, Segment};
 use super::tree::Shape;
@@ -65,8 +66,12 @@ pub struct CollisionOptions {
     /// rounding of the distances stay well inside it).
     pub penetration_mm: f64,
     /// The exact check's descent stops when a step gains less than this
-    /// (mm); the free-air bound is the least distance found less this.
+    /// (mm); the free-air bound is the least distance found less this or
+    /// [`Self::line_tolerance_mm`], the larger.
     pub tolerance_mm: f64,
+    /// The search along a descent's support step stops when its best
+    /// distance is within this (mm) of the least its slopes allow.
+    pub line_tolerance_mm: f64,
     /// Most steps of one descent.
     pub max_steps: usize,
     /// A seed this close (mm) to an earlier one of the same check is not
@@ -93,6 +98,7 @@ impl Default for CollisionOptions {
             margin_mm: 1.0,
             penetration_mm: 1e-3,
             tolerance_mm: 1e-4,
+            line_tolerance_mm: 1e-3,
             max_steps: 32,
             seed_merge_mm: 1.0,
             reach_mm: 5.0,
@@ -110,6 +116,10 @@ pub struct Strike {
     /// How deep the probe part is in the material there, mm.
     pub depth_mm: f64,
 }
+
+/// A descent's alternating-projection step shorter than this (mm) that
+/// does not point downhill is not looked at.
+const SETTLED_STEP_MM: f64 = 0.01;
 
 /// Most looks of the search along a descent's support step.
 const LINE_STEPS: usize = 12;
@@ -175,6 +185,12 @@ impl PartCheck {
         self.warm = None;
         self.listed_at = None;
         self.cursor.reset();
+    }
+
+    /// How far below the least distance found the free-air bound is put,
+    /// mm.
+    fn slack(&self) -> f64 {
+        self.opts.tolerance_mm.max(self.opts.line_tolerance_mm)
     }
 
     /// Number of exact checks run so far.
@@ -270,7 +286,7 @@ impl PartCheck {
             self.seeds.push(seed);
             match self.descend(ix, part, cyl, seed, opts)? {
                 Ok(Some((d, at))) => {
-                    floor = floor.min(d - self.opts.tolerance_mm);
+                    floor = floor.min(d - self.slack());
                     least = Some((d, at));
                 }
                 Ok(None) => {}
@@ -299,7 +315,7 @@ impl PartCheck {
             self.seeds.push(seed);
             match self.descend(ix, part, cyl, seed, opts)? {
                 Ok(Some((d, at))) => {
-                    floor = floor.min(d - self.opts.tolerance_mm);
+                    floor = floor.min(d - self.slack());
                     if least.is_none_or(|l| d < l.0) {
                         least = Some((d, at));
                     }
@@ -344,144 +360,5 @@ impl PartCheck {
                 _ => {}
             }
         }
-    }
-
-    /// The descent of the signed distance over `cyl` from `seed`: the
-    /// least distance found and where (`None` when the seed is out of the
-    /// queries' reach), or the strike.
-    fn descend(
-        &mut self,
-        ix: &PartIndex,
-        part: (&Workpiece, &AsMachined),
-        cyl: &Cylinder,
-        seed: Point3,
-        opts: &ProjectionOptions,
-    ) -> Result<Result<Option<(f64, Point3)>, Strike>, ProjectionError> {
-        self.reach = self.opts.reach_mm;
-        let mut c = match self.probe(ix, part, cyl, seed, opts)? {
-            None => return Ok(Ok(None)),
-            Some(Err(strike)) => return Ok(Err(strike)),
-            Some(Ok(c)) => c,
-        };
-        let mut p = seed;
-        for _ in 0..self.opts.max_steps {
-            let near = c.distance.max(0.0) + self.opts.margin_mm;
-            self.reach = near.min(self.opts.reach_mm);
-            let support = cyl.support(-c.push, p);
-            let mut best: Option<(Point3, TrueContact)> = None;
-            let mut at_support = None;
-            for x in [cyl.closest(c.point), support] {
-                if (x - p).norm() <= 1e-12 {
-                    continue;
-                }
-                match self.probe(ix, part, cyl, x, opts)? {
-                    Some(Err(strike)) => return Ok(Err(strike)),
-                    Some(Ok(cx)) => {
-                        if x == support {
-                            at_support = Some(cx);
-                        }
-                        if best.is_none_or(|b| cx.distance < b.1.distance) {
-                            best = Some((x, cx));
-                        }
-                    }
-                    None => {}
-                }
-            }
-            // The support point overshoots where the distance keeps falling
-            // towards it (a face nearly parallel to the axis that ends
-            // before the cylinder does): the least distance on the way.
-            let slope = c.push.dot(&(support - p));
-            let tol = self.opts.tolerance_mm;
-            let support_better = best.is_some_and(|b| b.0 == support);
-            if slope < -10.0 * tol && !support_better {
-                let ends = ((p, c), (support, at_support));
-                match self.line_search(ix, part, cyl, ends, opts)? {
-                    Err(strike) => return Ok(Err(strike)),
-                    Ok(Some((x, cx))) if best.is_none_or(|b| cx.distance < b.1.distance) => {
-                        best = Some((x, cx));
-                    }
-                    Ok(_) => {}
-                }
-            }
-            match best {
-                Some((x, cx)) if cx.distance < c.distance - tol => {
-                    (p, c) = (x, cx);
-                }
-                _ => break,
-            }
-        }
-        Ok(Ok(Some((c.distance, p))))
-    }
-
-    /// The least signed distance on the segment `from..to` of `cyl`, from
-    /// the looks at its ends (the distance falling at `from`; `None`
-    /// beyond reach at `to`), by [`least_on_segment`] with the distance's
-    /// slopes from the push directions; the best inner point, or the
-    /// strike.
-    fn line_search(
-        &mut self,
-        ix: &PartIndex,
-        part: (&Workpiece, &AsMachined),
-        cyl: &Cylinder,
-        ((from, at_from), (to, at_to)): LineEnds,
-        opts: &ProjectionOptions,
-    ) -> Result<Result<Option<(Point3, TrueContact)>, Strike>, ProjectionError> {
-        let d = to - from;
-        let look_of = |at: f64, c: Option<TrueContact>| Look {
-            at,
-            value: c.map_or(f64::INFINITY, |c| c.distance),
-            slope: c.map(|c| c.push.dot(&d)),
-        };
-        let limits = LineLimits {
-            length_mm: d.norm(),
-            tolerance_mm: self.opts.tolerance_mm,
-            max_looks: LINE_STEPS,
-        };
-        let mut found: Vec<(f64, TrueContact)> = Vec::new();
-        let ends = (look_of(0.0, Some(at_from)), look_of(1.0, at_to));
-        let searched = least_on_segment(ends.0, ends.1, limits, |g| {
-            let c = match self.probe(ix, part, cyl, from + d * g, opts) {
-                Err(e) => return Err(Err(e)),
-                Ok(Some(Err(strike))) => return Err(Ok(strike)),
-                Ok(Some(Ok(c))) => Some(c),
-                Ok(None) => None,
-            };
-            found.extend(c.map(|c| (g, c)));
-            Ok(look_of(g, c))
-        });
-        match searched {
-            Err(Err(e)) => Err(e),
-            Err(Ok(strike)) => Ok(Err(strike)),
-            Ok(best) => Ok(Ok(best.and_then(|b| {
-                let (g, c) = found.iter().find(|f| f.0 == b.at)?;
-                Some((from + d * *g, *c))
-            }))),
-        }
-    }
-
-    /// The signed distance at `x` (a point of `cyl`) with its foot, or the
-    /// strike when `x` lies in the material or the foot in the cylinder;
-    /// `None` beyond the queries' reach.
-    fn probe(
-        &mut self,
-        ix: &PartIndex,
-        part: (&Workpiece, &AsMachined),
-        cyl: &Cylinder,
-        x: Point3,
-        opts: &ProjectionOptions,
-    ) -> Result<Option<Result<TrueContact, Strike>>, ProjectionError> {
-        let Some(c) = self.cursor.query(ix, part, x, self.reach, opts)? else {
-            return Ok(None);
-        };
-        let pen = self.opts.penetration_mm;
-        let inside = -cyl.signed_distance(c.point);
-        let depth = (-c.distance).max(inside);
-        if depth > pen {
-            return Ok(Some(Err(Strike {
-                point: c.point,
-                depth_mm: depth,
-            })));
-        }
-        Ok(Some(Ok(c)))
     }
 }

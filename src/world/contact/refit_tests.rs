@@ -49,7 +49,10 @@ fn refitted_tree_answers_as_every_leaf_does() {
         LeafTree::over(&boxes)
     };
     let (lo, hi) = leaves.leaves.iter().fold(
-        (Point3::from(Vec3::repeat(f64::INFINITY)), Point3::from(Vec3::repeat(f64::NEG_INFINITY))),
+        (
+            Point3::from(Vec3::repeat(f64::INFINITY)),
+            Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
+        ),
         |(lo, hi), l| (lo.inf(&l.aabb.min), hi.sup(&l.aabb.max)),
     );
     let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(7);
@@ -67,14 +70,24 @@ fn refitted_tree_answers_as_every_leaf_does() {
         let mut got = Vec::new();
         tree.within(&leaves.leaves, p, radius, &mut got);
         got.sort_unstable();
-        assert_eq!(got, brute(&leaves, p, radius), "point {p:?} within {radius}");
+        assert_eq!(
+            got,
+            brute(&leaves, p, radius),
+            "point {p:?} within {radius}"
+        );
         hits += got.len();
         let seg = Segment { a: p, b: q };
         let mut got = Vec::new();
         tree.within(&leaves.leaves, seg, radius, &mut got);
         got.sort_unstable();
-        assert_eq!(got, brute(&leaves, seg, radius), "segment {seg:?} within {radius}");
-        let all = (leaves.leaves.iter()).map(|l| p.leaf_bound(l)).fold(f64::INFINITY, f64::min);
+        assert_eq!(
+            got,
+            brute(&leaves, seg, radius),
+            "segment {seg:?} within {radius}"
+        );
+        let all = (leaves.leaves.iter())
+            .map(|l| p.leaf_bound(l))
+            .fold(f64::INFINITY, f64::min);
         assert_eq!(tree.nearest(&leaves.leaves, p), all);
         assert_eq!(fresh.nearest(&leaves.leaves, p), all);
     }

@@ -128,7 +128,9 @@ impl LeafTree {
             let axis = (spread.max - spread.min).imax();
             let mid = (lo + hi) / 2;
             if let Some(slice) = self.order.get_mut(lo..hi) {
-                slice.select_nth_unstable_by(mid - lo, |x, y| of(x).1[axis].total_cmp(&of(y).1[axis]));
+                slice.select_nth_unstable_by(mid - lo, |x, y| {
+                    of(x).1[axis].total_cmp(&of(y).1[axis])
+                });
             }
             let left = self.build(boxes, lo, mid);
             let right = self.build(boxes, mid, hi);

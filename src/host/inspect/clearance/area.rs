@@ -88,7 +88,8 @@ impl PartClearance<'_> {
         let size = lo.coords.abs().max().max(hi.coords.abs().max());
         let pad = Vec3::repeat(check.need + BOX_ROUNDING * (1.0 + size));
         let mut near = std::mem::take(&mut check.near);
-        self.workpiece.faces_overlapping(lo - pad, hi + pad, &mut near);
+        self.workpiece
+            .faces_overlapping(lo - pad, hi + pad, &mut near);
         let axes = (check.axes.normals.as_slice(), check.axes.edges.as_slice());
         let shape = HullShadows::new(&hull, axes);
         let first = near.partition_point(|&i| i < check.near_face);
