@@ -133,3 +133,67 @@ impl ChordTree {
         bound
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::Vec2;
+    use rand::{RngExt, SeedableRng};
+
+    /// A closed polyline of chords round a wavy loop, with bulges.
+    fn chords(n: usize) -> Vec<Chord> {
+        let at = |k: usize| {
+            let t = std::f64::consts::TAU * k as f64 / n as f64;
+            let r = 20.0 + 3.0 * (5.0 * t).sin();
+            Point3::new(r * t.cos(), r * t.sin(), 2.0 * (3.0 * t).cos())
+        };
+        (0..n)
+            .map(|k| Chord {
+                a: Vec2::new(k as f64, 0.0),
+                b: Vec2::new(k as f64 + 1.0, 0.0),
+                pa: at(k),
+                pb: at(k + 1),
+                bulge: 0.01 * (k % 5) as f64,
+            })
+            .collect()
+    }
+
+    /// The chords looked at are those whose bound is below the running
+    /// bound, and the least found is the least over every chord.
+    #[test]
+    fn search_finds_what_a_look_at_every_chord_finds() {
+        let chords = chords(500);
+        let tree = ChordTree::new(&chords);
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(3);
+        for _ in 0..300 {
+            let p = Point3::new(
+                rng.random_range(-30.0..30.0),
+                rng.random_range(-30.0..30.0),
+                rng.random_range(-5.0..5.0),
+            );
+            // A value per chord at least its bound: the distance to its
+            // end `pa`.
+            let value = |c: &Chord| (c.pa - p).norm_squared();
+            let least = chords.iter().map(value).fold(f64::INFINITY, f64::min);
+            let mut looked = Vec::new();
+            let got = tree.search(&chords, p, f64::INFINITY, |i| {
+                looked.push(i);
+                chords.get(i).map(value)
+            });
+            assert_eq!(got, least);
+            assert!(looked.len() < chords.len() / 4, "{}", looked.len());
+            // Within a fixed bound, every chord below it is looked at.
+            let bound = 25.0;
+            let mut seen = Vec::new();
+            tree.search(&chords, p, bound, |i| {
+                seen.push(i);
+                None
+            });
+            seen.sort_unstable();
+            let all: Vec<usize> = (0..chords.len())
+                .filter(|&i| chords[i].lower_bound2(p) < bound)
+                .collect();
+            assert_eq!(seen, all);
+        }
+    }
+}

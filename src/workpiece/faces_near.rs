@@ -10,8 +10,8 @@ const LEAF_FACES: usize = 4;
 /// one).
 pub(crate) type FaceBox = [f64; 6];
 
-/// The distance from `p` to the box `b`, mm; infinite for a box with NaN
-/// corners.
+/// The distance from `p` to the box `b`, mm; zero (no bound) for a box
+/// with NaN corners.
 #[inline(always)]
 pub(crate) fn box_distance(b: &FaceBox, p: Point3) -> f64 {
     let gap = |k: usize| (b[k] - p[k]).max(p[k] - b[k + 3]).max(0.0);
@@ -44,20 +44,22 @@ pub(crate) struct FaceTree {
     nodes: Vec<Node>,
     /// Face indices, grouped by leaf.
     order: Vec<usize>,
+    /// The faces without a box: near every point.
+    unboxed: Vec<usize>,
     /// Every face's box, by face index.
     boxes: Vec<FaceBox>,
 }
 
 impl FaceTree {
     /// The tree of `boxes` (face `i` has `boxes[i]`); faces without a box
-    /// are left out (their distance is infinite).
+    /// (NaN corners) are kept apart and count as near every point.
     pub(crate) fn new(boxes: &[FaceBox]) -> FaceTree {
-        let mut order: Vec<usize> = (0..boxes.len())
-            .filter(|&i| boxes.get(i).is_some_and(|b| b.iter().all(|x| !x.is_nan())))
-            .collect();
+        let boxed = |i: &usize| boxes.get(*i).is_some_and(|b| b.iter().all(|x| !x.is_nan()));
+        let (mut order, unboxed): (Vec<usize>, Vec<usize>) = (0..boxes.len()).partition(boxed);
         let mut tree = FaceTree {
             nodes: Vec::new(),
             order: Vec::new(),
+            unboxed,
             boxes: boxes.to_vec(),
         };
         if !order.is_empty() {
@@ -93,14 +95,15 @@ impl FaceTree {
     }
 
     /// Puts into `out`, in ascending order, every face whose box lies no
-    /// farther than `d` (mm) from `p` (by [`box_distance`]); every face
-    /// when `d` is not finite.
+    /// farther than `d` (mm) from `p` (by [`box_distance`]; every face
+    /// without a box); every face when `d` is not finite.
     pub(crate) fn within(&self, p: Point3, d: f64, out: &mut Vec<usize>) {
         out.clear();
         if !d.is_finite() {
             out.extend(0..self.boxes.len());
             return;
         }
+        out.extend(self.unboxed.iter().filter(|_| d >= 0.0));
         let mut stack: Vec<usize> = self.nodes.len().checked_sub(1).into_iter().collect();
         while let Some(i) = stack.pop() {
             let Some(node) = self.nodes.get(i) else {
@@ -122,7 +125,8 @@ impl FaceTree {
     }
 
     /// Puts into `out`, in ascending order, every face whose box meets the
-    /// box from `lo` to `hi` (touching counts).
+    /// box from `lo` to `hi` (touching counts; a face without a box never
+    /// does).
     pub(crate) fn overlapping(&self, lo: Point3, hi: Point3, out: &mut Vec<usize>) {
         out.clear();
         let meets = |b: &FaceBox| (0..3).all(|k| b[k] <= hi[k] && b[k + 3] >= lo[k]);
@@ -152,6 +156,9 @@ impl FaceTree {
         mut best: f64,
         mut value: impl FnMut(usize, f64) -> Option<f64>,
     ) -> f64 {
+        for &f in &self.unboxed {
+            best = value(f, 0.0).map_or(best, |v| best.min(v));
+        }
         let mut stack: Vec<(f64, usize)> = Vec::with_capacity(32);
         if let Some(root) = self.nodes.len().checked_sub(1) {
             stack.push((0.0, root));
@@ -237,4 +244,70 @@ fn sort_along_longest(boxes: &[FaceBox], faces: &mut [usize]) {
         .max_by(|&a, &b| spread(a).total_cmp(&spread(b)))
         .unwrap_or(0);
     faces.sort_by(|&a, &b| centre(a, axis).total_cmp(&centre(b, axis)).then(a.cmp(&b)));
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{RngExt, SeedableRng};
+
+    /// Random boxes (some without corners) and points about them.
+    fn scene(seed: u64) -> (Vec<FaceBox>, Vec<Point3>) {
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(seed);
+        let mut r = move |lo: f64, hi: f64| lo + (hi - lo) * rng.random::<f64>();
+        let boxes = (0..150)
+            .map(|i| {
+                if i % 37 == 5 {
+                    return [f64::NAN; 6];
+                }
+                let (x, y, z) = (r(-100.0, 100.0), r(-100.0, 100.0), r(-20.0, 20.0));
+                let (w, h, d) = (r(0.0, 30.0), r(0.0, 30.0), r(0.0, 5.0));
+                [x, y, z, x + w, y + h, z + d]
+            })
+            .collect();
+        let points = (0..300)
+            .map(|_| Point3::new(r(-120.0, 140.0), r(-120.0, 140.0), r(-40.0, 40.0)))
+            .collect();
+        (boxes, points)
+    }
+
+    /// The faces within a distance, the faces meeting a box and the
+    /// nearest box are those a look at every face finds.
+    #[test]
+    fn queries_match_a_look_at_every_face() {
+        let (boxes, points) = scene(11);
+        let tree = FaceTree::new(&boxes);
+        let mut got = Vec::new();
+        let mut found = 0;
+        for (k, &p) in points.iter().enumerate() {
+            let d = [0.0, 0.5, 3.0, 10.0, 40.0][k % 5];
+            tree.within(p, d, &mut got);
+            let all: Vec<usize> = (0..boxes.len())
+                .filter(|&i| box_distance(&boxes[i], p) <= d)
+                .collect();
+            assert_eq!(got, all, "{p:?} within {d}");
+            found += got.len();
+            let (lo, hi) = (p - Vector3::repeat(d), p + Vector3::repeat(2.0 * d));
+            tree.overlapping(lo, hi, &mut got);
+            let meets = |b: &FaceBox| (0..3).all(|k| b[k] <= hi[k] && b[k + 3] >= lo[k]);
+            let all: Vec<usize> = (0..boxes.len()).filter(|&i| meets(&boxes[i])).collect();
+            assert_eq!(got, all, "{p:?} meeting {lo:?}..{hi:?}");
+            let least = (boxes.iter())
+                .map(|b| box_distance(b, p))
+                .fold(f64::INFINITY, f64::min);
+            assert_eq!(tree.nearest(p, f64::INFINITY, |_, root| Some(root)), least);
+            // Faces left out do not count.
+            let odd = (0..boxes.len())
+                .filter(|i| i % 2 == 1)
+                .map(|i| box_distance(&boxes[i], p))
+                .fold(f64::INFINITY, f64::min);
+            let got_odd = tree.nearest(p, f64::INFINITY, |f, root| (f % 2 == 1).then_some(root));
+            assert_eq!(got_odd, odd);
+        }
+        assert!(found > 500, "{found}");
+        tree.within(Point3::origin(), f64::INFINITY, &mut got);
+        assert_eq!(got, (0..boxes.len()).collect::<Vec<_>>());
+    }
+
+    use nalgebra::Vector3;
 }
