@@ -37,6 +37,25 @@ fn brute<S: Shape>(leaves: &Leaves, shape: S, radius: f64) -> Vec<u32> {
         .collect()
 }
 
+/// The tree's leaves within `radius` of `shape` against [`brute`]; their
+/// number.
+fn check_within<S: Shape + std::fmt::Debug>(
+    tree: &LeafTree,
+    leaves: &Leaves,
+    shape: S,
+    radius: f64,
+) -> usize {
+    let mut got = Vec::new();
+    tree.within(&leaves.leaves, shape, radius, &mut got);
+    got.sort_unstable();
+    assert_eq!(
+        got,
+        brute(leaves, shape, radius),
+        "{shape:?} within {radius}"
+    );
+    got.len()
+}
+
 #[test]
 fn refitted_tree_answers_as_every_leaf_does() {
     let wp = flange();
@@ -67,24 +86,8 @@ fn refitted_tree_answers_as_every_leaf_does() {
         let p = point();
         let q = point();
         let radius = 0.5 + (k % 7) as f64;
-        let mut got = Vec::new();
-        tree.within(&leaves.leaves, p, radius, &mut got);
-        got.sort_unstable();
-        assert_eq!(
-            got,
-            brute(&leaves, p, radius),
-            "point {p:?} within {radius}"
-        );
-        hits += got.len();
-        let seg = Segment { a: p, b: q };
-        let mut got = Vec::new();
-        tree.within(&leaves.leaves, seg, radius, &mut got);
-        got.sort_unstable();
-        assert_eq!(
-            got,
-            brute(&leaves, seg, radius),
-            "segment {seg:?} within {radius}"
-        );
+        hits += check_within(&tree, &leaves, p, radius);
+        check_within(&tree, &leaves, Segment { a: p, b: q }, radius);
         let all = (leaves.leaves.iter())
             .map(|l| p.leaf_bound(l))
             .fold(f64::INFINITY, f64::min);
