@@ -290,33 +290,39 @@ struct FaceContext<'a> {
 impl Leaves {
     /// The leaves of `pieces` (of a workpiece) as machined by `am`.
     pub(crate) fn of(pieces: &Pieces, am: &AsMachined) -> Leaves {
+        let segments: usize = pieces.pieces.iter().map(|p| p.segs.len()).sum();
         let mut out = Leaves {
             leaves: Vec::with_capacity(pieces.pieces.len()),
-            segments: Vec::new(),
-            chords: Vec::new(),
+            segments: Vec::with_capacity(segments),
+            chords: Vec::with_capacity(segments),
         };
         let stretch = am.stretch_factor();
+        let mut mapped = Vec::new();
         for piece in &pieces.pieces {
             let (lo, hi) = piece.nominal_box;
             let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
-            out.push(piece, am, (inflate, stretch));
+            out.push(piece, am, (inflate, stretch), &mut mapped);
         }
         out
     }
 
     /// The leaf of `piece`, its bounds widened by `inflate` (the form's
     /// bound over the piece stretched by `T`, mm: a bump far from the
-    /// piece widens it by its tail alone).
-    fn push(&mut self, piece: &Piece, am: &AsMachined, (inflate, stretch): (f64, f64)) {
-        let mapped: Vec<Point3> = piece
-            .points
-            .iter()
-            .map(|&p| am.transform_point(p))
-            .collect();
+    /// piece widens it by its tail alone); `mapped` is room for its mapped
+    /// control points.
+    fn push(
+        &mut self,
+        piece: &Piece,
+        am: &AsMachined,
+        (inflate, stretch): (f64, f64),
+        mapped: &mut Vec<Point3>,
+    ) {
+        mapped.clear();
+        mapped.extend(piece.points.iter().map(|&p| am.transform_point(p)));
         let mut aabb = Aabb::of(mapped.iter().copied());
         let grow = Vec3::repeat(inflate);
         (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
-        let slab = slab_of(&mapped, piece.degree, inflate);
+        let slab = slab_of(mapped, piece.degree, inflate);
         let first = self.segments.len();
         self.segments.extend(piece.segs.iter().copied());
         // `T` is affine: it maps a chord to the chord of the mapped ends and
