@@ -25,6 +25,14 @@ pub struct Bounds {
 /// magnitude) of a face of the box is set to the face.
 const SNAP_ULPS: f64 = 4.0;
 
+/// A squared distance this much larger, relatively, than another (plus
+/// [`ROUNDING_DIST2_MM2`]) counts as no worse: the rounding of squared
+/// distances computed from different derivatives (dimensionless).
+const ROUNDING_DIST2_RATIO: f64 = 1e-12;
+
+/// The absolute part of that allowance, mm^2 (for feet at distance zero).
+const ROUNDING_DIST2_MM2: f64 = 1e-24;
+
 impl Bounds {
     /// Whether `x` lies in the box (its boundary included).
     pub(crate) fn contains(&self, x: Vec2) -> bool {
@@ -215,7 +223,8 @@ pub(crate) fn local_minimum_cached<F: Fn(Vec2, &mut Jet2)>(
     let delta = target - x0;
     let step = (foot.d.su() * delta.x + foot.d.sv() * delta.y).norm();
     evaluate_at(&eval, p, foot, target, 1);
-    foot.status = if foot.dist2 <= prev_dist2 * (1.0 + 1e-12) + 1e-24 {
+    let allowed = prev_dist2 * (1.0 + ROUNDING_DIST2_RATIO) + ROUNDING_DIST2_MM2;
+    foot.status = if foot.dist2 <= allowed {
         newton_from(&eval, p, foot, Some(step), bounds, opts)
     } else {
         evaluate_at(&eval, p, foot, x0, 0);
@@ -350,7 +359,7 @@ fn final_step(p: Point3, foot: &mut Foot, target: Vec2, it: usize) {
     foot.iterations = it;
     let delta = target - foot.uv;
     let dist2 = (foot.d.taylor_point(delta) - p).norm_squared();
-    let slack = 1e-12 * foot.dist2 + 1e-24;
+    let slack = ROUNDING_DIST2_RATIO * foot.dist2 + ROUNDING_DIST2_MM2;
     if dist2 <= foot.dist2 + slack {
         foot.uv = target;
         foot.d.advance(delta);
