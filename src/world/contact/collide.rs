@@ -30,8 +30,8 @@
 //!   support point: exact in one step for a flat face at any angle) and
 //!   keeps the better one; where the distance falls towards the support
 //!   point but is higher there (a face nearly parallel to the axis that
-//!   ends before the cylinder does), a golden-section search on the way
-//!   to it. The part collides when a point of the cylinder
+//!   ends before the cylinder does), a search on the way to it guided by
+//!   the distance's slopes ([`super::line`]). The part collides when a point of the cylinder
 //!   lies inside the material, or a foot inside the cylinder, by more than
 //!   [`CollisionOptions::penetration_mm`].
 //! - **Limits**: the descent finds the least distance of the cylinder
