@@ -73,7 +73,7 @@ pub fn report_html(report: &Report) -> String {
     let points: usize = report.features.iter().map(|f| f.points.len()).sum();
     let mut out = String::with_capacity(CSS.len() + PAGE_BYTES + points * POINT_BYTES);
     out.push_str("<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>");
-    push_escaped(&mut out, "cmm report: ");
+    out.push_str("cmm report: ");
     push_escaped(&mut out, &report.program);
     out.push_str("</title>\n<style>");
     out.push_str(CSS);

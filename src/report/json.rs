@@ -11,13 +11,7 @@ const POINT_BYTES: usize = 550;
 /// keys in model field order, numbers as `serde_json` writes `f64`
 /// (shortest round-trip form; non-finite values become `null`).
 pub fn to_json(report: &Report) -> String {
-    match serde_json::to_string_pretty(report) {
-        Ok(mut text) => {
-            text.push('\n');
-            text
-        }
-        Err(err) => error_json(report, &err),
-    }
+    String::from_utf8(to_json_bytes(report)).unwrap_or_default()
 }
 
 /// [`to_json`] as UTF-8 bytes, written straight into a buffer sized for

@@ -11,16 +11,11 @@ const LEAF_FACES: usize = 4;
 pub(crate) type FaceBox = [f64; 6];
 
 /// The distance from `p` to the box `b`, mm; zero (no bound) for a box
-/// with NaN corners.
+/// with NaN corners (`max` passes over a NaN gap).
 #[inline(always)]
 pub(crate) fn box_distance(b: &FaceBox, p: Point3) -> f64 {
     let gap = |k: usize| (b[k] - p[k]).max(p[k] - b[k + 3]).max(0.0);
-    let d2 = gap(0).powi(2) + gap(1).powi(2) + gap(2).powi(2);
-    if d2.is_nan() {
-        f64::INFINITY
-    } else {
-        d2.sqrt()
-    }
+    (gap(0).powi(2) + gap(1).powi(2) + gap(2).powi(2)).sqrt()
 }
 
 /// One node: its box (the union of its faces' boxes) and either a range
@@ -200,7 +195,7 @@ impl FaceTree {
     }
 
     /// The distance from `p` to face `f`'s box, mm (infinite for no such
-    /// face or one without a box).
+    /// face, zero for one without a box).
     #[inline(always)]
     pub(crate) fn distance(&self, f: usize, p: Point3) -> f64 {
         self.boxes

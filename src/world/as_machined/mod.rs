@@ -66,14 +66,24 @@ pub struct SeedReach<'a> {
     widest: f64,
 }
 
+/// Added to the seeds' reach, relative to `1 + d` (`d` the nominal
+/// distance, mm), so that Newton's tolerance cannot drop a seed.
+const SEED_REACH_SLACK: f64 = 1e-6;
+
+/// `best` widened by `extra` (mm) and [`SEED_REACH_SLACK`].
+#[inline(always)]
+fn widened(best: f64, extra: f64) -> f64 {
+    best + (extra + SEED_REACH_SLACK * (1.0 + best))
+}
+
 impl crate::workpiece::Reach for SeedReach<'_> {
     fn of(&self, face: usize, best: f64) -> f64 {
-        best + (2.0 * self.part.max_height(face) * self.stretch + 1e-6 * (1.0 + best))
+        widened(best, 2.0 * self.part.max_height(face) * self.stretch)
     }
 
     fn cap(&self, best: f64) -> f64 {
         // A relative hair above the widest face's reach, for rounding.
-        (best + (self.widest + 1e-6 * (1.0 + best))) * (1.0 + 1e-12)
+        widened(best, self.widest) * (1.0 + 1e-12)
     }
 }
 

@@ -12,6 +12,19 @@ pub(crate) struct Segment {
     pub(crate) b: Point3,
 }
 
+impl Segment {
+    /// The squared gap between the segment's own box and `b` (a lower
+    /// bound of their squared distance).
+    #[inline(always)]
+    fn box_gap2(&self, b: &Aabb) -> f64 {
+        let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
+        (b.min - hi)
+            .sup(&(lo - b.max))
+            .sup(&Vec3::zeros())
+            .norm_squared()
+    }
+}
+
 impl Shape for Segment {
     fn box_dist2(&self, b: &Aabb) -> f64 {
         segment_box(self.a, self.b, b).0
@@ -21,9 +34,7 @@ impl Shape for Segment {
     /// of their distance, exact for a segment along an axis).
     #[inline(always)]
     fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
-        let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
-        let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
-        gap.norm_squared() >= r2 || self.box_dist2(b) >= r2
+        self.box_gap2(b) >= r2 || self.box_dist2(b) >= r2
     }
 
     fn leaf_bound(&self, leaf: &Leaf) -> f64 {
@@ -34,9 +45,7 @@ impl Shape for Segment {
     #[inline(always)]
     fn leaf_bound_within(&self, leaf: &Leaf, r2: f64) -> Option<f64> {
         let b = &leaf.aabb;
-        let (lo, hi) = (self.a.inf(&self.b), self.a.sup(&self.b));
-        let gap = (b.min - hi).sup(&(lo - b.max)).sup(&Vec3::zeros());
-        if gap.norm_squared() >= r2 {
+        if self.box_gap2(b) >= r2 {
             return None;
         }
         let d2 = segment_box(self.a, self.b, b).0;
