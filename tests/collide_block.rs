@@ -6,21 +6,16 @@
 //! it (no collision, and no exact check every cycle).
 mod common;
 
-use cmm::machine::{MachineModel, MachineProfile};
-use cmm::math::{Mat3, Point3, Vec3};
+use cmm::math::{Point3, Vec3};
 use cmm::program::Pose;
 use cmm::seam::{Cmm, MachineStatus, ProbePart, Readings};
 use cmm::workpiece::Workpiece;
 use cmm::world::as_machined::AsMachined;
-use cmm::world::cmm::{SimulatedCmm, TruePart};
+use cmm::world::cmm::SimulatedCmm;
 use cmm::world::contact::CollisionOptions;
-use cmm::world::probe::{ProbeShape, TrueProbe};
 use common::*;
 
-const POSE: Pose = Pose {
-    rotation: Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
-    translation: Vec3::new(350.0, 500.0, 20.0),
-};
+const POSE: Pose = POCKET_POSE;
 
 /// Ball radius, shaft radius (a 3 mm ball on a 2 mm shaft).
 const R: f64 = 1.5;
@@ -29,28 +24,7 @@ const RS: f64 = 1.0;
 /// An ideal machine with the probe `pv` (mount to ball) and the ball
 /// centre at `ball` (part frame).
 fn machine<'a>(wp: &'a Workpiece, am: &'a AsMachined, pv: Vec3, ball: Point3) -> SimulatedCmm<'a> {
-    let part = TruePart {
-        workpiece: wp,
-        as_machined: am,
-        pose: POSE,
-    };
-    let mut probe = TrueProbe::ideal(pv, R);
-    probe.shape = ProbeShape {
-        shaft_radius_mm: RS,
-        body_radius_mm: 12.5,
-        body_length_mm: 80.0,
-    };
-    let start = POSE.to_machine(ball) - pv;
-    let profile = MachineProfile::default().ideal();
-    SimulatedCmm::new(
-        part,
-        MachineModel::default_bridge(),
-        profile,
-        probe,
-        1,
-        start,
-    )
-    .unwrap()
+    pocket_machine((wp, am), (pv, R, RS), ball)
 }
 
 /// The collision of `readings`, if any.

@@ -231,3 +231,37 @@ pub fn block_with_pocket(a: f64, b: f64, z0: f64) -> Workpiece {
         surfaces,
     })
 }
+
+/// Pose of the block with a pocket on the machine table in the collision
+/// tests.
+pub const POCKET_POSE: cmm::program::Pose = cmm::program::Pose {
+    rotation: cmm::math::Mat3::new(1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0),
+    translation: cmm::math::Vec3::new(350.0, 500.0, 20.0),
+};
+
+/// An ideal machine over `wp` as machined by `am` at [`POCKET_POSE`], with
+/// the probe `pv` (mount to ball), ball radius `r`, shaft radius `rs`
+/// (body 25 mm across, 80 mm long) and the ball centre at `ball` (part
+/// frame).
+pub fn pocket_machine<'a>(
+    (wp, am): (&'a Workpiece, &'a cmm::world::as_machined::AsMachined),
+    (pv, r, rs): (cmm::math::Vec3, f64, f64),
+    ball: cmm::math::Point3,
+) -> cmm::world::cmm::SimulatedCmm<'a> {
+    use cmm::world::probe::{ProbeShape, TrueProbe};
+    let part = cmm::world::cmm::TruePart {
+        workpiece: wp,
+        as_machined: am,
+        pose: POCKET_POSE,
+    };
+    let mut probe = TrueProbe::ideal(pv, r);
+    probe.shape = ProbeShape {
+        shaft_radius_mm: rs,
+        body_radius_mm: 12.5,
+        body_length_mm: 80.0,
+    };
+    let start = POCKET_POSE.to_machine(ball) - pv;
+    let profile = cmm::machine::MachineProfile::default().ideal();
+    let model = cmm::machine::MachineModel::default_bridge();
+    cmm::world::cmm::SimulatedCmm::new(part, model, profile, probe, 1, start).unwrap()
+}

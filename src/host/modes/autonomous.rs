@@ -36,7 +36,7 @@ pub fn autonomous_scan(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe).avoiding(free);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free).escaping(opts);
     let above = autonomous_start(probe, task, tr.free(), opts);
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))

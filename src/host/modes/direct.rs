@@ -68,7 +68,7 @@ pub fn direct_move(
     free: &dyn FreeSpace,
     opts: &ModeOptions,
 ) -> Result<bool, Outcome> {
-    let mut tr = Tracker::new(cmm, probe);
+    let mut tr = Tracker::new(cmm, probe).escaping(opts);
     let away = free_stylus(cmm, &mut tr, opts)?;
     let from = away.unwrap_or_else(|| tr.ball_undeflected());
     let clear = free.segment_clear(from, target);

@@ -212,6 +212,36 @@ pub struct ModeOptions {
     /// Height (machine z of the ball centre) above the part for moves
     /// between measurements; `None` moves in a straight line.
     pub clearance_z_mm: Option<f64>,
+    /// How the probe backs out after it struck the part.
+    pub escape: EscapeOptions,
+}
+
+/// The move out of the part after a collision: the machine does not stop
+/// by itself when the stylus shaft or the probe body strikes the part (nor
+/// when the ball runs into it during a move that does not measure), so the
+/// software backs the probe out the way it came, at this speed, until the
+/// machine reports it clear and the stylus free, then this much further,
+/// and stops there. Later moves then start in free air instead of inside
+/// the part.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EscapeOptions {
+    /// Speed of the move out, mm/s.
+    pub speed_mm_s: f64,
+    /// How far the move goes on once the probe is clear, mm.
+    pub clear_mm: f64,
+    /// The move out gives up after this distance, mm (the probe then stays
+    /// where it is and the next move reports the collision again).
+    pub max_mm: f64,
+}
+
+impl Default for EscapeOptions {
+    fn default() -> Self {
+        EscapeOptions {
+            speed_mm_s: 10.0,
+            clear_mm: 2.0,
+            max_mm: 30.0,
+        }
+    }
 }
 
 impl Default for ModeOptions {
@@ -238,6 +268,7 @@ impl Default for ModeOptions {
             stall_mm: 0.1,
             arrive_tol_mm: 0.01,
             clearance_z_mm: None,
+            escape: EscapeOptions::default(),
         }
     }
 }

@@ -7,7 +7,8 @@
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
 use super::{
-    approach_standoff, route, Collision, FreeSpace, HostProbe, Measured, ModeOptions, Outcome,
+    approach_standoff, route, Collision, EscapeOptions, FreeSpace, HostProbe, Measured,
+    ModeOptions, Outcome,
 };
 use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
@@ -42,6 +43,11 @@ pub struct Tracker<'f> {
     /// Free space around the part: repositioning routes around the part
     /// (`None`: over the clearance height unchecked).
     free: Option<&'f dyn FreeSpace>,
+    /// How the probe backs out after a collision.
+    escape: EscapeOptions,
+    /// Below this deflection the stylus is free, mm
+    /// ([`ModeOptions::free_mm`]).
+    free_mm: f64,
 }
 
 impl<'f> Tracker<'f> {
@@ -61,6 +67,17 @@ impl<'f> Tracker<'f> {
             phase: Phase::Idle,
             collision: None,
             free: None,
+            escape: EscapeOptions::default(),
+            free_mm: ModeOptions::default().free_mm,
+        }
+    }
+
+    /// The same, backing out of a collision as `opts` say.
+    pub fn escaping(self, opts: &ModeOptions) -> Tracker<'f> {
+        Tracker {
+            escape: opts.escape,
+            free_mm: opts.free_mm,
+            ..self
         }
     }
 
@@ -115,8 +132,11 @@ impl<'f> Tracker<'f> {
         }
     }
 
-    /// Steps the machine and returns an outcome if it halted.
+    /// Steps the machine and returns an outcome if it halted. A collision
+    /// the machine reports is recorded and the probe backed out of the
+    /// part ([`Self::escape`]).
     pub fn step(&mut self, cmm: &mut dyn Machine, v: Vec3) -> Option<Outcome> {
+        let before = self.now.scales;
         self.now = cmm.step(v);
         self.command = v;
         match self.now.status {
@@ -127,7 +147,68 @@ impl<'f> Tracker<'f> {
                 probe_part,
                 at,
                 speed_mm_s,
-            } => Some(self.struck(probe_part, at, speed_mm_s)),
+            } => {
+                let outcome = self.struck(probe_part, at, speed_mm_s);
+                let moving = (self.now.scales - before) / cmm.cycle_s();
+                self.escape(cmm, moving);
+                Some(outcome)
+            }
+        }
+    }
+
+    /// Backs the probe out of the part after a collision: against
+    /// `moving` (the machine's velocity when it struck, mm/s; up the
+    /// stylus when it stood still) at [`EscapeOptions::speed_mm_s`],
+    /// whatever the machine reports on the way, until it reports the probe
+    /// clear with the stylus free, [`EscapeOptions::clear_mm`] further and
+    /// (with free space to ask) the full clearance margin from the design
+    /// data, then to rest. Gives up after [`EscapeOptions::max_mm`].
+    pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
+        let up = (-self.probe.probe_vector).try_normalize(1e-9);
+        let Some(dir) = (-moving).try_normalize(1e-9).or(up) else {
+            return;
+        };
+        self.enter(cmm, Phase::Retract);
+        let v = dir * self.escape.speed_mm_s;
+        let start = self.ball_undeflected();
+        let mut clear_since: Option<Point3> = None;
+        while (self.ball_undeflected() - start).norm() < self.escape.max_mm {
+            self.now = cmm.step(v);
+            self.command = v;
+            let here = self.ball_undeflected();
+            match self.now.status {
+                MachineStatus::AxisLimit { .. } => break,
+                MachineStatus::Ok if self.deflection() < self.free_mm => {
+                    let since = *clear_since.get_or_insert(here);
+                    let far = (here - since).norm() >= self.escape.clear_mm;
+                    if far && self.roomy(here) {
+                        break;
+                    }
+                }
+                _ => clear_since = None,
+            }
+        }
+        self.come_to_rest(cmm);
+    }
+
+    /// Whether the probe with its ball centre at `here` keeps the full
+    /// clearance margin from the part (the design data's free space; true
+    /// without one), so that routes from here can be planned.
+    fn roomy(&self, here: Point3) -> bool {
+        self.free
+            .is_none_or(|f| f.segment_clear_with(here, here, false))
+    }
+
+    /// Commands zero velocity until the scales stop moving (at most
+    /// [`REST_CYCLES`] cycles).
+    fn come_to_rest(&mut self, cmm: &mut dyn Machine) {
+        for _ in 0..REST_CYCLES {
+            let before = self.now.scales;
+            self.now = cmm.step(Vec3::zeros());
+            self.command = Vec3::zeros();
+            if (self.now.scales - before).norm() < ARRIVED_SPEED_MM_S * cmm.cycle_s() {
+                break;
+            }
         }
     }
 
@@ -177,6 +258,9 @@ const WAYPOINT_PASS_MM: f64 = 1.0;
 
 /// Below this commanded speed a move that ends at rest has arrived, mm/s.
 const ARRIVED_SPEED_MM_S: f64 = 1.0;
+
+/// Most cycles [`Tracker::come_to_rest`] waits for the machine to stop.
+const REST_CYCLES: usize = 2000;
 
 /// How far outside the target point a repositioning move comes down, mm.
 const REPOSITION_OUTSIDE_MM: f64 = 15.0;
@@ -378,7 +462,7 @@ pub(super) fn travel(
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
-        guard.check(tr, opts)?;
+        guard.check(cmm, tr, opts)?;
         v_prev = v;
     }
     Err(Outcome::Aborted)
@@ -401,12 +485,19 @@ impl Guard {
         }
     }
 
-    fn check(&mut self, tr: &mut Tracker, opts: &ModeOptions) -> Result<(), Outcome> {
+    fn check(
+        &mut self,
+        cmm: &mut dyn Machine,
+        tr: &mut Tracker,
+        opts: &ModeOptions,
+    ) -> Result<(), Outcome> {
         let touching = tr.deflection() >= opts.contact_mm;
         if self.watching && self.free && touching {
             let at = tr.measured().map_or(tr.ball_undeflected(), |m| m.point);
-            let speed = tr.command.norm();
-            return Err(tr.struck(ProbePart::Ball, at, speed));
+            let moving = tr.command;
+            let outcome = tr.struck(ProbePart::Ball, at, moving.norm());
+            tr.escape(cmm, moving);
+            return Err(outcome);
         }
         self.free |= !touching;
         Ok(())

@@ -72,7 +72,7 @@ pub fn design_value_scan(
     targets: ScanTargets,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe).avoiding(free);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free).escaping(opts);
     let mut max_dl = 0.0;
     let kind = plan.kind();
     let result =

@@ -16,7 +16,7 @@ pub fn touch_point(
     search_mm: f64,
     opts: &ModeOptions,
 ) -> Attempt {
-    let mut tr = Tracker::new(cmm, probe).avoiding(free);
+    let mut tr = Tracker::new(cmm, probe).avoiding(free).escaping(opts);
     let start = touch_start(probe, nominal, normal, free, opts);
     let standoff = (start - nominal).norm() - probe.tip_radius_mm;
     let outcome = reposition(cmm, &mut tr, start, normal, opts)
