@@ -172,7 +172,12 @@ impl<'f> Tracker<'f> {
         let v = dir * self.escape.speed_mm_s;
         let start = self.ball_undeflected();
         let mut clear_since: Option<Point3> = None;
-        while (self.ball_undeflected() - start).norm() < self.escape.max_mm {
+        // Twice the cycles the longest move out takes at its speed.
+        let cycles = 2.0 * self.escape.max_mm / (self.escape.speed_mm_s * cmm.cycle_s());
+        for _ in 0..(cycles.min(1e7) as usize) {
+            if (self.ball_undeflected() - start).norm() >= self.escape.max_mm {
+                break;
+            }
             self.now = cmm.step(v);
             self.command = v;
             let here = self.ball_undeflected();
