@@ -335,8 +335,12 @@ pub fn reposition(
     }
     match tr.free {
         Some(free) => {
-            let route = route::plan(free, here, target, approach, opts);
-            waypoints.extend(route.ok_or(Outcome::Blocked)?);
+            let route = route::plan_route(free, here, target, approach, opts);
+            let route = route.ok_or(Outcome::Blocked)?;
+            waypoints.extend(route.waypoints);
+            if route.tight {
+                return travel_stopping(cmm, tr, &waypoints, opts);
+            }
         }
         None => {
             waypoints.extend(detour(here, target, approach, opts));
@@ -351,6 +355,27 @@ pub fn reposition(
         opts.approach_speed_mm_s,
         opts,
     )
+}
+
+/// A route whose legs are clear with the tight margin only: each leg to
+/// rest at its end (a blended corner cuts up to [`CORNER_BLEND_MM`] and
+/// the servo lag carries a fast move further past it, more than that
+/// margin allows), the last one ending towards the surface at the approach
+/// speed.
+fn travel_stopping(
+    cmm: &mut dyn Machine,
+    tr: &mut Tracker,
+    waypoints: &[Point3],
+    opts: &ModeOptions,
+) -> Result<(), Outcome> {
+    let Some((last, legs)) = waypoints.split_last() else {
+        return Ok(());
+    };
+    for w in legs {
+        travel(cmm, tr, &[*w], opts.rapid_speed_mm_s, 0.0, opts)?;
+    }
+    let approach = opts.approach_speed_mm_s;
+    travel(cmm, tr, &[*last], opts.rapid_speed_mm_s, approach, opts)
 }
 
 /// Moves the undeflected ball centre to `target` in a straight line at up

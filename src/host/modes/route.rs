@@ -14,7 +14,10 @@
 //!    the target.
 //!
 //! All candidates are tried first with the full clearance margin, then with
-//! the tight one (narrow openings). When none is clear the move is refused
+//! the tight one (narrow openings); a route found with the tight margin
+//! only is driven with a stop at each corner, so the move keeps to its
+//! legs (a blended corner and the servo's lag would leave them by more
+//! than that margin). When none is clear the move is refused
 //! ([`Outcome::Blocked`](super::Outcome::Blocked)): the software never
 //! drives the probe on a path it knows to hit the part.
 use super::{FreeSpace, ModeOptions};
@@ -34,15 +37,40 @@ pub fn plan(
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Option<Vec<Point3>> {
+    plan_route(free, here, target, approach, opts).map(|r| r.waypoints)
+}
+
+/// A clear route and the margin it was found with.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Route {
+    /// The waypoints after the start, ending on the target.
+    pub waypoints: Vec<Point3>,
+    /// Whether its legs are clear with the tight margin only: a move
+    /// along it must keep to the legs (no corner cut short, no servo
+    /// overshoot past a corner), so it stops at every waypoint.
+    pub tight: bool,
+}
+
+/// [`plan`] with the margin the route was found with.
+pub fn plan_route(
+    free: &dyn FreeSpace,
+    here: Point3,
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Option<Route> {
     let candidates = candidates(here, target, approach, opts);
     // Candidates share legs (the climb, the last leg in): each leg is
     // checked once per margin.
     let mut checked = Vec::new();
     [false, true].into_iter().find_map(|tight| {
-        candidates
+        let c = candidates
             .iter()
-            .find(|c| legs_clear(free, here, c, tight, &mut checked))
-            .cloned()
+            .find(|c| legs_clear(free, here, c, tight, &mut checked))?;
+        Some(Route {
+            waypoints: c.clone(),
+            tight,
+        })
     })
 }
 
