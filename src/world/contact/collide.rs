@@ -265,6 +265,16 @@ impl PartCheck {
         if self.order.is_empty() {
             return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
         }
+        // A crossed leaf whose bound would not clear it: its trimmed box
+        // (the part inside the trim) may.
+        let certify_at = cyl.radius + self.opts.certify_mm;
+        for o in &mut self.order {
+            let crossed = leaves.get(o.1 as usize).is_some_and(|l| l.crossed());
+            if o.0 < certify_at && crossed {
+                let tight = ix.trimmed_bound(o.1 as usize, part, seg);
+                o.0 = o.0.max(tight.unwrap_or(0.0));
+            }
+        }
         // Nearest bound first; a leaf whose bound is not below the least
         // distance found so far holds no closer point.
         for o in &mut self.order {

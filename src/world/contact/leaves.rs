@@ -25,6 +25,13 @@ pub struct LeafOptions {
     pub trim_leaf_mm: f64,
     /// Most halvings of one Bezier patch along a trim boundary.
     pub max_trim_depth: usize,
+    /// The trimmed box of a piece the trim crosses (the box of its part
+    /// inside the trim, which the shaft and body checks use) halves the
+    /// piece's parts that the trim crosses until their boxes are at most
+    /// this across, mm.
+    pub trim_box_mm: f64,
+    /// Most halvings of one piece for its trimmed box.
+    pub max_trim_box_depth: usize,
 }
 
 impl Default for LeafOptions {
@@ -34,6 +41,8 @@ impl Default for LeafOptions {
             max_flat_depth: 8,
             trim_leaf_mm: 4.0,
             max_trim_depth: 16,
+            trim_box_mm: 0.5,
+            max_trim_box_depth: 8,
         }
     }
 }
@@ -55,7 +64,7 @@ impl Aabb {
     }
 
     /// The box of `points`.
-    fn of(points: impl Iterator<Item = Point3>) -> Aabb {
+    pub(super) fn of(points: impl Iterator<Item = Point3>) -> Aabb {
         points.fold(Aabb::empty(), |b, p| Aabb {
             min: b.min.inf(&p),
             max: b.max.sup(&p),
@@ -218,13 +227,13 @@ const CHORD_ROUNDING_MM: f64 = 1e-9;
 /// A finished piece of a face, nominal: what its leaf is made from.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Piece {
-    face: usize,
+    pub(super) face: usize,
     rect: Bounds,
     degree: [usize; 2],
     /// Its nominal control points (row-major).
     points: Vec<Point3>,
     /// Its trim segments, clipped to the rectangle.
-    segs: Vec<(Vec2, Vec2)>,
+    pub(super) segs: Vec<(Vec2, Vec2)>,
     /// For each segment: the nominal end points and a bound of the
     /// nominal image's distance from their chord, mm.
     chords: Vec<(Point3, Point3, f64)>,
@@ -233,6 +242,12 @@ pub(crate) struct Piece {
     /// The box of its nominal control points (the nominal surface over
     /// the piece lies in their hull).
     nominal_box: (Point3, Point3),
+    /// The Bezier patch of a piece the trim crosses, for its trimmed box.
+    pub(super) crossed: Option<BezierPatch>,
+    /// The box of the nominal surface over the part of a crossed piece
+    /// inside the trim, made when first asked for
+    /// ([`Pieces::trimmed_box`]).
+    pub(super) trimmed: std::sync::OnceLock<Aabb>,
 }
 
 /// Every face of a workpiece split into pieces: the nominal design alone
@@ -241,7 +256,7 @@ pub(crate) struct Piece {
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Pieces {
     pub(crate) opts: LeafOptions,
-    pieces: Vec<Piece>,
+    pub(super) pieces: Vec<Piece>,
     /// The leaf tree over the pieces' nominal boxes: each part refits it
     /// to its own leaves ([`super::tree::LeafTree::refit`]).
     pub(crate) tree: super::tree::LeafTree,
@@ -280,11 +295,11 @@ impl Pieces {
 }
 
 /// What a face is split with.
-struct FaceContext<'a> {
-    face: usize,
-    surface: &'a NurbsSurface,
-    trim: Option<&'a Trim>,
-    opts: LeafOptions,
+pub(super) struct FaceContext<'a> {
+    pub(super) face: usize,
+    pub(super) surface: &'a NurbsSurface,
+    pub(super) trim: Option<&'a Trim>,
+    pub(super) opts: LeafOptions,
 }
 
 impl Leaves {
@@ -364,7 +379,7 @@ fn boundary_segments(f: &Face) -> Vec<(Vec2, Vec2)> {
         .collect()
 }
 
-fn rect_of(patch: &BezierPatch) -> Bounds {
+pub(super) fn rect_of(patch: &BezierPatch) -> Bounds {
     Bounds {
         lo: Vec2::new(patch.u.0, patch.v.0),
         hi: Vec2::new(patch.u.1, patch.v.1),
@@ -372,7 +387,7 @@ fn rect_of(patch: &BezierPatch) -> Bounds {
 }
 
 /// The parts of `segs` inside `rect` (Liang-Barsky), leaving out points.
-fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
+pub(super) fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
     segs.iter().filter_map(|&s| clip(s, rect)).collect()
 }
 
@@ -430,6 +445,8 @@ impl FaceContext<'_> {
         if !(refine_flat || refine_trim) {
             out.push(Piece {
                 nominal_box: (size.min, size.max),
+                crossed: (!segs.is_empty()).then(|| patch.clone()),
+                trimmed: std::sync::OnceLock::new(),
                 face: self.face,
                 samples: std::array::from_fn(|k| {
                     let uv = sample_uv(&rect, k);
@@ -454,7 +471,7 @@ impl FaceContext<'_> {
     }
 }
 
-fn centre(r: &Bounds) -> Vec2 {
+pub(super) fn centre(r: &Bounds) -> Vec2 {
     (r.lo + r.hi) * 0.5
 }
 
@@ -518,7 +535,7 @@ fn deviation(patch: &BezierPatch, points: &[Point3]) -> f64 {
 }
 
 /// Length of the control net along u (the longest row of differences).
-fn u_extent(patch: &BezierPatch) -> f64 {
+pub(super) fn u_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=q)
         .map(|j| {
@@ -530,7 +547,7 @@ fn u_extent(patch: &BezierPatch) -> f64 {
 }
 
 /// Length of the control net along v.
-fn v_extent(patch: &BezierPatch) -> f64 {
+pub(super) fn v_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=p)
         .map(|i| {

@@ -43,6 +43,9 @@ mod refit_tests;
 mod search;
 mod shapes;
 mod tree;
+mod trimmed_box;
+#[cfg(test)]
+mod trimmed_tests;
 
 pub use collide::{CollisionOptions, PartCheck, Strike};
 pub use leaves::LeafOptions;

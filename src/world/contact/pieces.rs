@@ -53,7 +53,7 @@ impl std::fmt::Debug for PieceCache {
 fn fingerprint(wp: &Workpiece, opts: &LeafOptions) -> u64 {
     let mut h = DefaultHasher::new();
     let mut put = |x: f64| x.to_bits().hash(&mut h);
-    for x in [opts.flatness, opts.trim_leaf_mm] {
+    for x in [opts.flatness, opts.trim_leaf_mm, opts.trim_box_mm] {
         put(x);
     }
     for f in &wp.faces {
@@ -70,6 +70,11 @@ fn fingerprint(wp: &Workpiece, opts: &LeafOptions) -> u64 {
         }
         put(f64::NAN);
     }
-    (opts.max_flat_depth, opts.max_trim_depth, wp.faces.len()).hash(&mut h);
+    let depths = (
+        opts.max_flat_depth,
+        opts.max_trim_depth,
+        opts.max_trim_box_depth,
+    );
+    (depths, wp.faces.len()).hash(&mut h);
     h.finish()
 }

@@ -1,6 +1,8 @@
 //! The per-cycle search state: the free-air bound, the list of leaves near
 //! the ball, the leaves' warm feet, and the near search with its sign rule.
-use super::leaves::{Leaf, Leaves};
+use std::sync::{Arc, OnceLock};
+
+use super::leaves::{Aabb, Leaf, Leaves, Pieces};
 use super::tree::LeafTree;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::projection::{local_minimum, local_minimum_cached, Foot};
@@ -39,6 +41,11 @@ struct Candidate {
 pub(crate) struct PartIndex {
     pub(crate) leaves: Leaves,
     pub(crate) tree: LeafTree,
+    /// The nominal pieces the leaves are made of (one leaf a piece).
+    pub(crate) pieces: Arc<Pieces>,
+    /// Per leaf, its trimmed box on this part once a check asked for it
+    /// ([`Self::trimmed_bound`]).
+    pub(crate) trimmed: Vec<OnceLock<Option<Aabb>>>,
 }
 
 impl PartIndex {
@@ -47,7 +54,13 @@ impl PartIndex {
         let pieces = am.pieces.pieces(wp, &opts.leaves);
         let leaves = Leaves::of(&pieces, am);
         let tree = pieces.tree.refit(&leaves.leaves);
-        PartIndex { leaves, tree }
+        let trimmed = (0..leaves.leaves.len()).map(|_| OnceLock::new()).collect();
+        PartIndex {
+            leaves,
+            tree,
+            pieces,
+            trimmed,
+        }
     }
 }
 

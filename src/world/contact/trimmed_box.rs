@@ -1,0 +1,156 @@
+//! Tighter boxes for the leaves the trim crosses, made only where the
+//! collision check of the shaft or the body needs them.
+//!
+//! A leaf the trim boundary crosses (a piece of a plate on the edge of a
+//! hole or of its outline, up to [`super::LeafOptions::trim_leaf_mm`] across) has
+//! the box of its whole parameter rectangle, which reaches over the hole
+//! or past the edge. A stylus running beside such an edge (0.45 mm from
+//! the wall for a 3 mm ball on a 1.5 mm shaft at 0.3 mm deflection) then
+//! finds the leaf's bound at zero and runs an exact check every few
+//! cycles. The trimmed box holds only the part of the piece inside the
+//! trim: the piece is halved (for the box alone), the halves inside kept
+//! whole, the halves outside left out, the halves the trim crosses halved
+//! until [`super::LeafOptions::trim_box_mm`] across. It is made once per design
+//! (shared by a batch's variants) and mapped once per part, for the leaves
+//! a check meets with a bound below its certifying distance only: making
+//! it for every crossed piece costs more on parts with many trimmed faces
+//! than it saves.
+use super::leaves::{centre, clip_all, rect_of, u_extent, v_extent, Aabb, FaceContext, Pieces};
+use super::search::PartIndex;
+use super::shapes::{segment_box, Segment};
+use crate::geometry::nurbs::bezier::BezierPatch;
+use crate::math::{Point3, Vec2, Vec3};
+use crate::workpiece::Workpiece;
+use crate::world::as_machined::AsMachined;
+
+impl Aabb {
+    /// The points in both boxes.
+    fn intersection(&self, o: &Aabb) -> Aabb {
+        Aabb {
+            min: self.min.sup(&o.min),
+            max: self.max.inf(&o.max),
+        }
+    }
+
+    /// The box of the images of this box's corners under `map` (for an
+    /// affine map, a box holding the image of the whole box).
+    fn mapped(&self, map: impl Fn(Point3) -> Point3) -> Aabb {
+        let (lo, hi) = (self.min, self.max);
+        Aabb::of((0..8).map(|k| {
+            let pick = |bit: usize, a: f64, b: f64| if k & bit == 0 { a } else { b };
+            map(Point3::new(
+                pick(1, lo.x, hi.x),
+                pick(2, lo.y, hi.y),
+                pick(4, lo.z, hi.z),
+            ))
+        }))
+    }
+
+    /// Whether `o` lies in this box.
+    fn holds(&self, o: &Aabb) -> bool {
+        (0..3).all(|k| self.min[k] <= o.min[k] && o.max[k] <= self.max[k])
+    }
+
+    /// This box widened by `d` on every side.
+    fn grown(&self, d: f64) -> Aabb {
+        let g = Vec3::repeat(d);
+        Aabb {
+            min: self.min - g,
+            max: self.max + g,
+        }
+    }
+}
+
+impl Pieces {
+    /// The nominal box of the part of piece `id` inside its face's trim
+    /// (`None` for a piece the trim does not cross: its own box is that),
+    /// made on first use; `wp` is the design the pieces were made of.
+    pub(crate) fn trimmed_box(&self, id: usize, wp: &Workpiece) -> Option<Aabb> {
+        let piece = self.pieces.get(id)?;
+        let patch = piece.crossed.as_ref()?;
+        let face = wp.faces.get(piece.face)?;
+        let made = piece.trimmed.get_or_init(|| {
+            let ctx = FaceContext {
+                face: piece.face,
+                surface: &face.surface,
+                trim: face.trim.as_ref(),
+                opts: self.opts,
+            };
+            let whole = Aabb::of(patch.points());
+            ctx.trimmed_part_box(patch.clone(), piece.segs.clone())
+                .intersection(&whole)
+        });
+        Some(*made)
+    }
+}
+
+impl FaceContext<'_> {
+    /// The box of the control points of the halves of `patch` (crossed by
+    /// the trim segments `segs`) that hold its part inside the trim.
+    /// Halved level by level, the inside halves first; a crossed half whose
+    /// box lies in the box so far adds nothing and is not halved further.
+    fn trimmed_part_box(&self, patch: BezierPatch, segs: Vec<(Vec2, Vec2)>) -> Aabb {
+        let mut out = Aabb::empty();
+        let mut level = vec![(patch, segs)];
+        for depth in 0..=self.opts.max_trim_box_depth {
+            let mut crossed = Vec::new();
+            for (patch, segs) in level {
+                if !segs.is_empty() {
+                    crossed.push((Aabb::of(patch.points()), patch, segs));
+                } else if self
+                    .trim
+                    .is_none_or(|t| t.contains(centre(&rect_of(&patch))))
+                {
+                    out = out.union(&Aabb::of(patch.points()));
+                }
+            }
+            let last = depth == self.opts.max_trim_box_depth;
+            let mut next = Vec::new();
+            for (size, patch, segs) in crossed {
+                if out.holds(&size) {
+                    continue;
+                }
+                if last || (size.max - size.min).norm() <= self.opts.trim_box_mm {
+                    out = out.union(&size);
+                    continue;
+                }
+                let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
+                    patch.split_u()
+                } else {
+                    patch.split_v()
+                };
+                let (sa, sb) = (clip_all(&segs, &rect_of(&a)), clip_all(&segs, &rect_of(&b)));
+                next.push((a, sa));
+                next.push((b, sb));
+            }
+            if next.is_empty() {
+                break;
+            }
+            level = next;
+        }
+        out
+    }
+}
+
+impl PartIndex {
+    /// A lower bound of the distance from `seg` to the true surface over
+    /// the part of leaf `id` inside its face's trim, from its trimmed box
+    /// (`None` for a leaf the trim does not cross). The box is mapped by
+    /// the part's affine transform (the box of its corners' images holds
+    /// the image) and widened by the form's bound over it, once per part.
+    pub(crate) fn trimmed_bound(
+        &self,
+        id: usize,
+        (wp, am): (&Workpiece, &AsMachined),
+        seg: Segment,
+    ) -> Option<f64> {
+        let slot = self.trimmed.get(id)?;
+        let mapped = slot.get_or_init(|| {
+            let b = self.pieces.trimmed_box(id, wp)?;
+            let face = self.leaves.leaves.get(id)?.face;
+            let inflate = am.max_form_height_over(face, b.min, b.max) * am.stretch_factor();
+            Some(b.mapped(|p| am.transform_point(p)).grown(inflate))
+        });
+        mapped.map(|m| segment_box(seg.a, seg.b, &m).0.sqrt())
+    }
+}
