@@ -387,7 +387,7 @@ pub(super) fn rect_of(patch: &BezierPatch) -> Bounds {
 }
 
 /// The parts of `segs` inside `rect` (Liang-Barsky), leaving out points.
-pub(super) fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
+fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
     segs.iter().filter_map(|&s| clip(s, rect)).collect()
 }
 
@@ -460,15 +460,23 @@ impl FaceContext<'_> {
             });
             return;
         }
-        let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
-            patch.split_u()
-        } else {
-            patch.split_v()
-        };
-        let (sa, sb) = (clip_all(&segs, &rect_of(&a)), clip_all(&segs, &rect_of(&b)));
+        let ((a, sa), (b, sb)) = halves(&patch, &segs);
         self.split(a, sa, depth + 1, out);
         self.split(b, sb, depth + 1, out);
     }
+}
+
+/// The two halves of `patch` across its longer side, each with the trim
+/// segments `segs` clipped to it.
+type Half = (BezierPatch, Vec<(Vec2, Vec2)>);
+pub(super) fn halves(patch: &BezierPatch, segs: &[(Vec2, Vec2)]) -> (Half, Half) {
+    let (a, b) = if u_extent(patch) >= v_extent(patch) {
+        patch.split_u()
+    } else {
+        patch.split_v()
+    };
+    let (sa, sb) = (clip_all(segs, &rect_of(&a)), clip_all(segs, &rect_of(&b)));
+    ((a, sa), (b, sb))
 }
 
 pub(super) fn centre(r: &Bounds) -> Vec2 {
@@ -535,7 +543,7 @@ fn deviation(patch: &BezierPatch, points: &[Point3]) -> f64 {
 }
 
 /// Length of the control net along u (the longest row of differences).
-pub(super) fn u_extent(patch: &BezierPatch) -> f64 {
+fn u_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=q)
         .map(|j| {
@@ -547,7 +555,7 @@ pub(super) fn u_extent(patch: &BezierPatch) -> f64 {
 }
 
 /// Length of the control net along v.
-pub(super) fn v_extent(patch: &BezierPatch) -> f64 {
+fn v_extent(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
     (0..=p)
         .map(|i| {

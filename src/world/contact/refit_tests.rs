@@ -10,12 +10,14 @@ use crate::workpiece::Workpiece;
 use crate::world::as_machined::{AsMachined, AsMachinedSpec};
 use rand::{RngExt, SeedableRng};
 
-fn flange() -> Workpiece {
+/// The flange of `workpieces/`.
+pub(super) fn flange() -> Workpiece {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/io1-flange.stp");
     Workpiece::from_path(&path).unwrap()
 }
 
-fn machined(wp: &Workpiece) -> AsMachined {
+/// The flange moved, turned, stretched, offset and bumped.
+pub(super) fn machined(wp: &Workpiece) -> AsMachined {
     let spec: AsMachinedSpec = serde_json::from_str(
         r#"{"transform":{"translate_mm":[0.4,-0.3,0.2],"rotate_deg":[0.5,-0.3,0.8],"scale":1.002},
             "form":[{"kind":"offset","mm":0.02},

@@ -15,7 +15,7 @@
 //! a check meets with a bound below its certifying distance only: making
 //! it for every crossed piece costs more on parts with many trimmed faces
 //! than it saves.
-use super::leaves::{centre, clip_all, rect_of, u_extent, v_extent, Aabb, FaceContext, Pieces};
+use super::leaves::{centre, halves, rect_of, Aabb, FaceContext, Pieces};
 use super::search::PartIndex;
 use super::shapes::{segment_box, Segment};
 use crate::geometry::nurbs::bezier::BezierPatch;
@@ -114,14 +114,9 @@ impl FaceContext<'_> {
                     out = out.union(&size);
                     continue;
                 }
-                let (a, b) = if u_extent(&patch) >= v_extent(&patch) {
-                    patch.split_u()
-                } else {
-                    patch.split_v()
-                };
-                let (sa, sb) = (clip_all(&segs, &rect_of(&a)), clip_all(&segs, &rect_of(&b)));
-                next.push((a, sa));
-                next.push((b, sb));
+                let (a, b) = halves(&patch, &segs);
+                next.push(a);
+                next.push(b);
             }
             if next.is_empty() {
                 break;

@@ -4,28 +4,12 @@
 //! turned, stretched and bumped, every true point of a crossed leaf inside
 //! its face's trim has a trimmed bound of zero, and true points of the
 //! untrimmed surface over the holes are bounded away by millimetres.
+use super::refit_tests::{flange, machined};
 use super::search::PartIndex;
 use super::shapes::Segment;
 use super::ContactOptions;
 use crate::geometry::Jet2;
 use crate::math::{Vec2, Vec3};
-use crate::workpiece::Workpiece;
-use crate::world::as_machined::{AsMachined, AsMachinedSpec};
-
-fn flange() -> Workpiece {
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/io1-flange.stp");
-    Workpiece::from_path(&path).unwrap()
-}
-
-fn machined(wp: &Workpiece) -> AsMachined {
-    let spec: AsMachinedSpec = serde_json::from_str(
-        r#"{"transform":{"translate_mm":[0.4,-0.3,0.2],"rotate_deg":[0.5,-0.3,0.8],"scale":1.002},
-            "form":[{"kind":"offset","mm":0.02},
-                    {"kind":"bump","center_mm":[6,32.5,18.75],"radius_mm":3,"height_mm":0.05}]}"#,
-    )
-    .unwrap();
-    AsMachined::from_spec(&spec, wp).unwrap()
-}
 
 #[test]
 fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
