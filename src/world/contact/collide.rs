@@ -153,9 +153,10 @@ pub struct PartCheck {
     seeds: Vec<Point3>,
     exact_checks: u64,
     /// The leaves listed near the axis: the axis ends and the distance
-    /// (mm) they were listed within, and the leaves.
+    /// (mm) they were listed within, and the leaves with their bounds
+    /// from the axis then (mm).
     listed_at: Option<(Point3, Point3, f64)>,
-    listed: Vec<u32>,
+    listed: Vec<(f64, u32)>,
     /// How far the next point queries look, mm: the full reach for a
     /// descent's first point, then its least distance so far plus the
     /// margin (a farther point cannot lower it).
@@ -265,12 +266,15 @@ impl PartCheck {
         if self.order.is_empty() {
             return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
         }
-        // A crossed leaf whose bound would not clear it: its trimmed box
-        // (the part inside the trim) may.
+        // A leaf whose bound would not clear it: its oriented box may, and
+        // for a crossed leaf its trimmed box (the part inside the trim).
         let certify_at = cyl.radius + self.opts.certify_mm;
         for o in &mut self.order {
-            let crossed = leaves.get(o.1 as usize).is_some_and(|l| l.crossed());
-            if o.0 < certify_at && crossed {
+            let Some(leaf) = leaves.get(o.1 as usize).filter(|_| o.0 < certify_at) else {
+                continue;
+            };
+            o.0 = leaf.tight_segment_bound(seg.a, seg.b, o.0);
+            if o.0 < certify_at && leaf.crossed() {
                 let tight = ix.trimmed_bound(o.1 as usize, part, seg);
                 o.0 = o.0.max(tight.unwrap_or(0.0));
             }
@@ -345,23 +349,31 @@ impl PartCheck {
     /// Fills `self.order` with every leaf whose bound from `seg` is below
     /// `radius`, with its bound (in no particular order): from the listed
     /// leaves while the list serves, else from the tree (listing again,
-    /// [`CollisionOptions::list_slack_mm`] wider).
+    /// [`CollisionOptions::list_slack_mm`] wider). A leaf's bound is the
+    /// larger of a box and a slab distance, each moving by at most the
+    /// larger end move `m` when the axis moves (every point of the axis
+    /// moves by at most that), so a listed leaf whose bound then was at
+    /// least `radius + m` is left out without looking at it again.
     fn near_leaves(&mut self, ix: &PartIndex, seg: Segment, radius: f64) {
         let leaves = &ix.leaves.leaves;
         self.order.clear();
         let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
-        let fresh = self.listed_at.is_some_and(|l| l.2 - moved(l) >= radius);
-        if !fresh {
+        let fresh = self.listed_at.filter(|l| l.2 - moved(*l) >= radius);
+        let Some(listed_at) = fresh else {
             let wide = radius + self.opts.list_slack_mm;
             ix.tree.within_bounds(leaves, seg, wide, &mut self.order);
             self.listed.clear();
-            self.listed.extend(self.order.iter().map(|o| o.1));
+            self.listed.extend_from_slice(&self.order);
             self.listed_at = Some((seg.a, seg.b, wide));
             self.order.retain(|o| o.0 < radius);
             return;
-        }
+        };
+        let reach = radius + moved(listed_at);
         let r2 = radius * radius;
-        for &id in &self.listed {
+        for &(then, id) in &self.listed {
+            if then >= reach {
+                continue;
+            }
             let Some(l) = leaves.get(id as usize) else {
                 continue;
             };

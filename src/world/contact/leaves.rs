@@ -25,10 +25,12 @@ pub struct LeafOptions {
     pub trim_leaf_mm: f64,
     /// Most halvings of one Bezier patch along a trim boundary.
     pub max_trim_depth: usize,
-    /// The trimmed box of a piece the trim crosses (the box of its part
-    /// inside the trim, which the shaft and body checks use) halves the
-    /// piece's parts that the trim crosses until their boxes are at most
-    /// this across, mm.
+    /// The trimmed boxes of a piece the trim crosses (boxes holding its
+    /// part inside the trim, which the shaft and body checks use) halve
+    /// the piece's parts that the trim crosses until their boxes are at
+    /// most this across, mm: they reach at most this far over a hole's
+    /// edge, well below the 0.45 mm a 1.5 mm shaft keeps from the wall of
+    /// a bore it scans with a 3 mm ball.
     pub trim_box_mm: f64,
     /// Most halvings of one piece for its trimmed box.
     pub max_trim_box_depth: usize,
@@ -41,8 +43,8 @@ impl Default for LeafOptions {
             max_flat_depth: 8,
             trim_leaf_mm: 4.0,
             max_trim_depth: 16,
-            trim_box_mm: 0.5,
-            max_trim_box_depth: 8,
+            trim_box_mm: 0.15,
+            max_trim_box_depth: 12,
         }
     }
 }
@@ -117,6 +119,31 @@ impl Slab {
     }
 }
 
+/// The box `lo[k] <= x . axes[k] <= hi[k]` of an orthonormal frame whose
+/// first axis is a leaf's slab normal and whose second runs along its
+/// first parameter: it holds the leaf as tightly across as along the
+/// normal, where the axis-aligned box of a tilted leaf reaches far past it
+/// at its corners and the slab is unbounded across.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Obb {
+    axes: [Vec3; 3],
+    lo: Point3,
+    hi: Point3,
+}
+
+impl Obb {
+    /// The exact distance from the segment `a..b` to the box (zero when
+    /// they meet), mm.
+    fn segment_dist(&self, a: Point3, b: Point3) -> f64 {
+        let local = |p: Point3| Point3::from(self.axes.map(|e| p.coords.dot(&e)));
+        let bx = Aabb {
+            min: self.lo,
+            max: self.hi,
+        };
+        super::shapes::segment_box(local(a), local(b), &bx).0.sqrt()
+    }
+}
+
 /// One piece of a face.
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Leaf {
@@ -126,8 +153,10 @@ pub(crate) struct Leaf {
     pub(crate) bounds: Bounds,
     /// The true surface over the rectangle lies in this box...
     pub(crate) aabb: Aabb,
-    /// ... and in this slab.
+    /// ... and in this slab ...
     slab: Slab,
+    /// ... and in this oriented box (see [`Leaf::tight_segment_bound`]).
+    obb: Option<Obb>,
     /// The trim segments (clipped to the rectangle) in
     /// [`Leaves::segments`]; empty when the rectangle lies inside the trim.
     pub(crate) segments: std::ops::Range<usize>,
@@ -156,6 +185,15 @@ impl Leaf {
     #[inline(always)]
     pub(crate) fn segment_lower_bound_from(&self, d2: f64, a: Point3, b: Point3) -> f64 {
         d2.sqrt().max(self.slab.segment_dist(a, b))
+    }
+
+    /// A lower bound of the distance from the segment `a..b` to the true
+    /// surface over the leaf at least `bound` (one of the cheaper bounds
+    /// above), from its oriented box: dearer (a change of frame and an
+    /// exact segment-box distance), kept for leaves whose cheaper bound
+    /// does not settle a check, mm.
+    pub(crate) fn tight_segment_bound(&self, a: Point3, b: Point3, bound: f64) -> f64 {
+        self.obb.map_or(bound, |o| bound.max(o.segment_dist(a, b)))
     }
 
     /// Whether the trim boundary crosses the leaf.
@@ -244,10 +282,10 @@ pub(crate) struct Piece {
     nominal_box: (Point3, Point3),
     /// The Bezier patch of a piece the trim crosses, for its trimmed box.
     pub(super) crossed: Option<BezierPatch>,
-    /// The box of the nominal surface over the part of a crossed piece
-    /// inside the trim, made when first asked for
-    /// ([`Pieces::trimmed_box`]).
-    pub(super) trimmed: std::sync::OnceLock<Aabb>,
+    /// Boxes holding the nominal surface over the part of a crossed
+    /// piece inside the trim, made when first asked for
+    /// ([`Pieces::trimmed_boxes`]).
+    pub(super) trimmed: std::sync::OnceLock<Vec<Aabb>>,
 }
 
 /// Every face of a workpiece split into pieces: the nominal design alone
@@ -338,6 +376,7 @@ impl Leaves {
         let grow = Vec3::repeat(inflate);
         (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
         let slab = slab_of(mapped, piece.degree, inflate);
+        let obb = obb_of(mapped, &slab, inflate);
         let first = self.segments.len();
         self.segments.extend(piece.segs.iter().copied());
         // `T` is affine: it maps a chord to the chord of the mapped ends and
@@ -354,6 +393,7 @@ impl Leaves {
             bounds: piece.rect,
             aabb,
             slab,
+            obb,
             segments: first..self.segments.len(),
             samples: piece.samples.map(|q| am.transform_point(q)),
         });
@@ -515,6 +555,35 @@ fn slab_of(points: &[Point3], [p, q]: [usize; 2], inflate: f64) -> Slab {
         lo: lo - inflate,
         hi: hi + inflate,
     }
+}
+
+/// The oriented box of the control points `points` (whose hull holds the
+/// surface) in the frame of `slab`'s normal and the direction from the
+/// first to the last point of the first row across it, grown by `inflate`
+/// on every side (`None` without a normal or with the row along it).
+fn obb_of(points: &[Point3], slab: &Slab, inflate: f64) -> Option<Obb> {
+    let n = slab.normal;
+    if !(slab.lo.is_finite() && slab.hi.is_finite()) {
+        return None;
+    }
+    let (first, last) = (points.first()?, points.last()?);
+    let d = last - first;
+    let t = (d - n * d.dot(&n)).try_normalize(1e-12)?;
+    let axes = [n, t, n.cross(&t)];
+    let (mut lo, mut hi) = (
+        Point3::from(Vec3::repeat(f64::INFINITY)),
+        Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
+    );
+    for p in points {
+        let x = Point3::from(axes.map(|e| p.coords.dot(&e)));
+        (lo, hi) = (lo.inf(&x), hi.sup(&x));
+    }
+    let grow = Vec3::repeat(inflate);
+    Some(Obb {
+        axes,
+        lo: lo - grow,
+        hi: hi + grow,
+    })
 }
 
 /// Largest distance of the control points from the bilinear surface

@@ -43,9 +43,9 @@ pub(crate) struct PartIndex {
     pub(crate) tree: LeafTree,
     /// The nominal pieces the leaves are made of (one leaf a piece).
     pub(crate) pieces: Arc<Pieces>,
-    /// Per leaf, its trimmed box on this part once a check asked for it
+    /// Per leaf, its trimmed boxes on this part once a check asked for them
     /// ([`Self::trimmed_bound`]).
-    pub(crate) trimmed: Vec<OnceLock<Option<Aabb>>>,
+    pub(crate) trimmed: Vec<OnceLock<Option<Vec<Aabb>>>>,
 }
 
 impl PartIndex {

@@ -57,7 +57,9 @@ impl Shape for Segment {
 /// parameter `s` in `[0, 1]` of the segment's point `a + s (b - a)` that
 /// attains it (exact: the squared distance is a piecewise quadratic in
 /// `s`, with its pieces split where a coordinate crosses a side of the
-/// box).
+/// box), or for a segment within [`NEAR_AXIS_MM`] of a coordinate axis a
+/// lower bound of it at most its extents across short (see
+/// [`along_axis`]).
 pub(crate) fn segment_box(a: Point3, b: Point3, bx: &Aabb) -> (f64, f64) {
     let d = b - a;
     if let Some(found) = along_axis(a, d, bx) {
@@ -108,21 +110,32 @@ fn insertion_sort(ts: &mut [f64]) {
     }
 }
 
+/// A segment whose extent across its main coordinate axis is at most this
+/// (mm) in each other coordinate counts as along that axis in
+/// [`segment_box`]: its distance is bounded from below through the gaps of
+/// its own intervals, short of the exact one by at most its extents across
+/// (a stylus standing up through a machine's angular errors, a few
+/// micrometres over its length, is bounded at the cost of a coordinate
+/// test rather than of the piecewise search).
+const NEAR_AXIS_MM: f64 = 1e-2;
+
 /// [`segment_box`] of a segment along a coordinate axis (a stylus
-/// standing straight up, the common case): the squared distance is that
-/// of the other two coordinates to the box plus the gap between the
-/// segment's and the box's intervals along the axis, attained at the
-/// segment's point nearest to the box's interval. `None` for any other
-/// segment.
+/// standing straight up, the common case), or within [`NEAR_AXIS_MM`] of
+/// one across it: the squared distance is at least the squared gaps
+/// between the segment's intervals and the box's in the other two
+/// coordinates plus the gap along the axis at the segment's point nearest
+/// to the box's interval (exact for a segment exactly along the axis).
+/// `None` for any other segment.
 fn along_axis(a: Point3, d: Vec3, bx: &Aabb) -> Option<(f64, f64)> {
-    let zeros = (0..3).filter(|&k| d[k] == 0.0).count();
-    let k = (0..3).find(|&k| d[k] != 0.0)?;
-    if zeros != 2 {
+    let k = d.iamax();
+    let across = (0..3).filter(|&j| j != k);
+    if d[k] == 0.0 || across.clone().any(|j| d[j].abs() > NEAR_AXIS_MM) {
         return None;
     }
     let mut d2 = 0.0;
-    for j in (0..3).filter(|&j| j != k) {
-        let gap = (bx.min[j] - a[j]).max(a[j] - bx.max[j]).max(0.0);
+    for j in across {
+        let (lo, hi) = (a[j].min(a[j] + d[j]), a[j].max(a[j] + d[j]));
+        let gap = (bx.min[j] - hi).max(lo - bx.max[j]).max(0.0);
         d2 += gap * gap;
     }
     // The segment's coordinate along the axis nearest to the box's
@@ -301,6 +314,32 @@ mod tests {
         assert!((d2 - 1.0).abs() < 1e-12);
         let (d2, _) = segment_box(Point3::new(2., 2., 2.), Point3::new(3., 2., 2.), &cube());
         assert!((d2 - 3.0).abs() < 1e-12);
+    }
+
+    /// A segment a few micrometres off a coordinate axis (a stylus tilted
+    /// by a machine's angular errors): a lower bound of the sampled
+    /// distance, short of it by no more than the segment's extent across
+    /// the axis.
+    #[test]
+    fn near_axis_segment_is_bounded() {
+        for (a, b) in [
+            ([2.0, 0.5, -1.0], [2.0004, 0.5003, 3.0]),
+            ([3.0, 3.0, -2.0], [2.9995, 3.0008, -0.5]),
+            ([0.5, 1.7, 3.0], [0.5009, 1.7, 5.0]),
+            ([-0.2, 0.5, 0.5], [-5.0, 0.5002, 0.4999]),
+        ] {
+            let (a, b) = (Point3::from(a), Point3::from(b));
+            let across = {
+                let d = (b - a).abs();
+                d.sum() - d.max()
+            };
+            let (d2, _) = segment_box(a, b, &cube());
+            let sampled = (0..=100_000)
+                .map(|k| cube().dist2(a + (b - a) * (k as f64 / 100_000.0)))
+                .fold(f64::INFINITY, f64::min);
+            assert!(d2 <= sampled + 1e-12, "{a} {b}: {d2} vs {sampled}");
+            assert!(sampled.sqrt() - d2.sqrt() <= across + 1e-9, "{a} {b}");
+        }
     }
 
     /// The cylinder's signed distance, closest point and support point on

@@ -8,9 +8,10 @@
 //! the wall for a 3 mm ball on a 1.5 mm shaft at 0.3 mm deflection) then
 //! finds the leaf's bound at zero and runs an exact check every few
 //! cycles. The trimmed box holds only the part of the piece inside the
-//! trim: the piece is halved (for the box alone), the halves inside kept
+//! trim: the piece is halved (for the boxes alone), the halves inside kept
 //! whole, the halves outside left out, the halves the trim crosses halved
-//! until [`super::LeafOptions::trim_box_mm`] across. It is made once per design
+//! until [`super::LeafOptions::trim_box_mm`] across; the leaf's trimmed
+//! bound is the least distance to those boxes. They are made once per design
 //! (shared by a batch's variants) and mapped once per part, for the leaves
 //! a check meets with a bound below its certifying distance only: making
 //! it for every crossed piece costs more on parts with many trimmed faces
@@ -24,14 +25,6 @@ use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
 
 impl Aabb {
-    /// The points in both boxes.
-    fn intersection(&self, o: &Aabb) -> Aabb {
-        Aabb {
-            min: self.min.sup(&o.min),
-            max: self.max.inf(&o.max),
-        }
-    }
-
     /// The box of the images of this box's corners under `map` (for an
     /// affine map, a box holding the image of the whole box).
     fn mapped(&self, map: impl Fn(Point3) -> Point3) -> Aabb {
@@ -62,10 +55,11 @@ impl Aabb {
 }
 
 impl Pieces {
-    /// The nominal box of the part of piece `id` inside its face's trim
-    /// (`None` for a piece the trim does not cross: its own box is that),
-    /// made on first use; `wp` is the design the pieces were made of.
-    pub(crate) fn trimmed_box(&self, id: usize, wp: &Workpiece) -> Option<Aabb> {
+    /// Boxes holding the nominal surface over the part of piece `id`
+    /// inside its face's trim (`None` for a piece the trim does not cross:
+    /// its own box is that), made on first use; `wp` is the design the
+    /// pieces were made of.
+    pub(crate) fn trimmed_boxes(&self, id: usize, wp: &Workpiece) -> Option<&[Aabb]> {
         let piece = self.pieces.get(id)?;
         let patch = piece.crossed.as_ref()?;
         let face = wp.faces.get(piece.face)?;
@@ -76,21 +70,19 @@ impl Pieces {
                 trim: face.trim.as_ref(),
                 opts: self.opts,
             };
-            let whole = Aabb::of(patch.points());
-            ctx.trimmed_part_box(patch.clone(), piece.segs.clone())
-                .intersection(&whole)
+            ctx.trimmed_part_boxes(patch.clone(), piece.segs.clone())
         });
-        Some(*made)
+        Some(made)
     }
 }
 
 impl FaceContext<'_> {
-    /// The box of the control points of the halves of `patch` (crossed by
-    /// the trim segments `segs`) that hold its part inside the trim.
+    /// The boxes of the control points of the halves of `patch` (crossed
+    /// by the trim segments `segs`) that hold its part inside the trim.
     /// Halved level by level, the inside halves first; a crossed half whose
-    /// box lies in the box so far adds nothing and is not halved further.
-    fn trimmed_part_box(&self, patch: BezierPatch, segs: Vec<(Vec2, Vec2)>) -> Aabb {
-        let mut out = Aabb::empty();
+    /// box lies in one kept already adds nothing and is not halved further.
+    fn trimmed_part_boxes(&self, patch: BezierPatch, segs: Vec<(Vec2, Vec2)>) -> Vec<Aabb> {
+        let mut out: Vec<Aabb> = Vec::new();
         let mut level = vec![(patch, segs)];
         for depth in 0..=self.opts.max_trim_box_depth {
             let mut crossed = Vec::new();
@@ -101,17 +93,17 @@ impl FaceContext<'_> {
                     .trim
                     .is_none_or(|t| t.contains(centre(&rect_of(&patch))))
                 {
-                    out = out.union(&Aabb::of(patch.points()));
+                    out.push(Aabb::of(patch.points()));
                 }
             }
             let last = depth == self.opts.max_trim_box_depth;
             let mut next = Vec::new();
             for (size, patch, segs) in crossed {
-                if out.holds(&size) {
+                if out.iter().any(|b| b.holds(&size)) {
                     continue;
                 }
                 if last || (size.max - size.min).norm() <= self.opts.trim_box_mm {
-                    out = out.union(&size);
+                    out.push(size);
                     continue;
                 }
                 let (a, b) = halves(&patch, &segs);
@@ -129,10 +121,11 @@ impl FaceContext<'_> {
 
 impl PartIndex {
     /// A lower bound of the distance from `seg` to the true surface over
-    /// the part of leaf `id` inside its face's trim, from its trimmed box
-    /// (`None` for a leaf the trim does not cross). The box is mapped by
-    /// the part's affine transform (the box of its corners' images holds
-    /// the image) and widened by the form's bound over it, once per part.
+    /// the part of leaf `id` inside its face's trim, from its trimmed boxes
+    /// (`None` for a leaf the trim does not cross). The boxes are mapped
+    /// by the part's affine transform (the box of its corners' images
+    /// holds the image) and widened by the form's bound over the leaf,
+    /// once per part.
     pub(crate) fn trimmed_bound(
         &self,
         id: usize,
@@ -141,11 +134,17 @@ impl PartIndex {
     ) -> Option<f64> {
         let slot = self.trimmed.get(id)?;
         let mapped = slot.get_or_init(|| {
-            let b = self.pieces.trimmed_box(id, wp)?;
+            let boxes = self.pieces.trimmed_boxes(id, wp)?;
             let face = self.leaves.leaves.get(id)?.face;
-            let inflate = am.max_form_height_over(face, b.min, b.max) * am.stretch_factor();
-            Some(b.mapped(|p| am.transform_point(p)).grown(inflate))
+            let whole = boxes.iter().fold(Aabb::empty(), |u, b| u.union(b));
+            let inflate = am.max_form_height_over(face, whole.min, whole.max) * am.stretch_factor();
+            let map = |b: &Aabb| b.mapped(|p| am.transform_point(p)).grown(inflate);
+            Some(boxes.iter().map(map).collect())
         });
-        mapped.map(|m| segment_box(seg.a, seg.b, &m).0.sqrt())
+        let least = mapped
+            .as_ref()?
+            .iter()
+            .map(|m| segment_box(seg.a, seg.b, m).0);
+        Some(least.fold(f64::INFINITY, f64::min).sqrt())
     }
 }
