@@ -275,7 +275,7 @@ impl PartCheck {
             };
             o.0 = leaf.tight_segment_bound(seg.a, seg.b, o.0);
             if o.0 < certify_at && leaf.crossed() {
-                let tight = ix.trimmed_bound(o.1 as usize, part, seg);
+                let tight = ix.trimmed_bound(o.1 as usize, part, seg, certify_at);
                 o.0 = o.0.max(tight.unwrap_or(0.0));
             }
         }

@@ -161,8 +161,9 @@ pub(crate) struct Leaf {
     /// [`Leaves::segments`]; empty when the rectangle lies inside the trim.
     pub(crate) segments: std::ops::Range<usize>,
     /// A 3 x 3 grid of (approximate) true points over the rectangle, for
-    /// Newton's first start.
-    samples: [Point3; 9],
+    /// Newton's first start: made when the leaf is first searched without
+    /// a warm foot (most leaves of a part never are).
+    samples: std::sync::OnceLock<[Point3; 9]>,
 }
 
 impl Leaf {
@@ -201,10 +202,11 @@ impl Leaf {
         !self.segments.is_empty()
     }
 
-    /// The parameters of the sample nearest to `p`.
-    pub(crate) fn start(&self, p: Point3) -> Vec2 {
+    /// The parameters of the sample nearest to `p`; `make` gives the
+    /// samples the first time.
+    pub(crate) fn start(&self, p: Point3, make: impl FnOnce() -> [Point3; 9]) -> Vec2 {
         let mut best = (f64::INFINITY, 4);
-        for (k, s) in self.samples.iter().enumerate() {
+        for (k, s) in self.samples.get_or_init(make).iter().enumerate() {
             let d2 = (s - p).norm_squared();
             if d2 < best.0 {
                 best = (d2, k);
@@ -275,8 +277,9 @@ pub(crate) struct Piece {
     /// For each segment: the nominal end points and a bound of the
     /// nominal image's distance from their chord, mm.
     chords: Vec<(Point3, Point3, f64)>,
-    /// The nominal points of its 3 x 3 sample grid.
-    samples: [Point3; 9],
+    /// The nominal points of its 3 x 3 sample grid, made when first asked
+    /// for ([`Piece::nominal_samples`]).
+    samples: std::sync::OnceLock<[Point3; 9]>,
     /// The box of its nominal control points (the nominal surface over
     /// the piece lies in their hull).
     nominal_box: (Point3, Point3),
@@ -286,6 +289,19 @@ pub(crate) struct Piece {
     /// piece inside the trim, made when first asked for
     /// ([`Pieces::trimmed_boxes`]).
     pub(super) trimmed: std::sync::OnceLock<Vec<Aabb>>,
+}
+
+impl Piece {
+    /// The nominal points of its 3 x 3 sample grid on `surface` (its
+    /// face's), made on first use.
+    pub(super) fn nominal_samples(&self, surface: &NurbsSurface) -> &[Point3; 9] {
+        self.samples.get_or_init(|| {
+            std::array::from_fn(|k| {
+                let uv = sample_uv(&self.rect, k);
+                surface.point(uv.x, uv.y)
+            })
+        })
+    }
 }
 
 /// Every face of a workpiece split into pieces: the nominal design alone
@@ -395,7 +411,7 @@ impl Leaves {
             slab,
             obb,
             segments: first..self.segments.len(),
-            samples: piece.samples.map(|q| am.transform_point(q)),
+            samples: std::sync::OnceLock::new(),
         });
     }
 }
@@ -432,6 +448,15 @@ fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
 }
 
 fn clip((a, b): (Vec2, Vec2), r: &Bounds) -> Option<(Vec2, Vec2)> {
+    // Both ends beyond one side: nothing inside (most segments of a long
+    // trim, for a small rectangle), without the divisions below.
+    let beyond = (a.x < r.lo.x && b.x < r.lo.x)
+        || (a.x > r.hi.x && b.x > r.hi.x)
+        || (a.y < r.lo.y && b.y < r.lo.y)
+        || (a.y > r.hi.y && b.y > r.hi.y);
+    if beyond {
+        return None;
+    }
     let d = b - a;
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
     for (p, q) in [
@@ -488,10 +513,7 @@ impl FaceContext<'_> {
                 crossed: (!segs.is_empty()).then(|| patch.clone()),
                 trimmed: std::sync::OnceLock::new(),
                 face: self.face,
-                samples: std::array::from_fn(|k| {
-                    let uv = sample_uv(&rect, k);
-                    self.surface.point(uv.x, uv.y)
-                }),
+                samples: std::sync::OnceLock::new(),
                 rect,
                 degree: patch.degree,
                 points,

@@ -49,6 +49,17 @@ pub(crate) struct PartIndex {
 }
 
 impl PartIndex {
+    /// The true points of leaf `id`'s sample grid: its piece's nominal
+    /// ones mapped by the part's transform (none for a leaf of no piece).
+    fn true_samples(&self, id: u32, (wp, am): (&Workpiece, &AsMachined)) -> [Point3; 9] {
+        let piece = self.pieces.pieces.get(id as usize);
+        let surface = piece.and_then(|p| wp.faces.get(p.face)).map(|f| &f.surface);
+        match (piece, surface) {
+            (Some(p), Some(s)) => p.nominal_samples(s).map(|q| am.transform_point(q)),
+            _ => [Point3::origin(); 9],
+        }
+    }
+
     /// The leaves and tree of the part `wp` as machined by `am`.
     pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> PartIndex {
         let pieces = am.pieces.pieces(wp, &opts.leaves);
@@ -257,7 +268,7 @@ impl Cursor {
                 continue;
             };
             let warm = (&mut self.warm, self.stamp, id);
-            let foot = leaf_foot((wp, am), leaf, warm, y, opts);
+            let foot = leaf_foot((ix, wp, am), leaf, warm, y, opts);
             let d = foot.dist2.sqrt();
             // An unconfirmed foot is a point of the surface, so its
             // distance bounds the leaf's from above only: the leaf's own
@@ -392,7 +403,7 @@ impl Cursor {
 /// then still feels the surface it touches; an unconfirmed foot's
 /// distance is at most a Newton tolerance above the leaf's least.
 fn leaf_foot(
-    (wp, am): (&Workpiece, &AsMachined),
+    (ix, wp, am): (&PartIndex, &Workpiece, &AsMachined),
     leaf: &Leaf,
     (warm, stamp, id): (&mut Vec<WarmFoot>, u64, u32),
     y: Point3,
@@ -400,18 +411,19 @@ fn leaf_foot(
 ) -> Foot {
     let face = leaf.face;
     let eval = |uv: Vec2, out: &mut Jet2| am.true_jet_into(wp, face, uv, out);
+    let start = || leaf.start(y, || ix.true_samples(id, (wp, am)));
     if let Some(w) = warm.iter_mut().find(|w| w.leaf == id) {
         w.stamp = stamp;
         local_minimum_cached(eval, y, &mut w.foot, &leaf.bounds, opts);
         if !w.foot.status.is_confirmed() {
-            let cold = local_minimum(eval, y, leaf.start(y), &leaf.bounds, opts);
+            let cold = local_minimum(eval, y, start(), &leaf.bounds, opts);
             if cold.dist2 < w.foot.dist2 {
                 w.foot = cold;
             }
         }
         return w.foot;
     }
-    let foot = local_minimum(eval, y, leaf.start(y), &leaf.bounds, opts);
+    let foot = local_minimum(eval, y, start(), &leaf.bounds, opts);
     remember(
         warm,
         WarmFoot {

@@ -122,15 +122,19 @@ impl FaceContext<'_> {
 impl PartIndex {
     /// A lower bound of the distance from `seg` to the true surface over
     /// the part of leaf `id` inside its face's trim, from its trimmed boxes
-    /// (`None` for a leaf the trim does not cross). The boxes are mapped
-    /// by the part's affine transform (the box of its corners' images
-    /// holds the image) and widened by the form's bound over the leaf,
-    /// once per part.
+    /// (`None` for a leaf the trim does not cross): the least distance to
+    /// them when that is at least `need` (mm), else zero (the boxes are
+    /// looked at only until one comes nearer than `need`: a check that
+    /// needs more then descends from the leaf anyway). The boxes are
+    /// mapped by the part's affine transform (the box of its corners'
+    /// images holds the image) and widened by the form's bound over the
+    /// leaf, once per part.
     pub(crate) fn trimmed_bound(
         &self,
         id: usize,
         (wp, am): (&Workpiece, &AsMachined),
         seg: Segment,
+        need: f64,
     ) -> Option<f64> {
         let slot = self.trimmed.get(id)?;
         let mapped = slot.get_or_init(|| {
@@ -141,10 +145,15 @@ impl PartIndex {
             let map = |b: &Aabb| b.mapped(|p| am.transform_point(p)).grown(inflate);
             Some(boxes.iter().map(map).collect())
         });
-        let least = mapped
-            .as_ref()?
-            .iter()
-            .map(|m| segment_box(seg.a, seg.b, m).0);
-        Some(least.fold(f64::INFINITY, f64::min).sqrt())
+        let need2 = need * need;
+        let mut least2 = f64::INFINITY;
+        for m in mapped.as_ref()? {
+            let d2 = segment_box(seg.a, seg.b, m).0;
+            if d2 < need2 {
+                return Some(0.0);
+            }
+            least2 = least2.min(d2);
+        }
+        Some(least2.sqrt())
     }
 }

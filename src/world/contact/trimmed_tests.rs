@@ -20,7 +20,10 @@ fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
     let (mut inside, mut crossed, mut far_over_holes) = (0, 0, 0);
     for (id, leaf) in ix.leaves.leaves.iter().enumerate() {
         if !leaf.crossed() {
-            assert_eq!(ix.trimmed_bound(id, (&wp, &am), point(Vec3::zeros())), None);
+            assert_eq!(
+                ix.trimmed_bound(id, (&wp, &am), point(Vec3::zeros()), 0.0),
+                None
+            );
             continue;
         }
         crossed += 1;
@@ -35,7 +38,7 @@ fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
                 };
                 am.true_jet_into(&wp, leaf.face, uv, &mut jet);
                 let q = jet.point().coords;
-                let b = ix.trimmed_bound(id, (&wp, &am), point(q)).unwrap();
+                let b = ix.trimmed_bound(id, (&wp, &am), point(q), 0.0).unwrap();
                 if face.contains(uv) {
                     inside += 1;
                     assert!(
