@@ -47,8 +47,39 @@ pub(super) fn displaced_jet_into<'a, I: Iterator<Item = &'a Form> + Clone>(
 ) {
     surface.jet2_into(uv.x, uv.y, g);
     if !displace(surface, terms.clone(), 2, Second::NormalPart, g) {
-        *g = displaced_degenerate(surface, terms, uv, 2);
+        displaced_degenerate_jet(surface, terms, uv, g);
     }
+}
+
+/// [`displaced_degenerate`] for Newton's evaluation: the surface's
+/// second-order jets alone (at the point and at the point nudged inside),
+/// the normal's second derivatives as [`Second::NormalPart`] gives them
+/// (a foot at a sphere's pole is evaluated on every control cycle of a
+/// touch there).
+fn displaced_degenerate_jet<'a, I: Iterator<Item = &'a Form> + Clone>(
+    surface: &NurbsSurface,
+    terms: I,
+    uv: Vec2,
+    g: &mut Jet2,
+) {
+    let mut at = Jet2 {
+        d: [Vec3::zeros(); 6],
+    };
+    surface.jet2_into(uv.x, uv.y, &mut at);
+    let n = surface.normal_from_jet(&at, uv);
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    let nudged = uv + (centre - uv) * 1e-9;
+    let mut inner = at;
+    surface.jet2_into(nudged.x, nudged.y, &mut inner);
+    let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
+    *g = inner;
+    let mut nj = [Vec3::zeros(); 6];
+    if normal_jet(&inner, Second::NormalPart, &mut nj) {
+        let jet = sum_jets(terms.clone(), inner.point());
+        second_order(g, &inner, &nj, sign, &jet);
+    }
+    g.d[0] = at.d[0] + n * sum_jets(terms, at.point()).h;
 }
 
 /// Turns the surface jet `g` (`S` and its derivatives) into that of the
