@@ -32,6 +32,7 @@
 //!   probe body, each a solid cylinder, checked against the same leaves
 //!   and tree with a segment-box broad phase, a free-air bound of their
 //!   own and an exact descent of the same point query over the cylinder.
+mod box_tree;
 #[cfg(test)]
 mod chord_tests;
 mod collide;

@@ -2,7 +2,8 @@
 //! the ball, the leaves' warm feet, and the near search with its sign rule.
 use std::sync::{Arc, OnceLock};
 
-use super::leaves::{Aabb, Leaf, Leaves, Pieces};
+use super::box_tree::BoxTree;
+use super::leaves::{Leaf, Leaves, Pieces};
 use super::tree::LeafTree;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::projection::{local_minimum, local_minimum_cached, Foot};
@@ -45,7 +46,7 @@ pub(crate) struct PartIndex {
     pub(crate) pieces: Arc<Pieces>,
     /// Per leaf, its trimmed boxes on this part once a check asked for them
     /// ([`Self::trimmed_bound`]).
-    pub(crate) trimmed: Vec<OnceLock<Option<Vec<Aabb>>>>,
+    pub(crate) trimmed: Vec<OnceLock<Option<BoxTree>>>,
 }
 
 impl PartIndex {

@@ -16,9 +16,10 @@
 //! a check meets with a bound below its certifying distance only: making
 //! it for every crossed piece costs more on parts with many trimmed faces
 //! than it saves.
+use super::box_tree::BoxTree;
 use super::leaves::{centre, halves, rect_of, Aabb, FaceContext, Pieces};
 use super::search::PartIndex;
-use super::shapes::{segment_box, Segment};
+use super::shapes::Segment;
 use crate::geometry::nurbs::bezier::BezierPatch;
 use crate::math::{Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
@@ -127,8 +128,8 @@ impl PartIndex {
     /// looked at only until one comes nearer than `need`: a check that
     /// needs more then descends from the leaf anyway). The boxes are
     /// mapped by the part's affine transform (the box of its corners'
-    /// images holds the image) and widened by the form's bound over the
-    /// leaf, once per part.
+    /// images holds the image), widened by the form's bound over the leaf
+    /// and put in a tree, once per part.
     pub(crate) fn trimmed_bound(
         &self,
         id: usize,
@@ -143,17 +144,8 @@ impl PartIndex {
             let whole = boxes.iter().fold(Aabb::empty(), |u, b| u.union(b));
             let inflate = am.max_form_height_over(face, whole.min, whole.max) * am.stretch_factor();
             let map = |b: &Aabb| b.mapped(|p| am.transform_point(p)).grown(inflate);
-            Some(boxes.iter().map(map).collect())
+            Some(BoxTree::new(boxes.iter().map(map).collect()))
         });
-        let need2 = need * need;
-        let mut least2 = f64::INFINITY;
-        for m in mapped.as_ref()? {
-            let d2 = segment_box(seg.a, seg.b, m).0;
-            if d2 < need2 {
-                return Some(0.0);
-            }
-            least2 = least2.min(d2);
-        }
-        Some(least2.sqrt())
+        Some(mapped.as_ref()?.least_distance(seg, need))
     }
 }
