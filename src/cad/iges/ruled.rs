@@ -9,8 +9,11 @@
 //! merged, and rational rails whose weights are then not proportional are
 //! each multiplied (homogeneously) by the other's weight function, so both
 //! share the weight function `w1 w2`. Both forms (equal arc length, equal
-//! parameter) are read as equal relative parameter, which is exact for
-//! form 1 and for rails whose speeds are proportional.
+//! parameter) are read as equal relative parameter, each rail's parameter
+//! range taken to `[0, 1]`: exact for form 1 and for rails whose speeds are
+//! proportional, and what OpenCASCADE's IGES reader makes of a form 0
+//! surface on two single curves too (rulings at equal relative arc length
+//! are no NURBS surface), so distances to such a face agree with it.
 use super::entities::{Affine, Fields, Model};
 use super::surfaces::curve_nurbs;
 use crate::cad::error::CadResult;
