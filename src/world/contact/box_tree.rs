@@ -2,21 +2,10 @@
 //! the least segment distance to them without looking at every box.
 use super::leaves::Aabb;
 use super::shapes::{segment_box, Segment};
+use super::tree::{Node, BUCKET};
 
-/// Most boxes under one node.
-const BUCKET: usize = 4;
-
-/// A node: its box and either its children (`leaf` false) or the range of
-/// its boxes in [`BoxTree::boxes`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-struct Node {
-    aabb: Aabb,
-    a: u32,
-    b: u32,
-    leaf: bool,
-}
-
-/// Boxes ordered into a binary tree by median splits of their centres.
+/// Boxes ordered into a binary tree by median splits of their centres (a
+/// leaf node's range is one of [`BoxTree::boxes`]).
 #[derive(Debug, Clone, PartialEq)]
 pub(crate) struct BoxTree {
     nodes: Vec<Node>,

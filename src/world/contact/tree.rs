@@ -39,15 +39,17 @@ impl Shape for Point3 {
 }
 
 /// Most leaves under one node of the tree.
-const BUCKET: usize = 4;
+pub(super) const BUCKET: usize = 4;
 
+/// A node of a box tree: its box and either its children or a range of
+/// the items under it.
 #[derive(Debug, Clone, Copy, PartialEq)]
-struct Node {
-    aabb: Aabb,
+pub(super) struct Node {
+    pub(super) aabb: Aabb,
     /// Leaf node: `order[a..b]`; inner node: children `a` and `b`.
-    a: u32,
-    b: u32,
-    leaf: bool,
+    pub(super) a: u32,
+    pub(super) b: u32,
+    pub(super) leaf: bool,
 }
 
 /// The tree.

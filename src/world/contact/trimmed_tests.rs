@@ -4,12 +4,15 @@
 //! turned, stretched and bumped, every true point of a crossed leaf inside
 //! its face's trim has a trimmed bound of zero, and true points of the
 //! untrimmed surface over the holes are bounded away by millimetres.
+use super::leaves::Leaf;
 use super::refit_tests::{flange, machined};
 use super::search::PartIndex;
 use super::shapes::Segment;
 use super::ContactOptions;
 use crate::geometry::Jet2;
-use crate::math::{Vec2, Vec3};
+use crate::math::{Point3, Vec2, Vec3};
+use crate::workpiece::Workpiece;
+use crate::world::as_machined::AsMachined;
 
 #[test]
 fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
@@ -28,26 +31,17 @@ fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
         }
         crossed += 1;
         let face = &wp.faces[leaf.face];
-        let (lo, hi) = (leaf.bounds.lo, leaf.bounds.hi);
-        for i in 0..=n {
-            for j in 0..=n {
-                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-                let uv = Vec2::new(lo.x + (hi.x - lo.x) * s, lo.y + (hi.y - lo.y) * t);
-                let mut jet = Jet2 {
-                    d: [Vec3::zeros(); 6],
-                };
-                am.true_jet_into(&wp, leaf.face, uv, &mut jet);
-                let q = jet.point().coords;
-                let b = ix.trimmed_bound(id, (&wp, &am), point(q), 0.0).unwrap();
-                if face.contains(uv) {
-                    inside += 1;
-                    assert!(
-                        b <= 1e-9,
-                        "leaf {id} at {uv}: true point {q} {b} mm outside"
-                    );
-                } else if b > 0.5 {
-                    far_over_holes += 1;
-                }
+        for (uv, q) in true_grid((&wp, &am), leaf, n) {
+            let q = q.coords;
+            let b = ix.trimmed_bound(id, (&wp, &am), point(q), 0.0).unwrap();
+            if face.contains(uv) {
+                inside += 1;
+                assert!(
+                    b <= 1e-9,
+                    "leaf {id} at {uv}: true point {q} {b} mm outside"
+                );
+            } else if b > 0.5 {
+                far_over_holes += 1;
             }
         }
     }
@@ -59,6 +53,27 @@ fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
         far_over_holes > 1000,
         "{far_over_holes} points over holes bounded away"
     );
+}
+
+/// The true points over an `(n + 1) x (n + 1)` grid of `leaf`'s parameter
+/// rectangle, with their nominal parameters.
+fn true_grid<'a>(
+    (wp, am): (&'a Workpiece, &'a AsMachined),
+    leaf: &'a Leaf,
+    n: usize,
+) -> impl Iterator<Item = (Vec2, Point3)> + 'a {
+    let (lo, hi) = (leaf.bounds.lo, leaf.bounds.hi);
+    (0..=n).flat_map(move |i| {
+        (0..=n).map(move |j| {
+            let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
+            let uv = Vec2::new(lo.x + (hi.x - lo.x) * s, lo.y + (hi.y - lo.y) * t);
+            let mut jet = Jet2 {
+                d: [Vec3::zeros(); 6],
+            };
+            am.true_jet_into(wp, leaf.face, uv, &mut jet);
+            (uv, jet.point())
+        })
+    })
 }
 
 /// The segment of no length at `p`.
@@ -82,19 +97,7 @@ fn oriented_boxes_bound_the_true_surface_and_tighten_tilted_leaves() {
     let n = 16;
     let (mut checked, mut tighter) = (0, 0);
     for leaf in ix.leaves.leaves.iter().step_by(7) {
-        let (lo, hi) = (leaf.bounds.lo, leaf.bounds.hi);
-        let mut true_points = Vec::new();
-        for i in 0..=n {
-            for j in 0..=n {
-                let (s, t) = (i as f64 / n as f64, j as f64 / n as f64);
-                let uv = Vec2::new(lo.x + (hi.x - lo.x) * s, lo.y + (hi.y - lo.y) * t);
-                let mut jet = Jet2 {
-                    d: [Vec3::zeros(); 6],
-                };
-                am.true_jet_into(&wp, leaf.face, uv, &mut jet);
-                true_points.push(jet.point());
-            }
-        }
+        let true_points: Vec<_> = true_grid((&wp, &am), leaf, n).map(|(_, q)| q).collect();
         let centre = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5;
         let size = (leaf.aabb.max - leaf.aabb.min).norm();
         // Segments 20 mm long beside the leaf, along each axis and askew.
