@@ -67,9 +67,7 @@ fn displaced_degenerate_jet<'a, I: Iterator<Item = &'a Form> + Clone>(
     };
     surface.jet2_into(uv.x, uv.y, &mut at);
     let n = surface.normal_from_jet(&at, uv);
-    let ((u0, u1), (v0, v1)) = surface.domain();
-    let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
-    let nudged = uv + (centre - uv) * 1e-9;
+    let nudged = nudged_inside(surface, uv);
     let mut inner = at;
     surface.jet2_into(nudged.x, nudged.y, &mut inner);
     let sign = if surface.is_reversed() { -1.0 } else { 1.0 };
@@ -114,6 +112,14 @@ fn displace<'a, I: Iterator<Item = &'a Form>>(
     true
 }
 
+/// `uv` moved a billionth of the way towards the domain's centre: off a
+/// collapsed edge, where the tangents are whole again.
+fn nudged_inside(surface: &NurbsSurface, uv: Vec2) -> Vec2 {
+    let ((u0, u1), (v0, v1)) = surface.domain();
+    let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+    uv + (centre - uv) * 1e-9
+}
+
 /// At a degenerate normal (pole) the displacement uses the limit normal and
 /// the derivatives of the point nudged slightly inside the domain.
 fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
@@ -123,9 +129,7 @@ fn displaced_degenerate<'a, I: Iterator<Item = &'a Form> + Clone>(
     nd: usize,
 ) -> Jet2 {
     let n = surface.normal(uv.x, uv.y);
-    let ((u0, u1), (v0, v1)) = surface.domain();
-    let centre = Vec2::new(0.5 * (u0 + u1), 0.5 * (v0 + v1));
-    let nudged = uv + (centre - uv) * 1e-9;
+    let nudged = nudged_inside(surface, uv);
     let s0 = surface.derivs(uv.x, uv.y, 0);
     let table = surface.derivs(nudged.x, nudged.y, 3);
     let t = &table.d;

@@ -56,11 +56,17 @@ impl BoxTree {
     pub(crate) fn least_distance(&self, seg: Segment, need: f64) -> f64 {
         let need2 = need * need;
         let mut best2 = f64::INFINITY;
-        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(16);
+        // Median splits keep the depth below 64 for any number of boxes,
+        // and the stack holds one entry a level beyond the top one: no
+        // allocation on the check's hot path.
+        let mut stack = [(0.0, 0u32); 64];
+        let mut len = 0usize;
         if let Some(root) = self.nodes.first() {
-            stack.push((segment_box(seg.a, seg.b, &root.aabb).0, 0));
+            stack[0] = (segment_box(seg.a, seg.b, &root.aabb).0, 0);
+            len = 1;
         }
-        while let Some((d2, i)) = stack.pop() {
+        while let Some(&(d2, i)) = len.checked_sub(1).and_then(|top| stack.get(top)) {
+            len -= 1;
             let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < best2) else {
                 continue;
             };
@@ -85,7 +91,12 @@ impl BoxTree {
             let (x, y) = (child(node.a), child(node.b));
             // The nearer child is popped first.
             let (near, far) = if x.0 <= y.0 { (x, y) } else { (y, x) };
-            stack.extend([far, near].into_iter().filter(|c| c.0 < best2));
+            for c in [far, near].into_iter().filter(|c| c.0 < best2) {
+                if let Some(slot) = stack.get_mut(len) {
+                    *slot = c;
+                    len += 1;
+                }
+            }
         }
         best2.sqrt()
     }

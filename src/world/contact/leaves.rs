@@ -120,8 +120,9 @@ impl Slab {
 }
 
 /// The box `lo[k] <= x . axes[k] <= hi[k]` of an orthonormal frame whose
-/// first axis is a leaf's slab normal and whose second runs along its
-/// first parameter: it holds the leaf as tightly across as along the
+/// first axis is a leaf's slab normal and whose second runs across it
+/// along the diagonal of its control net: it holds the leaf as tightly
+/// across as along the
 /// normal, where the axis-aligned box of a tilted leaf reaches far past it
 /// at its corners and the slab is unbounded across.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -580,9 +581,10 @@ fn slab_of(points: &[Point3], [p, q]: [usize; 2], inflate: f64) -> Slab {
 }
 
 /// The oriented box of the control points `points` (whose hull holds the
-/// surface) in the frame of `slab`'s normal and the direction from the
-/// first to the last point of the first row across it, grown by `inflate`
-/// on every side (`None` without a normal or with the row along it).
+/// surface) in the frame of `slab`'s normal and the direction across it
+/// from the first control point to the last (the net's diagonal), grown
+/// by `inflate` on every side; along the normal it is the slab itself
+/// (`None` without a normal or with the diagonal along it).
 fn obb_of(points: &[Point3], slab: &Slab, inflate: f64) -> Option<Obb> {
     let n = slab.normal;
     if !(slab.lo.is_finite() && slab.hi.is_finite()) {
@@ -592,19 +594,17 @@ fn obb_of(points: &[Point3], slab: &Slab, inflate: f64) -> Option<Obb> {
     let d = last - first;
     let t = (d - n * d.dot(&n)).try_normalize(1e-12)?;
     let axes = [n, t, n.cross(&t)];
-    let (mut lo, mut hi) = (
-        Point3::from(Vec3::repeat(f64::INFINITY)),
-        Point3::from(Vec3::repeat(f64::NEG_INFINITY)),
-    );
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
     for p in points {
-        let x = Point3::from(axes.map(|e| p.coords.dot(&e)));
-        (lo, hi) = (lo.inf(&x), hi.sup(&x));
+        for (k, e) in [t, axes[2]].iter().enumerate() {
+            let s = p.coords.dot(e);
+            (lo[k], hi[k]) = (lo[k].min(s), hi[k].max(s));
+        }
     }
-    let grow = Vec3::repeat(inflate);
     Some(Obb {
         axes,
-        lo: lo - grow,
-        hi: hi + grow,
+        lo: Point3::new(slab.lo, lo[0] - inflate, lo[1] - inflate),
+        hi: Point3::new(slab.hi, hi[0] + inflate, hi[1] + inflate),
     })
 }
 
