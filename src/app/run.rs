@@ -140,6 +140,7 @@ pub(super) fn run_variant(
     let machine = (program.machine.clone(), profile);
     let m = measure_program(part, opts, (&setup, machine), trace)?;
     let aligned = m.program.as_ref();
+    let faces: Vec<Vec<usize>> = m.measured.iter().map(|mf| mf.faces.clone()).collect();
     let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
         .map(|(f, mf)| {
             let points = (mf.results.iter())
@@ -154,7 +155,14 @@ pub(super) fn run_variant(
         reported: aligned.placement,
         world: program.placement,
     };
-    fill_true_deviations(&mut features, &program.workpiece, &setup.truth, frames);
+    let faces: Vec<&[usize]> = faces.iter().map(Vec::as_slice).collect();
+    fill_true_deviations(
+        &mut features,
+        &faces,
+        &program.workpiece,
+        &setup.truth,
+        frames,
+    );
     let report = Report {
         format: REPORT_FORMAT,
         program: program.name.clone(),

@@ -14,7 +14,7 @@ use rayon::prelude::*;
 
 use super::model::PointReport;
 use crate::host::modes::Measured;
-use crate::math::Vec3;
+use crate::math::{Point3, Vec3};
 use crate::program::Pose;
 use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 
@@ -39,10 +39,26 @@ const EDGE_COS: f64 = 0.984_807_753_012_208; // cos(10 deg)
 /// boundary to count as on it: the boundary searches put their feet on it.
 const ON_BOUNDARY_UV: f64 = 1e-9;
 
+/// A point whose nominal point lies on an edge of its face and which lies
+/// beyond that edge, its offset from the nominal point leaving the normal
+/// there by more than this (mm), was measured past the end of the
+/// feature's faces (on a face the feature does not name, or where the
+/// part's as-machined edge lies further out): its distance to the edge is
+/// not a deviation of the face, and it is reported as an edge point. Its
+/// reported deviation would exceed the normal one by up to this.
+const BEYOND_EDGE_MM: f64 = 1e-4;
+
 fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: Vec3) -> bool {
-    if measured_normal.dot(&nominal.projection.normal) >= EDGE_COS {
-        return false;
-    }
+    measured_normal.dot(&nominal.projection.normal) < EDGE_COS && on_boundary(wp, nominal)
+}
+
+fn beyond_edge(wp: &Workpiece, nominal: &FaceProjection, p: Point3) -> bool {
+    let (off, n) = (p - nominal.projection.point, nominal.projection.normal);
+    (off - n * off.dot(&n)).norm() > BEYOND_EDGE_MM && on_boundary(wp, nominal)
+}
+
+/// Whether the foot lies on its face's trim or its surface's boundary.
+fn on_boundary(wp: &Workpiece, nominal: &FaceProjection) -> bool {
     let Some(face) = wp.faces.get(nominal.face) else {
         return false;
     };
@@ -64,57 +80,78 @@ pub fn point_reports(
     faces: &[usize],
     points: &[Measured],
 ) -> Vec<PointReport> {
-    let all = faces_are_all(workpiece, faces);
+    let faces = FeatureFaces::new(workpiece, faces);
     let chunks: Vec<Vec<PointReport>> = points
         .par_chunks(CHUNK_POINTS)
         .map(|chunk| {
             let mut hints = Hints::default();
             (chunk.iter())
-                .filter_map(|m| point_report(workpiece, pose, faces, all, m, &mut hints))
+                .filter_map(|m| point_report(workpiece, pose, faces, m, &mut hints))
                 .collect()
         })
         .collect();
     chunks.concat()
 }
 
-/// Whether `faces` lists every face of the workpiece.
-fn faces_are_all(workpiece: &Workpiece, faces: &[usize]) -> bool {
-    let mut listed = faces.to_vec();
-    listed.sort_unstable();
-    listed.dedup();
-    listed.iter().copied().eq(0..workpiece.faces.len())
+/// The faces a feature's points are measured against.
+#[derive(Debug, Clone, Copy)]
+pub struct FeatureFaces<'a> {
+    list: &'a [usize],
+    /// Whether `list` names every face of the workpiece.
+    all: bool,
+}
+
+impl<'a> FeatureFaces<'a> {
+    /// The faces `list` (indices into `workpiece`'s faces).
+    pub fn new(workpiece: &Workpiece, list: &'a [usize]) -> FeatureFaces<'a> {
+        let mut listed = list.to_vec();
+        listed.sort_unstable();
+        listed.dedup();
+        let all = listed.iter().copied().eq(0..workpiece.faces.len());
+        FeatureFaces { list, all }
+    }
 }
 
 /// Where the previous point's nominal feet lie.
-#[derive(Default)]
-struct Hints {
+#[derive(Debug, Default)]
+pub struct Hints {
     /// Foot over all faces.
     all: Option<FootHint>,
     /// Foot over the feature's faces.
     faces: Option<FootHint>,
 }
 
+/// The nominal foot of part point `p` over the feature's `faces`, as
+/// every reported deviation is measured (the measured point's and the
+/// true point's alike): the closest point over all faces when it lies on
+/// one of them, else the closest over theirs.
+pub fn feature_foot(
+    wp: &Workpiece,
+    p: Point3,
+    faces: FeatureFaces,
+    hints: &mut Hints,
+) -> Option<FaceProjection> {
+    let foot = wp
+        .closest_point_tracked(p, 0..wp.faces.len(), &mut hints.all)
+        .ok()?;
+    if faces.all || faces.list.contains(&foot.face) {
+        return Some(foot);
+    }
+    let listed = faces.list.iter().copied();
+    wp.closest_point_tracked(p, listed, &mut hints.faces).ok()
+}
+
 fn point_report(
     wp: &Workpiece,
     pose: &Pose,
-    faces: &[usize],
-    faces_are_all: bool,
+    faces: FeatureFaces,
     m: &Measured,
     hints: &mut Hints,
 ) -> Option<PointReport> {
     let p = pose.to_part(m.point);
-    let foot = wp
-        .closest_point_tracked(p, 0..wp.faces.len(), &mut hints.all)
-        .ok()?;
-    // The closest point over all faces is the closest over the feature's
-    // faces too when it lies on one of them.
-    let nominal = if faces_are_all || faces.contains(&foot.face) {
-        foot
-    } else {
-        let listed = faces.iter().copied();
-        wp.closest_point_tracked(p, listed, &mut hints.faces).ok()?
-    };
-    let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal);
+    let nominal = feature_foot(wp, p, faces, hints)?;
+    let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
+        || beyond_edge(wp, &nominal, p);
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),

@@ -14,7 +14,7 @@
 use rayon::prelude::*;
 
 use super::model::{FeatureReport, PointReport};
-use super::nominal::CHUNK_POINTS;
+use super::nominal::{feature_foot, FeatureFaces, Hints, CHUNK_POINTS};
 use crate::math::Point3;
 use crate::program::Pose;
 use crate::workpiece::{FootHint, Workpiece};
@@ -30,30 +30,55 @@ pub struct Frames {
 }
 
 /// Fills in `true_deviation_mm` of every point of `features` (NaN where
-/// the true foot cannot be found).
+/// the true foot cannot be found); `faces[k]` are the faces feature `k`'s
+/// deviations are measured against.
 pub fn fill_true_deviations(
     features: &mut [FeatureReport],
+    faces: &[&[usize]],
     workpiece: &Workpiece,
     truth: &AsMachined,
     frames: Frames,
 ) {
-    for f in features.iter_mut() {
+    for (f, listed) in features.iter_mut().zip(faces) {
+        let listed = FeatureFaces::new(workpiece, listed);
         f.points.par_chunks_mut(CHUNK_POINTS).for_each(|chunk| {
-            let mut hint = None;
+            let mut hints = TruthHints::default();
             for p in chunk.iter_mut() {
-                p.true_deviation_mm = true_deviation(p, workpiece, truth, frames, &mut hint);
+                let known = Known {
+                    wp: workpiece,
+                    truth,
+                    faces: listed,
+                };
+                p.true_deviation_mm = true_deviation(p, &known, frames, &mut hints);
             }
         });
     }
 }
 
+/// What a point's true deviation is found from.
+struct Known<'a> {
+    wp: &'a Workpiece,
+    truth: &'a AsMachined,
+    faces: FeatureFaces<'a>,
+}
+
+/// Where the previous point's searches ended.
+#[derive(Default)]
+struct TruthHints {
+    /// The nominal foot of the measured point (then of the true point's
+    /// nominal parameters), over all faces.
+    search: Option<FootHint>,
+    /// The nominal feet of the true point.
+    nominal: Hints,
+}
+
 fn true_deviation(
     point: &PointReport,
-    wp: &Workpiece,
-    truth: &AsMachined,
+    known: &Known,
     frames: Frames,
-    hint: &mut Option<FootHint>,
+    hints: &mut TruthHints,
 ) -> f64 {
+    let (wp, truth) = (known.wp, known.truth);
     let reported = Point3::from(point.measured);
     let same_frame = frames.reported == frames.world;
     let p = if same_frame {
@@ -63,20 +88,22 @@ fn true_deviation(
     };
     // The other faces are searched as far as the true part's seeds need.
     let reach = truth.seed_reach();
-    let Ok(foot) = wp.closest_point_reaching(p, 0..wp.faces.len(), hint, Some(&reach)) else {
+    let all = 0..wp.faces.len();
+    let Ok(foot) = wp.closest_point_reaching(p, all, &mut hints.search, Some(&reach)) else {
         return f64::NAN;
     };
-    let known = Some((p, &foot));
-    if same_frame {
-        return (truth.true_deviation_tracked(wp, p, known, hint)).unwrap_or(f64::NAN);
-    }
-    let Ok(true_foot) = truth.closest_point_tracked(wp, p, known, hint) else {
+    let Ok(true_foot) = truth.closest_point_tracked(wp, p, Some((p, &foot)), &mut hints.search)
+    else {
         return f64::NAN;
     };
-    let q = frames
-        .reported
-        .to_part(frames.world.to_machine(true_foot.point));
-    let mut nominal_hint = None;
-    (wp.closest_point_tracked(q, 0..wp.faces.len(), &mut nominal_hint))
+    let q = if same_frame {
+        true_foot.point
+    } else {
+        frames
+            .reported
+            .to_part(frames.world.to_machine(true_foot.point))
+    };
+    // The true point's deviation is measured as the point's own was.
+    feature_foot(wp, q, known.faces, &mut hints.nominal)
         .map_or(f64::NAN, |f| f.projection.signed_distance)
 }

@@ -13,6 +13,7 @@ use super::collision::{ProbeCollisions, Stylus};
 use super::contact::{CollisionOptions, ContactOptions, ContactSearch};
 use super::dynamics::{Servo, ServoError};
 use super::noise::gaussian;
+use super::pressed::PressedContact;
 use super::probe::TrueProbe;
 use crate::geometry::ProjectionOptions;
 use crate::machine::{GeometricErrors, LinearAxes, MachineModel, MachineProfile};
@@ -109,6 +110,8 @@ pub struct SimulatedCmm<'a> {
     /// The sensor's reading of the stylus at rest (a zero deflection; no
     /// noise is drawn then), computed once.
     rest_reading: Vec3,
+    /// The contact a ball pressed deep into the part is held to.
+    pressed: PressedContact,
     /// Reused per-cycle buffers (axis commands, scale readings).
     command: Vec<f64>,
     scales: Vec<f64>,
@@ -161,6 +164,7 @@ impl<'a> SimulatedCmm<'a> {
             collisions,
             turned: false,
             rest_reading,
+            pressed: PressedContact::default(),
             command: Vec::new(),
             scales: Vec::new(),
         };
@@ -216,10 +220,17 @@ impl<'a> SimulatedCmm<'a> {
             .search
             .query((wp, am), y, r + CONTACT_MARGIN_MM, &self.contact);
         match found {
-            Ok(Some(c)) => self.touch(c.distance, c.push, velocity),
-            Ok(None) => Vec3::zeros(),
+            Ok(Some(c)) => {
+                let (s, push) = self.pressed.follow(y, c.distance, c.push);
+                self.touch(s, push, velocity)
+            }
+            Ok(None) => {
+                self.pressed.release();
+                Vec3::zeros()
+            }
             Err(_) => {
                 self.search.reset();
+                self.pressed.release();
                 Vec3::zeros()
             }
         }

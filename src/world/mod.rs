@@ -18,4 +18,5 @@ pub mod collision;
 pub mod contact;
 pub mod dynamics;
 pub mod noise;
+pub mod pressed;
 pub mod probe;

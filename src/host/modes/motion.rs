@@ -347,14 +347,32 @@ pub fn reposition(
             waypoints.push(target);
         }
     }
-    travel(
-        cmm,
-        tr,
-        &waypoints,
-        opts.rapid_speed_mm_s,
-        opts.approach_speed_mm_s,
-        opts,
-    )
+    let end_speed = if comes_in_along(here, &waypoints, approach) {
+        opts.approach_speed_mm_s
+    } else {
+        0.0
+    };
+    travel(cmm, tr, &waypoints, opts.rapid_speed_mm_s, end_speed, opts)
+}
+
+/// A move may run on into the approach only when its last leg comes in
+/// along the approach: cos(10 deg). Arriving sideways at the approach
+/// speed, the servo's following error and braking would carry the ball
+/// sideways past the start of the approach (by about 0.1 mm at 10 mm/s),
+/// off a small face or over its edge; such a move ends at rest.
+const ALONG_APPROACH_COS: f64 = 0.984_807_753_012_208;
+
+/// Whether the last leg of the move from `here` through `waypoints` comes
+/// in along `-approach`.
+fn comes_in_along(here: Point3, waypoints: &[Point3], approach: Vec3) -> bool {
+    let (from, to) = match waypoints {
+        [.., a, b] => (*a, *b),
+        [b] => (here, *b),
+        [] => return true,
+    };
+    (to - from)
+        .try_normalize(1e-9)
+        .is_none_or(|d| d.dot(&-approach) >= ALONG_APPROACH_COS)
 }
 
 /// A route whose legs are clear with the tight margin only: each leg to

@@ -20,7 +20,7 @@ pub fn touch_point(
     let start = touch_start(probe, nominal, normal, free, opts);
     let standoff = (start - nominal).norm() - probe.tip_radius_mm;
     let outcome = reposition(cmm, &mut tr, start, normal, opts)
-        .and_then(|_| approach(cmm, &mut tr, normal, standoff + search_mm, opts))
+        .and_then(|_| approach(cmm, &mut tr, (start, normal), standoff + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());
             tr.enter(cmm, Phase::Retract);
@@ -43,25 +43,51 @@ pub fn touch_start(
     touching + normal * approach_standoff(free, touching, normal, opts)
 }
 
-/// Moves along `-normal` until the deflection reaches the trigger.
+/// Gain of the touch approach's hold on its line, 1/s: that of the last
+/// millimetre of a positioning move (below the critical gain of the
+/// servo's 5 ms lag).
+const LINE_GAIN: f64 = 50.0;
+
+/// Where the approach's line starts: `start` when the ball stands on the
+/// line through it along `normal` (within the servo's lag of it), else
+/// where the ball stands (a start moved for want of room).
+fn line_start(tr: &Tracker, start: Point3, normal: Vec3) -> Point3 {
+    let off = tr.ball_undeflected() - start;
+    if (off - normal * off.dot(&normal)).norm() <= LINE_REACH_MM {
+        start
+    } else {
+        tr.ball_undeflected()
+    }
+}
+
+/// How far beside the line of a touch approach the ball may stand at its
+/// start for the approach to take it to the line, mm.
+const LINE_REACH_MM: f64 = 0.5;
+
+/// Moves along `-normal` from `start` until the deflection reaches the
+/// trigger.
 fn approach(
     cmm: &mut dyn Machine,
     tr: &mut Tracker,
-    normal: Vec3,
+    (start, normal): (Point3, Vec3),
     reach: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     tr.enter(cmm, Phase::Touch);
-    let from = tr.ball_undeflected();
+    let from = line_start(tr, start, normal);
     let v = -normal * opts.approach_speed_mm_s;
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= opts.trigger_mm {
             return Ok(());
         }
-        if (tr.ball_undeflected() - from).norm() > reach {
+        let off = tr.ball_undeflected() - from;
+        if off.norm() > reach {
             return Err(Outcome::LostContact);
         }
-        if let Some(o) = tr.step(cmm, v) {
+        // Held on the line of the approach: what the move before left of
+        // the servo's following error sideways is taken out.
+        let sideways = off - normal * off.dot(&normal);
+        if let Some(o) = tr.step(cmm, v - sideways * LINE_GAIN) {
             return Err(o);
         }
     }

@@ -1,0 +1,72 @@
+//! A touch point is taken where the program puts it: the approach runs on
+//! the line through the programmed point along its normal, whatever the
+//! move before it left of the servo's following error sideways. Four touch
+//! points 3 mm apart on the end face of a bracket's boss (the fixture
+//! assembly, STEP; the face is the plane x = 31 of the first bracket):
+//! each move between them is sideways to the approach, and arriving at
+//! the approach speed the following error and braking used to carry the
+//! ball 0.06-0.14 mm sideways past the start (off a small face, or over
+//! its edge, on a small part). With `--ideal` and no machining errors the
+//! measured point lies on the plane at the programmed y and z.
+mod common;
+
+use common::*;
+use serde_json::Value;
+
+const POINTS: [[f64; 3]; 4] = [
+    [31.0, 24.0, 0.0],
+    [31.0, 21.0, 2.0],
+    [31.0, 21.0, -2.0],
+    [31.0, 18.0, 0.0],
+];
+
+fn program(dir: &std::path::Path) -> std::path::PathBuf {
+    let wp = repo("workpieces/fixture-assembly.step");
+    let p = serde_json::json!({
+        "format": "cmm-program/1",
+        "name": "boss-touch",
+        "workpiece": arg(&wp),
+        "placement": { "translate_mm": [300, 420, 60], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 80 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [
+            { "name": "b1-boss-end", "type": "touch_points", "points_mm": POINTS,
+              "surfaces": ["bracket#1/face4"], "tolerance_mm": [-0.05, 0.05] }
+        ]
+    });
+    let path = dir.join("boss-touch.json");
+    std::fs::write(&path, serde_json::to_string_pretty(&p).unwrap()).unwrap();
+    path
+}
+
+#[test]
+fn touch_points_are_taken_on_their_programmed_lines() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = program(dir.path());
+    let out = dir.path().join("out");
+    let o = cmm(&[
+        "scan",
+        &arg(&prog),
+        "--ideal",
+        "--quiet",
+        "--out",
+        &arg(&out),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let points = report["features"][0]["points"].as_array().unwrap();
+    assert_eq!(points.len(), POINTS.len());
+    for (p, want) in points.iter().zip(POINTS) {
+        let m: Vec<f64> = (0..3).map(|k| p["measured"][k].as_f64().unwrap()).collect();
+        let sideways = (m[1] - want[1]).hypot(m[2] - want[2]);
+        assert!(
+            sideways < 1e-3,
+            "{want:?}: measured {m:?}, {sideways} mm beside"
+        );
+        assert!(
+            (m[0] - want[0]).abs() < 5e-4,
+            "{want:?}: measured {m:?} off the plane"
+        );
+    }
+}
