@@ -414,6 +414,10 @@ impl FreeSpace for PartClearance<'_> {
         self.probe_clear(from, to, self.opts.margin_mm)
     }
 
+    fn margin_mm(&self) -> Option<f64> {
+        Some(self.opts.margin_mm)
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         if !self.standing_clear(ball, false) {
             Some(ProbePart::Shaft)

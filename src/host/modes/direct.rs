@@ -21,6 +21,12 @@ pub trait FreeSpace {
         self.segment_clear(from, to)
     }
 
+    /// The full clearance margin segments are checked with, mm (`None`:
+    /// not known, taken as ample for blended moves).
+    fn margin_mm(&self) -> Option<f64> {
+        None
+    }
+
     /// The part of the probe (other than the ball) that would strike the
     /// part with the ball centre at `ball` (machine coordinates), if any.
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
@@ -34,10 +40,12 @@ const STANDOFF_HALVINGS: usize = 4;
 
 /// The standoff (mm) of an approach along `normal` to where the ball
 /// centre just touches at `touching` (machine coordinates): the configured
-/// one when the probe is clear there (with the tight margin), else the
+/// one when the probe is clear there and on the whole approach line from
+/// there to the shortest standoff that is clear (with the tight margin),
+/// else the
 /// largest of its halves (down to a sixteenth) that is. An approach into a
 /// hole narrower than the ball plus the standoff thus starts inside the
-/// hole, not in its far wall. With no free space to ask, or none clear,
+/// hole, not in its far wall or beyond it. With no free space to ask, or none clear,
 /// the configured standoff (the route planning then says no).
 pub fn approach_standoff(
     free: Option<&dyn FreeSpace>,
@@ -48,13 +56,20 @@ pub fn approach_standoff(
     let Some(free) = free else {
         return opts.standoff_mm;
     };
-    (0..=STANDOFF_HALVINGS)
-        .map(|k| opts.standoff_mm / f64::from(1u32 << k))
-        .find(|&s| {
-            let at = touching + normal * s;
-            free.segment_clear_with(at, at, true)
-        })
-        .unwrap_or(opts.standoff_mm)
+    let at = |s: f64| touching + normal * s;
+    let standoffs = (0..=STANDOFF_HALVINGS).map(|k| opts.standoff_mm / f64::from(1u32 << k));
+    // The approach line down to the nearest clear standoff must be clear.
+    let Some(nearest) = standoffs
+        .clone()
+        .filter(|&s| free.segment_clear_with(at(s), at(s), true))
+        .last()
+    else {
+        return opts.standoff_mm;
+    };
+    standoffs
+        .take_while(|&s| s >= nearest)
+        .find(|&s| free.segment_clear_with(at(s), at(nearest), true))
+        .unwrap_or(nearest)
 }
 
 /// Moves straight to `target` (ball centre, ending at rest) when the line
@@ -79,4 +94,40 @@ pub fn direct_move(
     tr.enter(cmm, Phase::Position);
     travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)?;
     Ok(clear)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Free space round a tube along z (bore radius 1, outside radius 2)
+    /// for a point probe: an independent analytic obstacle, sampled.
+    struct Tube;
+
+    impl FreeSpace for Tube {
+        fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+            (0..=400).all(|k| {
+                let p = from + (to - from) * (k as f64 / 400.0);
+                let r = p.xy().coords.norm();
+                !(1.0..=2.0).contains(&r)
+            })
+        }
+    }
+
+    #[test]
+    fn an_approach_across_a_bore_starts_inside_it_not_beyond_its_far_wall() {
+        let opts = ModeOptions::default();
+        // Touching the bore's wall at x = -1 from inside (ball centre on
+        // the wall for a point probe), approaching along -x: 5 mm out along
+        // +x lies outside the tube, clear, but the line crosses its far
+        // wall.
+        let touching = Point3::new(-1.0, 0.0, 0.0);
+        let s = approach_standoff(Some(&Tube), touching, Vec3::x(), &opts);
+        let start = touching + Vec3::x() * s;
+        assert!(Tube.segment_clear(start, touching + Vec3::x() * 1e-3), "{s}");
+        assert_eq!(s, opts.standoff_mm / 4.0);
+        // Outside the tube the whole standoff is clear.
+        let outside = Point3::new(2.0, 0.0, 0.0);
+        assert_eq!(approach_standoff(Some(&Tube), outside, Vec3::x(), &opts), opts.standoff_mm);
+    }
 }

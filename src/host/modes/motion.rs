@@ -156,16 +156,22 @@ impl<'f> Tracker<'f> {
         }
     }
 
-    /// Backs the probe out of the part after a collision: against
-    /// `moving` (the machine's velocity when it struck, mm/s; up the
-    /// stylus when it stood still) at [`EscapeOptions::speed_mm_s`],
+    /// Backs the probe out of the part after a collision: along the
+    /// stylus's deflection when it is pressed against the part (away from
+    /// the surface the ball struck), else against `moving` (the machine's
+    /// velocity when it struck, mm/s; up the stylus when it stood still)
+    /// at [`EscapeOptions::speed_mm_s`],
     /// whatever the machine reports on the way, until it reports the probe
     /// clear with the stylus free, [`EscapeOptions::clear_mm`] further and
     /// (with free space to ask) the full clearance margin from the design
     /// data, then to rest. Gives up after [`EscapeOptions::max_mm`].
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
+        // Off the surface the stylus is pressed against, if it is; else
+        // back the way it came.
         let up = (-self.probe.probe_vector).try_normalize(1e-9);
-        let Some(dir) = (-moving).try_normalize(1e-9).or(up) else {
+        let pressed =
+            (self.now.deflection.try_normalize(1e-9)).filter(|_| self.deflection() >= self.free_mm);
+        let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
             return;
         };
         self.enter(cmm, Phase::Retract);
@@ -258,6 +264,13 @@ const BRAKE_SHARE: f64 = 0.8;
 /// Largest distance by which a blended move cuts a corner, mm.
 const CORNER_BLEND_MM: f64 = 1.0;
 
+/// The clearance margin a blended route needs, mm: the corner it cuts
+/// ([`CORNER_BLEND_MM`]) and the servo's following error carrying a fast
+/// move on past it (under a millimetre at the rapid speed). A route
+/// checked with a smaller margin (a small part's program) stops at each
+/// of its corners instead.
+const BLEND_ROOM_MM: f64 = 2.0;
+
 /// Within this distance of a waypoint the move turns to the next one, mm.
 const WAYPOINT_PASS_MM: f64 = 1.0;
 
@@ -338,7 +351,8 @@ pub fn reposition(
             let route = route::plan_route(free, here, target, approach, opts);
             let route = route.ok_or(Outcome::Blocked)?;
             waypoints.extend(route.waypoints);
-            if route.tight {
+            let roomy = free.margin_mm().is_none_or(|m| m >= BLEND_ROOM_MM);
+            if route.tight || !roomy {
                 return travel_stopping(cmm, tr, &waypoints, opts);
             }
         }

@@ -103,6 +103,10 @@ impl FreeSpace for Remembering<'_> {
         self.segment_clear_with(from, to, false)
     }
 
+    fn margin_mm(&self) -> Option<f64> {
+        self.inner.margin_mm()
+    }
+
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {
         let q = Query::Segment {
             from: bits(from),
