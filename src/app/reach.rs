@@ -29,14 +29,20 @@ pub fn part_clearance<'p>(
     }
 }
 
-/// `base` with the program's clearance margins.
+/// `base` with the program's clearance margins, and its sampling step no
+/// longer than the ball radius plus the tight margin (the distance the
+/// tightest check keeps): a point of a move called clear then keeps at
+/// least `1 - 1/sqrt(2)` of it, and a wall thinner than the step cannot
+/// pass unseen between the samples of a small probe's move (a 0.3 mm ball
+/// with a 0.1 mm margin is checked every 0.25 mm, not every 2 mm).
 pub fn program_margins(program: &Program, base: ClearanceOptions) -> ClearanceOptions {
     let m = program.clearance;
+    let tightest = program.probe.tip_radius_mm + m.tight_margin_mm;
     ClearanceOptions {
         margin_mm: m.margin_mm,
         tight_margin_mm: m.tight_margin_mm,
         posture_margin_mm: m.posture_margin_mm,
-        ..base
+        step_mm: base.step_mm.min(tightest),
     }
 }
 
@@ -92,4 +98,57 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::modes::FreeSpace;
+    use crate::math::{Mat3, Point3, Vec3};
+    use crate::program::{load, Pose};
+    use crate::workpiece::examples::reference_sphere;
+    use crate::workpiece::Workpiece;
+
+    /// A 0.3 mm ball on a short stylus moving along x at height `z` past a
+    /// sphere of radius 25 (the program's margins, its step as
+    /// [`program_margins`] sets it): the ball's path keeps `|z| - 25.15`
+    /// from the sphere when it passes above it, and crosses the sphere's
+    /// surface twice when it runs through it.
+    fn small_ball_clear(z: f64, base: ClearanceOptions) -> bool {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("part-programs");
+        let mut program = load(&dir.join("bore-circles.json")).unwrap_or_else(|e| panic!("{e}"));
+        program.probe.tip_radius_mm = 0.15;
+        program.clearance.margin_mm = 0.5;
+        program.clearance.tight_margin_mm = 0.1;
+        let wp = Workpiece::from_file(&reference_sphere(50.0), "sphere.json".as_ref())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let free = PartClearance {
+            workpiece: &wp,
+            pose: Pose {
+                rotation: Mat3::identity(),
+                translation: Vec3::zeros(),
+            },
+            stylus: Vec3::new(0.0, 0.0, 0.5),
+            tip_radius_mm: 0.15,
+            shaft_radius_mm: 0.075,
+            body: None,
+            opts: program_margins(&program, base),
+        };
+        let (a, b) = (Point3::new(-40.0, 0.3, z), Point3::new(40.0, 0.3, z));
+        free.segment_clear_with(a, b, true)
+    }
+
+    #[test]
+    fn a_small_ball_s_moves_are_sampled_finely_enough_to_see_the_surface() {
+        let base = ClearanceOptions::default();
+        // Through the sphere (its ends outside it): never clear, however
+        // the surface falls between the samples.
+        for k in 0..20 {
+            let z = 20.0 + 0.25 * k as f64;
+            assert!(!small_ball_clear(z, base), "through the sphere at z = {z}");
+        }
+        // Above it by more than the ball and the tight margin: clear.
+        assert!(small_ball_clear(25.6, base));
+        assert!(!small_ball_clear(25.2, base));
+    }
 }

@@ -124,10 +124,16 @@ mod tests {
         let touching = Point3::new(-1.0, 0.0, 0.0);
         let s = approach_standoff(Some(&Tube), touching, Vec3::x(), &opts);
         let start = touching + Vec3::x() * s;
-        assert!(Tube.segment_clear(start, touching + Vec3::x() * 1e-3), "{s}");
+        assert!(
+            Tube.segment_clear(start, touching + Vec3::x() * 1e-3),
+            "{s}"
+        );
         assert_eq!(s, opts.standoff_mm / 4.0);
         // Outside the tube the whole standoff is clear.
         let outside = Point3::new(2.0, 0.0, 0.0);
-        assert_eq!(approach_standoff(Some(&Tube), outside, Vec3::x(), &opts), opts.standoff_mm);
+        assert_eq!(
+            approach_standoff(Some(&Tube), outside, Vec3::x(), &opts),
+            opts.standoff_mm
+        );
     }
 }
