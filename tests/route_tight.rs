@@ -10,7 +10,6 @@
 mod common;
 
 use common::*;
-use serde_json::Value;
 
 /// The program: the hub section and the boss end of bracket #1.
 fn program(dir: &std::path::Path) -> std::path::PathBuf {
@@ -34,9 +33,7 @@ fn program(dir: &std::path::Path) -> std::path::PathBuf {
               "fit": { "element": "plane", "form_mm": 0.02 } }
         ]
     });
-    let path = dir.join("fixture-b1-hub.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&p).unwrap()).unwrap();
-    path
+    write_program(dir, "fixture-b1-hub.json", &p)
 }
 
 #[test]
@@ -44,17 +41,8 @@ fn positioning_into_a_narrow_gap_does_not_touch_the_part() {
     let dir = tempfile::tempdir().unwrap();
     let prog = program(dir.path());
     let out = dir.path().join("out");
-    let o = cmm(&[
-        "scan",
-        &arg(&prog),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-    ]);
-    assert!(o.status.code().is_some_and(|c| c != 2), "{o:?}");
-    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let (code, report) = scan_ideal(&prog, &out);
+    assert!(code.is_some_and(|c| c != 2), "exit {code:?}");
     let features = report["features"].as_array().unwrap();
     let hub = &features[0];
     assert!(

@@ -11,7 +11,6 @@
 mod common;
 
 use common::*;
-use serde_json::Value;
 
 const POINTS: [[f64; 3]; 4] = [
     [31.0, 24.0, 0.0],
@@ -34,9 +33,7 @@ fn program(dir: &std::path::Path) -> std::path::PathBuf {
               "surfaces": ["bracket#1/face4"], "tolerance_mm": [-0.05, 0.05] }
         ]
     });
-    let path = dir.join("boss-touch.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&p).unwrap()).unwrap();
-    path
+    write_program(dir, "boss-touch.json", &p)
 }
 
 #[test]
@@ -44,17 +41,8 @@ fn touch_points_are_taken_on_their_programmed_lines() {
     let dir = tempfile::tempdir().unwrap();
     let prog = program(dir.path());
     let out = dir.path().join("out");
-    let o = cmm(&[
-        "scan",
-        &arg(&prog),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{o:?}");
-    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let (code, report) = scan_ideal(&prog, &out);
+    assert_eq!(code, Some(0), "exit {code:?}");
     let points = report["features"][0]["points"].as_array().unwrap();
     assert_eq!(points.len(), POINTS.len());
     for (p, want) in points.iter().zip(POINTS) {

@@ -265,3 +265,29 @@ pub fn pocket_machine<'a>(
     let model = cmm::machine::MachineModel::default_bridge();
     cmm::world::cmm::SimulatedCmm::new(part, model, profile, probe, 1, start).unwrap()
 }
+
+/// Writes the part program `program` to `dir/name`.
+pub fn write_program(dir: &std::path::Path, name: &str, program: &serde_json::Value) -> PathBuf {
+    let path = dir.join(name);
+    std::fs::write(&path, serde_json::to_string_pretty(program).unwrap()).unwrap();
+    path
+}
+
+/// `cmm scan PROGRAM --ideal --quiet --out OUT`: its exit code and the
+/// report it wrote.
+pub fn scan_ideal(
+    program: &std::path::Path,
+    out: &std::path::Path,
+) -> (Option<i32>, serde_json::Value) {
+    let o = cmm(&[
+        "scan",
+        &arg(program),
+        "--ideal",
+        "--quiet",
+        "--out",
+        &arg(out),
+    ]);
+    let text =
+        std::fs::read_to_string(out.join("report.json")).unwrap_or_else(|e| panic!("{e}: {o:?}"));
+    (o.status.code(), serde_json::from_str(&text).unwrap())
+}
