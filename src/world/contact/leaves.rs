@@ -158,13 +158,12 @@ pub(crate) struct Leaf {
     slab: Slab,
     /// ... and in this oriented box (see [`Leaf::tight_segment_bound`]).
     obb: Option<Obb>,
-    /// The trim segments (clipped to the rectangle) in
-    /// [`Leaves::segments`]; empty when the rectangle lies inside the trim.
-    pub(crate) segments: std::ops::Range<usize>,
-    /// A 3 x 3 grid of (approximate) true points over the rectangle, for
-    /// Newton's first start: made when the leaf is first searched without
-    /// a warm foot (most leaves of a part never are).
-    samples: std::sync::OnceLock<[Point3; 9]>,
+    /// Whether the trim boundary crosses the rectangle (its piece has
+    /// trim segments, see [`Leaves::trim_chords`]).
+    crossed: bool,
+    /// The form's bound over the leaf, stretched by `T`, mm: how far the
+    /// true surface may lie from the image of the nominal one.
+    inflate: f64,
 }
 
 impl Leaf {
@@ -200,14 +199,14 @@ impl Leaf {
 
     /// Whether the trim boundary crosses the leaf.
     pub(crate) fn crossed(&self) -> bool {
-        !self.segments.is_empty()
+        self.crossed
     }
 
-    /// The parameters of the sample nearest to `p`; `make` gives the
-    /// samples the first time.
-    pub(crate) fn start(&self, p: Point3, make: impl FnOnce() -> [Point3; 9]) -> Vec2 {
+    /// The parameters of the sample nearest to `p` among `samples` (the
+    /// leaf's 3 x 3 grid of approximate true points).
+    pub(crate) fn start(&self, p: Point3, samples: &[Point3; 9]) -> Vec2 {
         let mut best = (f64::INFINITY, 4);
-        for (k, s) in self.samples.get_or_init(make).iter().enumerate() {
+        for (k, s) in samples.iter().enumerate() {
             let d2 = (s - p).norm_squared();
             if d2 < best.0 {
                 best = (d2, k);
@@ -228,14 +227,15 @@ fn sample_uv(b: &Bounds, k: usize) -> Vec2 {
 
 /// Every face's leaves.
 #[derive(Debug, Clone, PartialEq)]
+///
+/// A leaf holds only the bounds every query may look at; what a search
+/// needs of the few leaves it comes near (start samples, trim chords) is
+/// mapped from the shared nominal pieces when asked for, so a batch's
+/// variants do not each copy the whole design.
 pub(crate) struct Leaves {
     pub(crate) leaves: Vec<Leaf>,
-    /// Trim segments (nominal parameters) referred to by the leaves.
-    pub(crate) segments: Vec<(Vec2, Vec2)>,
-    /// For each of `segments`, its chord on the true part and how far the
-    /// segment's image can lie from it (mm): a query farther than that
-    /// from the chord needs no search along the segment.
-    pub(crate) chords: Vec<Chord>,
+    /// The factor by which `T` stretches lengths (at least 1).
+    stretch: f64,
 }
 
 /// A trim segment's chord on the true part: the image of the segment lies
@@ -360,18 +360,16 @@ pub(super) struct FaceContext<'a> {
 impl Leaves {
     /// The leaves of `pieces` (of a workpiece) as machined by `am`.
     pub(crate) fn of(pieces: &Pieces, am: &AsMachined) -> Leaves {
-        let segments: usize = pieces.pieces.iter().map(|p| p.segs.len()).sum();
+        let stretch = am.stretch_factor();
         let mut out = Leaves {
             leaves: Vec::with_capacity(pieces.pieces.len()),
-            segments: Vec::with_capacity(segments),
-            chords: Vec::with_capacity(segments),
+            stretch,
         };
-        let stretch = am.stretch_factor();
         let mut mapped = Vec::new();
         for piece in &pieces.pieces {
             let (lo, hi) = piece.nominal_box;
             let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
-            out.push(piece, am, (inflate, stretch), &mut mapped);
+            out.push(piece, am, inflate, &mut mapped);
         }
         out
     }
@@ -380,13 +378,7 @@ impl Leaves {
     /// bound over the piece stretched by `T`, mm: a bump far from the
     /// piece widens it by its tail alone); `mapped` is room for its mapped
     /// control points.
-    fn push(
-        &mut self,
-        piece: &Piece,
-        am: &AsMachined,
-        (inflate, stretch): (f64, f64),
-        mapped: &mut Vec<Point3>,
-    ) {
+    fn push(&mut self, piece: &Piece, am: &AsMachined, inflate: f64, mapped: &mut Vec<Point3>) {
         mapped.clear();
         mapped.extend(piece.points.iter().map(|&p| am.transform_point(p)));
         let mut aabb = Aabb::of(mapped.iter().copied());
@@ -394,26 +386,43 @@ impl Leaves {
         (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
         let slab = slab_of(mapped, piece.degree, inflate);
         let obb = obb_of(mapped, &slab, inflate);
-        let first = self.segments.len();
-        self.segments.extend(piece.segs.iter().copied());
-        // `T` is affine: it maps a chord to the chord of the mapped ends and
-        // stretches the sag by at most its stretch; the form moves the
-        // surface by at most `inflate`.
-        self.chords
-            .extend(piece.chords.iter().map(|&(a, b, sag)| Chord {
-                a: am.transform_point(a),
-                b: am.transform_point(b),
-                slack: sag * stretch + inflate,
-            }));
         self.leaves.push(Leaf {
             face: piece.face,
             bounds: piece.rect,
             aabb,
             slab,
             obb,
-            segments: first..self.segments.len(),
-            samples: std::sync::OnceLock::new(),
+            crossed: !piece.segs.is_empty(),
+            inflate,
         });
+    }
+
+    /// The trim segments of leaf `id` (nominal parameters, clipped to its
+    /// rectangle) with their chords on the true part `am` (the part the
+    /// leaves were made for) and how far each segment's image can lie from
+    /// its chord: a query farther than that from the chord needs no search
+    /// along the segment.
+    pub(crate) fn trim_chords<'a>(
+        &'a self,
+        pieces: &'a Pieces,
+        id: usize,
+        am: &'a AsMachined,
+    ) -> impl Iterator<Item = ((Vec2, Vec2), Chord)> + 'a {
+        let inflate = self.leaves.get(id).map_or(0.0, |l| l.inflate);
+        let piece = pieces.pieces.get(id);
+        let segs = piece.map_or(&[][..], |p| &p.segs[..]);
+        let chords = piece.map_or(&[][..], |p| &p.chords[..]);
+        // `T` is affine: it maps a chord to the chord of the mapped ends and
+        // stretches the sag by at most its stretch; the form moves the
+        // surface by at most `inflate`.
+        segs.iter().zip(chords).map(move |(&seg, &(a, b, sag))| {
+            let chord = Chord {
+                a: am.transform_point(a),
+                b: am.transform_point(b),
+                slack: sag * self.stretch + inflate,
+            };
+            (seg, chord)
+        })
     }
 }
 

@@ -314,10 +314,7 @@ impl Cursor {
                 continue;
             };
             let face = leaf.face;
-            let segments = ix.leaves.segments.get(leaf.segments.clone());
-            let chords = ix.leaves.chords.get(leaf.segments.clone());
-            let chords = chords.unwrap_or_default().iter();
-            for (&seg, chord) in segments.unwrap_or_default().iter().zip(chords) {
+            for (seg, chord) in ix.leaves.trim_chords(&ix.pieces, id as usize, am) {
                 if chord.lower_bound(y) >= best.min(reach) + tie {
                     continue;
                 }
@@ -412,7 +409,7 @@ fn leaf_foot(
 ) -> Foot {
     let face = leaf.face;
     let eval = |uv: Vec2, out: &mut Jet2| am.true_jet_into(wp, face, uv, out);
-    let start = || leaf.start(y, || ix.true_samples(id, (wp, am)));
+    let start = || leaf.start(y, &ix.true_samples(id, (wp, am)));
     if let Some(w) = warm.iter_mut().find(|w| w.leaf == id) {
         w.stamp = stamp;
         local_minimum_cached(eval, y, &mut w.foot, &leaf.bounds, opts);
