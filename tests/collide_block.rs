@@ -3,7 +3,9 @@
 //! analytic geometry: the shaft striking the pocket's rim, the body landing
 //! on the top face round a deep pocket (at the expected cycle and place),
 //! and a shaft parallel to a wall 0.5 mm away while the ball scans along
-//! it (no collision, and no exact check every cycle).
+//! it (no collision, and no exact check every cycle); a short stylus
+//! whose wide body stands a few millimetres above the top face (no exact
+//! check of the body every cycle).
 mod common;
 
 use cmm::math::{Point3, Vec3};
@@ -159,5 +161,28 @@ fn a_shaft_parallel_to_a_wall_does_not_collide() {
     assert!(touching > cycles * 9 / 10, "{touching}");
     let checks = sim.collision_checks() - before;
     eprintln!("{checks} exact checks in {cycles} cycles");
+    assert!(checks < cycles as u64 / 10, "{checks} exact checks");
+}
+
+/// A 10 mm stylus whose ball travels 2 mm above the top face: the body
+/// (12.5 mm in radius) stands 12 mm above the face, nearer than its own
+/// radius. Its flat bottom keeps 12 mm from the part: the exact checks
+/// stay rare (a bound taking the body's end for a hemisphere reaching
+/// 12.5 mm below its bottom would be negative every cycle and check it
+/// exactly every cycle).
+#[test]
+fn a_short_stylus_body_above_the_part_is_checked_rarely() {
+    let wp = block_with_pocket(25.0, 75.0, 30.0);
+    let am = AsMachined::nominal();
+    let pv = Vec3::new(0.0, 0.0, -10.0);
+    let mut sim = machine(&wp, &am, pv, Point3::new(10.0, 10.0, 52.0));
+    let cycles = 3000;
+    let before = sim.collision_checks();
+    for _ in 0..cycles {
+        let readings = sim.step(Vec3::new(10.0, 0.0, 0.0));
+        assert_eq!(readings.status, MachineStatus::Ok, "{readings:?}");
+        assert_eq!(readings.deflection.norm(), 0.0);
+    }
+    let checks = sim.collision_checks() - before;
     assert!(checks < cycles as u64 / 10, "{checks} exact checks");
 }

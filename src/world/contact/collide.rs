@@ -262,9 +262,25 @@ impl PartCheck {
     ) -> Result<Result<f64, Strike>, ProjectionError> {
         let seg = cyl.segment();
         let leaves = &ix.leaves.leaves;
-        self.near_leaves(ix, seg, cyl.radius + self.opts.margin_mm);
+        let near = cyl.radius + self.opts.margin_mm;
+        self.near_leaves(ix, seg, near);
+        let listed = !self.order.is_empty();
+        // The listed bounds are the axis's distance; beyond an end cap the
+        // cylinder keeps its end gap.
+        for o in &mut self.order {
+            if let Some(leaf) = leaves.get(o.1 as usize) {
+                o.0 = o.0.max(cyl.radius + cyl.end_gap(&leaf.aabb));
+            }
+        }
+        self.order.retain(|o| o.0 < near);
         if self.order.is_empty() {
-            return Ok(Ok(ix.tree.nearest(leaves, seg) - cyl.radius));
+            // Every leaf keeps the margin (those listed by their end gap),
+            // or none was near: the nearest leaf's bound.
+            let far = match listed {
+                true => self.opts.margin_mm,
+                false => ix.tree.nearest(leaves, seg) - cyl.radius,
+            };
+            return Ok(Ok(far));
         }
         // A leaf whose bound would not clear it: its oriented box may, and
         // for a crossed leaf its trimmed box (the part inside the trim).

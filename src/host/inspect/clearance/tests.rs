@@ -479,3 +479,34 @@ fn random_moves_agree_with_dense_sampling_on_the_sphere() {
     eprintln!("sphere: {tally:?}");
     tally.check();
 }
+
+/// A 0.3 mm ball (shaft 0.15 mm across, a 10 mm stylus pointing up) on the
+/// d25 sphere: touching it at its equator, the shaft leaves the ball
+/// 0.13 mm above its centre and keeps 0.075 mm (the ball radius less the
+/// shaft's) from the sphere there: the posture is clear (taken from the
+/// ball's centre with the full 0.1 mm margin it would strike the surface
+/// the ball touches). Touching the sphere's bottom, the shaft runs up
+/// into it.
+#[test]
+fn a_small_balls_shaft_beside_the_surface_it_touches_is_clear() {
+    let wp = match Workpiece::from_file(&reference_sphere(25.0), Path::new("sphere.json")) {
+        Ok(wp) => wp,
+        Err(e) => panic!("{e}"),
+    };
+    let c = PartClearance {
+        tip_radius_mm: 0.15,
+        shaft_radius_mm: 0.075,
+        ..sphere_clearance(&wp)
+    };
+    assert_eq!(c.posture(Point3::new(12.65, 0.0, 0.0)), None);
+    assert_eq!(c.posture(Point3::new(0.0, 12.65, 0.0)), None);
+    assert_eq!(
+        c.posture(Point3::new(0.0, 0.0, -12.65)),
+        Some(ProbePart::Shaft)
+    );
+    // Leaning 8 mm in under the equator the shaft meets the sphere.
+    assert_eq!(
+        c.posture(Point3::new(12.0, 0.0, -4.0)),
+        Some(ProbePart::Shaft)
+    );
+}
