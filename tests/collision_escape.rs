@@ -121,3 +121,27 @@ fn the_ball_is_backed_off_the_face_it_ran_into() {
     );
     assert!(at_rest_and_clear(&mut sim), "at rest and clear at {b}");
 }
+
+/// The ball runs into a wall of a pocket 4 mm wide, so backing out of it
+/// takes the ball to the pocket's far wall (1 mm away, before it is the
+/// escape's clear distance out): the escape stops there, at rest beside
+/// that wall, instead of driving the probe on through the block.
+#[test]
+fn backing_out_of_a_narrow_pocket_stops_at_its_far_wall() {
+    let wp = block_with_pocket(48.0, 52.0, 30.0);
+    let am = AsMachined::nominal();
+    let pv = Vec3::new(0.0, 0.0, -50.0);
+    let start = Point3::new(50.0, 50.0, 40.0);
+    let mut sim = machine(&wp, &am, pv, start);
+    let opts = ModeOptions::default();
+    let probe = HostProbe::nominal(pv, R);
+    let across = POSE.to_machine(start + Vec3::new(10.0, 0.0, 0.0));
+    {
+        let mut m = Unobserved(&mut sim);
+        let mut tr = Tracker::new(&m, probe).escaping(&opts);
+        let o = move_to(&mut m, &mut tr, across, 100.0, &opts);
+        assert_eq!(o, Err(Outcome::Collision));
+    }
+    let b = ball(&sim, pv);
+    assert!(b.x > 48.0 + R - 0.5 && b.x < 52.0 - R, "ball at {b}");
+}

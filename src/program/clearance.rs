@@ -28,14 +28,33 @@ impl Default for ClearanceMargins {
     }
 }
 
-/// The margins of `spec` (defaults for what it leaves out), checked:
-/// each finite and in `(0, MAX_MARGIN_MM]`, the tight margin at most the
-/// full one.
+/// The posture margin a program gets when it sets none, for a ball of
+/// radius `tip` on a shaft of radius `shaft` (mm): the default, or half
+/// the gap the shaft keeps from a wall the ball touches at its equator
+/// (the ball radius less the shaft radius) when that is less, so that a
+/// small ball's touches are not all called shaft strikes.
+pub(super) fn default_posture_margin(tip: f64, shaft: f64) -> f64 {
+    let gap = (tip - shaft).max(0.0);
+    let half = 0.5 * gap;
+    match half > 0.0 {
+        true => ClearanceMargins::default().posture_margin_mm.min(half),
+        false => ClearanceMargins::default().posture_margin_mm,
+    }
+}
+
+/// The margins of `spec` (defaults for what it leaves out, the posture
+/// margin's for the ball and shaft radii `probe`, mm), checked: each
+/// finite and in `(0, MAX_MARGIN_MM]`, the tight margin at most the full
+/// one.
 pub(super) fn margins(
     spec: Option<&ClearanceSpec>,
     file: &Path,
+    (tip, shaft): (f64, f64),
 ) -> Result<ClearanceMargins, ProgramError> {
-    let d = ClearanceMargins::default();
+    let d = ClearanceMargins {
+        posture_margin_mm: default_posture_margin(tip, shaft),
+        ..ClearanceMargins::default()
+    };
     let Some(spec) = spec else {
         return Ok(d);
     };
@@ -72,4 +91,28 @@ pub(super) fn margins(
         return Err(err("tight_margin_mm", reason));
     }
     Ok(m)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The default posture margin: 0.1 mm for a 2 mm ball on a 1 mm shaft
+    /// (gap 0.5), half the gap for a 0.3 mm ball on a 0.15 mm shaft (gap
+    /// 0.075), and a margin the program sets is kept as it is.
+    #[test]
+    fn the_default_posture_margin_follows_a_small_balls_gap() {
+        assert_eq!(default_posture_margin(1.0, 0.5), 0.1);
+        assert!((default_posture_margin(0.15, 0.075) - 0.0375).abs() < 1e-15);
+        assert_eq!(default_posture_margin(0.5, 0.5), 0.1);
+        let file = Path::new("p.json");
+        let m = margins(None, file, (0.15, 0.075)).unwrap();
+        assert!((m.posture_margin_mm - 0.0375).abs() < 1e-15);
+        let spec = ClearanceSpec {
+            posture_margin_mm: Some(0.2),
+            ..ClearanceSpec::default()
+        };
+        let m = margins(Some(&spec), file, (0.15, 0.075)).unwrap();
+        assert_eq!(m.posture_margin_mm, 0.2);
+    }
 }

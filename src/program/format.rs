@@ -65,7 +65,8 @@ pub struct ClearanceSpec {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub tight_margin_mm: Option<f64>,
     /// Free distance the stylus shaft and the probe body keep from the
-    /// design data while the ball measures (default 0.1).
+    /// design data while the ball measures (default 0.1, or half the ball
+    /// radius less the shaft radius when that is less).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub posture_margin_mm: Option<f64>,
 }

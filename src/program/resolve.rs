@@ -133,6 +133,11 @@ pub fn resolve(
         Some(a) => Some(alignment_points(&cx, &workpiece, a)?),
         None => None,
     };
+    let clearance = super::clearance::margins(
+        spec.clearance.as_ref(),
+        file,
+        (probe.tip_radius_mm, probe.shaft_radius_mm),
+    )?;
     let program = Program {
         alignment,
         name: spec.name.clone(),
@@ -142,7 +147,7 @@ pub fn resolve(
         probe,
         features,
         machine,
-        clearance: super::clearance::margins(spec.clearance.as_ref(), file)?,
+        clearance,
     };
     check_reach(&cx, &program, &Travel::of(&program.machine))?;
     Ok(program)

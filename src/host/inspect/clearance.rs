@@ -37,6 +37,14 @@ use area::AreaCheck;
 /// negative `step_mm`, which would never stop cutting).
 const MIN_STEP_MM: f64 = 1e-3;
 
+/// The distance an approach's ball centre keeps from the part (its
+/// check with no margin), as a share of the ball radius.
+const APPROACH_NEED_SHARE: f64 = 0.5;
+
+/// The sampling step of an approach's check, as a share of the distance
+/// it keeps.
+const APPROACH_STEP_SHARE: f64 = 0.5;
+
 /// Margins of the direct-move check.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ClearanceOptions {
@@ -55,11 +63,11 @@ pub struct ClearanceOptions {
     /// (into narrow bores and pockets), mm: still above the as-machined
     /// part's deviation from the design that a program tolerates.
     pub tight_margin_mm: f64,
-    /// Free distance the shaft and the body keep from the part while the
-    /// ball measures, mm. The shaft, checked from where it leaves the
-    /// ball, keeps at most half the ball radius less the shaft radius: a
-    /// ball touching a wall at its equator holds its shaft that far from
-    /// the wall (a 0.3 mm ball's shaft 0.075 mm).
+    /// Free distance the shaft (from where it leaves the ball) and the
+    /// body keep from the part while the ball measures, mm. A ball touching
+    /// a wall at its equator holds its shaft the ball radius less the
+    /// shaft radius from the wall (a 0.3 mm ball's default shaft 0.075 mm):
+    /// a margin above that calls every such touch a strike.
     pub posture_margin_mm: f64,
 }
 
@@ -383,16 +391,13 @@ impl PartClearance<'_> {
         let finite = ball.iter().all(|x| x.is_finite());
         match (body, self.body, self.stylus.try_normalize(1e-12)) {
             (false, _, Some(up)) => {
-                // The shaft leaves the ball `lift` above its centre; there it
-                // is the ball radius less its own from a wall the ball
-                // touches at its equator, so it keeps at most half of that.
+                // The shaft leaves the ball `lift` above its centre.
                 let (r, rs) = (self.tip_radius_mm, self.shaft_radius_mm);
                 let lift = (r * r - rs * rs).max(0.0).sqrt().min(self.stylus.norm());
-                let keep = margin.min(0.5 * (r - rs).max(0.0));
                 finite
                     && self.area_clear(
                         piece(ball + up * lift, self.stylus - up * lift),
-                        rs + keep,
+                        rs + margin,
                         step,
                     )
             }
@@ -435,6 +440,26 @@ impl FreeSpace for PartClearance<'_> {
         } else {
             None
         }
+    }
+
+    fn approach_clear(&self, from: Point3, to: Point3) -> bool {
+        // The ball centre's path alone (the stylus over a surface that
+        // leans over the ball comes nearer than the ball radius where it
+        // touches; the posture checks hold it) keeping half the ball
+        // radius, sampled at a quarter of it: a wall it would cross holds a
+        // sample nearer than that, while the ball touching beside an edge
+        // (the next face within the ball radius) passes.
+        let r = APPROACH_NEED_SHARE * self.tip_radius_mm;
+        let step = (APPROACH_STEP_SHARE * r).max(MIN_STEP_MM);
+        let path = Piece {
+            b: Vec3::zeros(),
+            ..self.swept(from, to)
+        };
+        let finite = path
+            .corners()
+            .iter()
+            .all(|c| c.iter().all(|x| x.is_finite()));
+        finite && self.area_clear(path, r, step)
     }
 
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {

@@ -301,7 +301,9 @@ fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: u
     if let Some(d) = design.get(to) {
         waypoints.push(ctx.pose.to_machine(d.point + d.normal * clear));
     }
-    let mut tr = Tracker::new(ctx.cmm, ctx.probe).escaping(&ctx.modes);
+    let mut tr = Tracker::new(ctx.cmm, ctx.probe)
+        .avoiding(ctx.free)
+        .escaping(&ctx.modes);
     if let Some(free) = ctx.free {
         // Along the outside only where that is clear; the touch point's
         // own repositioning routes around the part otherwise.

@@ -21,6 +21,14 @@ pub trait FreeSpace {
         self.segment_clear(from, to)
     }
 
+    /// Whether the ball and the stylus can move straight from `from` to
+    /// `to` (ball centre, machine coordinates) without entering the part,
+    /// with no margin: an approach's measuring move, which ends touching.
+    /// `to` must keep some distance from the part.
+    fn approach_clear(&self, from: Point3, to: Point3) -> bool {
+        self.segment_clear(from, to)
+    }
+
     /// The full clearance margin segments are checked with, mm (`None`:
     /// not known, taken as ample for blended moves).
     fn margin_mm(&self) -> Option<f64> {
@@ -40,13 +48,15 @@ const STANDOFF_HALVINGS: usize = 4;
 
 /// The standoff (mm) of an approach along `normal` to where the ball
 /// centre just touches at `touching` (machine coordinates): the configured
-/// one when the probe is clear there and on the whole approach line from
-/// there to the shortest standoff that is clear (with the tight margin),
-/// else the
-/// largest of its halves (down to a sixteenth) that is. An approach into a
-/// hole narrower than the ball plus the standoff thus starts inside the
-/// hole, not in its far wall or beyond it. With no free space to ask, or none clear,
-/// the configured standoff (the route planning then says no).
+/// one when the probe is clear there (with the tight margin) and the
+/// approach line from there to the touch does not enter the part, else
+/// the largest of its halves (down to a sixteenth) that is. An approach
+/// into a hole narrower than the ball plus the standoff thus starts inside
+/// the hole, not in its far wall or beyond it. With no free space to ask,
+/// the configured standoff; with none clear (a hole narrower than the
+/// ball and the tight margin), the shortest: the approach then starts in
+/// the hole, where the route planning says no, rather than beyond its far
+/// wall, from where the approach would drive through the part.
 pub fn approach_standoff(
     free: Option<&dyn FreeSpace>,
     touching: Point3,
@@ -57,20 +67,37 @@ pub fn approach_standoff(
         return opts.standoff_mm;
     };
     let at = |s: f64| touching + normal * s;
+    let shortest = opts.standoff_mm / f64::from(1u32 << STANDOFF_HALVINGS);
     let standoffs = (0..=STANDOFF_HALVINGS).map(|k| opts.standoff_mm / f64::from(1u32 << k));
-    // The approach line down to the nearest clear standoff must be clear.
-    let Some(nearest) = standoffs
-        .clone()
+    // The approach line is checked to a quarter of the shortest standoff
+    // short of the touch (where the ball is that much clear of the part).
+    let near_end = at(APPROACH_END_SHARE * shortest);
+    if free.approach_clear(near_end, near_end) {
+        return standoffs
+            .clone()
+            .find(|&s| {
+                free.segment_clear_with(at(s), at(s), true) && free.approach_clear(at(s), near_end)
+            })
+            .unwrap_or(shortest);
+    }
+    // The touch lies inside the design (the true part stands out of it,
+    // the ball backing off it): the design says nothing of the line's
+    // end, only that it must be clear down to the nearest clear standoff.
+    let Some(nearest) = (standoffs.clone())
         .filter(|&s| free.segment_clear_with(at(s), at(s), true))
         .last()
     else {
-        return opts.standoff_mm;
+        return shortest;
     };
     standoffs
         .take_while(|&s| s >= nearest)
         .find(|&s| free.segment_clear_with(at(s), at(nearest), true))
         .unwrap_or(nearest)
 }
+
+/// Where the check of an approach line ends, as a share of the shortest
+/// standoff short of the touch.
+const APPROACH_END_SHARE: f64 = 0.25;
 
 /// Moves straight to `target` (ball centre, ending at rest) when the line
 /// from where the stylus is free to `target` is clear; returns whether it
@@ -83,7 +110,7 @@ pub fn direct_move(
     free: &dyn FreeSpace,
     opts: &ModeOptions,
 ) -> Result<bool, Outcome> {
-    let mut tr = Tracker::new(cmm, probe).escaping(opts);
+    let mut tr = Tracker::new(cmm, probe).avoiding(Some(free)).escaping(opts);
     let away = free_stylus(cmm, &mut tr, opts)?;
     let from = away.unwrap_or_else(|| tr.ball_undeflected());
     let clear = free.segment_clear(from, target);
@@ -129,6 +156,20 @@ mod tests {
             "{s}"
         );
         assert_eq!(s, opts.standoff_mm / 4.0);
+        // A bore too narrow for any standoff (radius 0.1, the tube's wall
+        // to 2): the shortest, inside the bore, not beyond its far wall.
+        struct Narrow;
+        impl FreeSpace for Narrow {
+            fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+                (0..=400).all(|k| {
+                    let p = from + (to - from) * (k as f64 / 400.0);
+                    !(0.1..=2.0).contains(&p.xy().coords.norm())
+                })
+            }
+        }
+        let touching = Point3::new(-0.1, 0.0, 0.0);
+        let s = approach_standoff(Some(&Narrow), touching, Vec3::x(), &opts);
+        assert_eq!(s, opts.standoff_mm / 16.0);
         // Outside the tube the whole standoff is clear.
         let outside = Point3::new(2.0, 0.0, 0.0);
         assert_eq!(

@@ -163,8 +163,11 @@ impl<'f> Tracker<'f> {
     /// at [`EscapeOptions::speed_mm_s`],
     /// whatever the machine reports on the way, until it reports the probe
     /// clear with the stylus free, [`EscapeOptions::clear_mm`] further and
-    /// (with free space to ask) the full clearance margin from the design
-    /// data, then to rest. Gives up after [`EscapeOptions::max_mm`].
+    /// (with free space to ask) the tight clearance margin from the design
+    /// data, then to rest. Gives up after [`EscapeOptions::max_mm`], and
+    /// stops where the stylus, once free, touches the part again (backing
+    /// out of a small hole towards its far wall): the probe is not driven
+    /// on through the part.
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came.
@@ -196,18 +199,19 @@ impl<'f> Tracker<'f> {
                         break;
                     }
                 }
-                _ => clear_since = None,
+                _ if clear_since.is_some() => break,
+                _ => {}
             }
         }
         self.come_to_rest(cmm);
     }
 
-    /// Whether the probe with its ball centre at `here` keeps the full
+    /// Whether the probe with its ball centre at `here` keeps the tight
     /// clearance margin from the part (the design data's free space; true
     /// without one), so that routes from here can be planned.
     fn roomy(&self, here: Point3) -> bool {
         self.free
-            .is_none_or(|f| f.segment_clear_with(here, here, false))
+            .is_none_or(|f| f.segment_clear_with(here, here, true))
     }
 
     /// Commands zero velocity until the scales stop moving (at most

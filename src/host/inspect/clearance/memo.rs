@@ -24,6 +24,8 @@ enum Query {
     },
     /// The probe standing with its ball centre here.
     Posture([u64; 3]),
+    /// An approach's measuring move of the ball centre (no margin).
+    Approach { from: [u64; 3], to: [u64; 3] },
 }
 
 /// A remembered answer.
@@ -105,6 +107,15 @@ impl FreeSpace for Remembering<'_> {
 
     fn margin_mm(&self) -> Option<f64> {
         self.inner.margin_mm()
+    }
+
+    fn approach_clear(&self, from: Point3, to: Point3) -> bool {
+        let q = Query::Approach {
+            from: bits(from),
+            to: bits(to),
+        };
+        let a = self.answer(q, || Answer::Clear(self.inner.approach_clear(from, to)));
+        a == Answer::Clear(true)
     }
 
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {

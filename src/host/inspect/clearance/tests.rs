@@ -483,28 +483,36 @@ fn random_moves_agree_with_dense_sampling_on_the_sphere() {
 /// A 0.3 mm ball (shaft 0.15 mm across, a 10 mm stylus pointing up) on the
 /// d25 sphere: touching it at its equator, the shaft leaves the ball
 /// 0.13 mm above its centre and keeps 0.075 mm (the ball radius less the
-/// shaft's) from the sphere there: the posture is clear (taken from the
-/// ball's centre with the full 0.1 mm margin it would strike the surface
-/// the ball touches). Touching the sphere's bottom, the shaft runs up
-/// into it.
+/// shaft's) from the sphere there: with the margin a program gets by
+/// default for that probe (half of it) the posture is clear, with a 0.1 mm
+/// margin the shaft strikes. Touching the sphere's bottom, or leaning in
+/// under its equator, the shaft runs into it.
 #[test]
 fn a_small_balls_shaft_beside_the_surface_it_touches_is_clear() {
     let wp = match Workpiece::from_file(&reference_sphere(25.0), Path::new("sphere.json")) {
         Ok(wp) => wp,
         Err(e) => panic!("{e}"),
     };
-    let c = PartClearance {
+    let small = |margin: f64| PartClearance {
         tip_radius_mm: 0.15,
         shaft_radius_mm: 0.075,
+        opts: ClearanceOptions {
+            posture_margin_mm: margin,
+            ..ClearanceOptions::default()
+        },
         ..sphere_clearance(&wp)
     };
+    let c = small(0.0375);
     assert_eq!(c.posture(Point3::new(12.65, 0.0, 0.0)), None);
     assert_eq!(c.posture(Point3::new(0.0, 12.65, 0.0)), None);
+    assert_eq!(
+        small(0.1).posture(Point3::new(12.65, 0.0, 0.0)),
+        Some(ProbePart::Shaft)
+    );
     assert_eq!(
         c.posture(Point3::new(0.0, 0.0, -12.65)),
         Some(ProbePart::Shaft)
     );
-    // Leaning 8 mm in under the equator the shaft meets the sphere.
     assert_eq!(
         c.posture(Point3::new(12.0, 0.0, -4.0)),
         Some(ProbePart::Shaft)
