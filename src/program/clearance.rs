@@ -34,11 +34,12 @@ impl Default for ClearanceMargins {
 /// (the ball radius less the shaft radius) when that is less, so that a
 /// small ball's touches are not all called shaft strikes.
 pub(super) fn default_posture_margin(tip: f64, shaft: f64) -> f64 {
-    let gap = (tip - shaft).max(0.0);
-    let half = 0.5 * gap;
-    match half > 0.0 {
-        true => ClearanceMargins::default().posture_margin_mm.min(half),
-        false => ClearanceMargins::default().posture_margin_mm,
+    let default = ClearanceMargins::default().posture_margin_mm;
+    let half = 0.5 * (tip - shaft);
+    if half > 0.0 {
+        default.min(half)
+    } else {
+        default
     }
 }
 

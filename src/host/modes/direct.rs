@@ -21,10 +21,11 @@ pub trait FreeSpace {
         self.segment_clear(from, to)
     }
 
-    /// Whether the ball and the stylus can move straight from `from` to
-    /// `to` (ball centre, machine coordinates) without entering the part,
-    /// with no margin: an approach's measuring move, which ends touching.
-    /// `to` must keep some distance from the part.
+    /// Whether the ball centre can move straight from `from` to `to`
+    /// (machine coordinates) without crossing into the part: an approach's
+    /// measuring move, which ends touching, so no clearance margin; `to`
+    /// must keep some distance from the part. Without a finer check, the
+    /// segment check.
     fn approach_clear(&self, from: Point3, to: Point3) -> bool {
         self.segment_clear(from, to)
     }

@@ -226,12 +226,12 @@ fn sample_uv(b: &Bounds, k: usize) -> Vec2 {
 }
 
 /// Every face's leaves.
-#[derive(Debug, Clone, PartialEq)]
 ///
 /// A leaf holds only the bounds every query may look at; what a search
 /// needs of the few leaves it comes near (start samples, trim chords) is
 /// mapped from the shared nominal pieces when asked for, so a batch's
 /// variants do not each copy the whole design.
+#[derive(Debug, Clone, PartialEq)]
 pub(crate) struct Leaves {
     pub(crate) leaves: Vec<Leaf>,
     /// The factor by which `T` stretches lengths (at least 1).
