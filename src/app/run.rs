@@ -9,7 +9,7 @@ use std::time::Instant;
 use super::SimulatedPart;
 use crate::evaluate::feature::feature_report;
 use crate::evaluate::nominal::point_reports;
-use crate::evaluate::truth::{fill_true_deviations, Frames};
+use crate::evaluate::truth::{fill_true_deviations_on, Frames, Truth};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::compensated::Compensated;
 use crate::host::compensation::ErrorMap;
@@ -31,6 +31,7 @@ use crate::report::{
 use crate::seam::Cmm;
 use crate::world::as_machined::AsMachined;
 use crate::world::cmm::{SimError, SimulatedCmm, TruePart};
+use crate::world::contact::ContactSearch;
 use crate::world::probe::{ProbeShape, TrueProbe};
 
 /// How to run.
@@ -156,13 +157,12 @@ pub(super) fn run_variant(
         world: program.placement,
     };
     let faces: Vec<&[usize]> = faces.iter().map(Vec::as_slice).collect();
-    fill_true_deviations(
-        &mut features,
-        &faces,
-        &program.workpiece,
-        &setup.truth,
-        frames,
-    );
+    let truth = Truth {
+        workpiece: &program.workpiece,
+        part: &setup.truth,
+        search: &m.search,
+    };
+    fill_true_deviations_on(&mut features, &faces, truth, frames);
     let report = Report {
         format: REPORT_FORMAT,
         program: program.name.clone(),
@@ -234,6 +234,8 @@ struct Measuring<'p> {
     machine_time_s: f64,
     rows: Vec<TraceRow>,
     learned: LearnedSet,
+    /// The simulated machine's contact search on the true part.
+    search: ContactSearch,
 }
 
 /// Starts the simulated machine, aligns the part and measures every
@@ -276,6 +278,7 @@ fn measure_program<'p>(
         .collect();
     let machine_time_s = traced.readings().time_s;
     let rows = raw.into_rows();
+    let search = sim.into_contact_search();
     Ok(Measuring {
         program: aligned,
         measured,
@@ -283,6 +286,7 @@ fn measure_program<'p>(
         machine_time_s,
         rows,
         learned,
+        search,
     })
 }
 

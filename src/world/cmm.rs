@@ -317,6 +317,12 @@ fn is_rest(d: Vec3) -> bool {
 }
 
 impl SimulatedCmm<'_> {
+    /// The machine's contact search on its true part, kept after the
+    /// measuring (for the true deviations, [`crate::evaluate::truth`]).
+    pub fn into_contact_search(self) -> ContactSearch {
+        self.search
+    }
+
     /// Number of exact collision checks of the shaft and the body so far
     /// (the free-air bound skips the others).
     pub fn collision_checks(&self) -> u64 {

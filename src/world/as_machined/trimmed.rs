@@ -24,6 +24,16 @@ impl AsMachined {
             .sum()
     }
 
+    /// The linear part `L` of the transform `T(x) = L x + t`.
+    pub(crate) fn linear_part(&self) -> &crate::math::Mat3 {
+        self.affine.linear()
+    }
+
+    /// The translation `t` of the transform `T(x) = L x + t`, mm.
+    pub(crate) fn translation(&self) -> crate::math::Vec3 {
+        self.affine.offset()
+    }
+
     /// Largest factor by which the transform `T` stretches lengths (at
     /// least 1): `T` moves a displacement of length `l` by at most this
     /// times `l`.

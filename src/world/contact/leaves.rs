@@ -3,6 +3,7 @@
 //! bounds on the true (as-machined) surface over it: an axis-aligned box
 //! and a slab. Pieces outside a face's trim are left out, so the search
 //! never sees the untrimmed surface beyond a face's boundary.
+use super::mapped::ShapeCache;
 use crate::geometry::nurbs::bezier::{decompose, BezierPatch};
 use crate::geometry::projection::Bounds;
 use crate::geometry::{NurbsSurface, Trim};
@@ -99,9 +100,9 @@ impl Aabb {
 /// The region `lo <= x . normal <= hi` (a unit normal).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Slab {
-    normal: Vec3,
-    lo: f64,
-    hi: f64,
+    pub(super) normal: Vec3,
+    pub(super) lo: f64,
+    pub(super) hi: f64,
 }
 
 impl Slab {
@@ -127,12 +128,23 @@ impl Slab {
 /// at its corners and the slab is unbounded across.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(crate) struct Obb {
-    axes: [Vec3; 3],
-    lo: Point3,
-    hi: Point3,
+    pub(super) axes: [Vec3; 3],
+    pub(super) lo: Point3,
+    pub(super) hi: Point3,
 }
 
 impl Obb {
+    /// The distance from `p` to the box (zero inside), mm.
+    #[inline(always)]
+    fn dist(&self, p: Point3) -> f64 {
+        let local = Point3::from(self.axes.map(|e| p.coords.dot(&e)));
+        let bx = Aabb {
+            min: self.lo,
+            max: self.hi,
+        };
+        bx.dist2(local).sqrt()
+    }
+
     /// The exact distance from the segment `a..b` to the box (zero when
     /// they meet), mm.
     fn segment_dist(&self, a: Point3, b: Point3) -> f64 {
@@ -195,6 +207,15 @@ impl Leaf {
     /// does not settle a check, mm.
     pub(crate) fn tight_segment_bound(&self, a: Point3, b: Point3, bound: f64) -> f64 {
         self.obb.map_or(bound, |o| bound.max(o.segment_dist(a, b)))
+    }
+
+    /// A lower bound of the distance from `p` to the true surface over the
+    /// leaf at least `bound` (its [`Self::lower_bound`]), from its oriented
+    /// box: a little dearer, kept for a leaf the cheaper bound would send
+    /// to a Newton iteration, mm.
+    #[inline(always)]
+    pub(crate) fn tight_bound(&self, p: Point3, bound: f64) -> f64 {
+        self.obb.map_or(bound, |o| bound.max(o.dist(p)))
     }
 
     /// Whether the trim boundary crosses the leaf.
@@ -270,9 +291,9 @@ const CHORD_ROUNDING_MM: f64 = 1e-9;
 pub(crate) struct Piece {
     pub(super) face: usize,
     rect: Bounds,
-    degree: [usize; 2],
+    pub(super) degree: [usize; 2],
     /// Its nominal control points (row-major).
-    points: Vec<Point3>,
+    pub(super) points: Vec<Point3>,
     /// Its trim segments, clipped to the rectangle.
     pub(super) segs: Vec<(Vec2, Vec2)>,
     /// For each segment: the nominal end points and a bound of the
@@ -315,6 +336,9 @@ pub(crate) struct Pieces {
     /// The leaf tree over the pieces' nominal boxes: each part refits it
     /// to its own leaves ([`super::tree::LeafTree::refit`]).
     pub(crate) tree: super::tree::LeafTree,
+    /// The pieces' bounds under the linear part of the transform last
+    /// asked for ([`super::mapped`]).
+    shapes: ShapeCache,
 }
 
 impl Pieces {
@@ -345,6 +369,7 @@ impl Pieces {
             opts: *opts,
             tree: super::tree::LeafTree::over(&boxes),
             pieces: out,
+            shapes: ShapeCache::default(),
         }
     }
 }
@@ -358,43 +383,30 @@ pub(super) struct FaceContext<'a> {
 }
 
 impl Leaves {
-    /// The leaves of `pieces` (of a workpiece) as machined by `am`.
+    /// The leaves of `pieces` (of a workpiece) as machined by `am`: the
+    /// pieces' bounds under `am`'s linear map (shared by every part with
+    /// that map), placed at its translation and widened by its form.
     pub(crate) fn of(pieces: &Pieces, am: &AsMachined) -> Leaves {
         let stretch = am.stretch_factor();
-        let mut out = Leaves {
-            leaves: Vec::with_capacity(pieces.pieces.len()),
-            stretch,
-        };
-        let mut mapped = Vec::new();
-        for piece in &pieces.pieces {
-            let (lo, hi) = piece.nominal_box;
-            let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
-            out.push(piece, am, inflate, &mut mapped);
-        }
-        out
-    }
-
-    /// The leaf of `piece`, its bounds widened by `inflate` (the form's
-    /// bound over the piece stretched by `T`, mm: a bump far from the
-    /// piece widens it by its tail alone); `mapped` is room for its mapped
-    /// control points.
-    fn push(&mut self, piece: &Piece, am: &AsMachined, inflate: f64, mapped: &mut Vec<Point3>) {
-        mapped.clear();
-        mapped.extend(piece.points.iter().map(|&p| am.transform_point(p)));
-        let mut aabb = Aabb::of(mapped.iter().copied());
-        let grow = Vec3::repeat(inflate);
-        (aabb.min, aabb.max) = (aabb.min - grow, aabb.max + grow);
-        let slab = slab_of(mapped, piece.degree, inflate);
-        let obb = obb_of(mapped, &slab, inflate);
-        self.leaves.push(Leaf {
-            face: piece.face,
-            bounds: piece.rect,
-            aabb,
-            slab,
-            obb,
-            crossed: !piece.segs.is_empty(),
-            inflate,
-        });
+        let shapes = pieces.shapes.shapes(&pieces.pieces, am.linear_part());
+        let t = am.translation();
+        let leaves = (pieces.pieces.iter().zip(shapes.iter()))
+            .map(|(piece, shape)| {
+                let (lo, hi) = piece.nominal_box;
+                let inflate = am.max_form_height_over(piece.face, lo, hi) * stretch;
+                let (aabb, slab, obb) = shape.placed(t, inflate);
+                Leaf {
+                    face: piece.face,
+                    bounds: piece.rect,
+                    aabb,
+                    slab,
+                    obb,
+                    crossed: !piece.segs.is_empty(),
+                    inflate,
+                }
+            })
+            .collect();
+        Leaves { leaves, stretch }
     }
 
     /// The trim segments of leaf `id` (nominal parameters, clipped to its
@@ -553,68 +565,6 @@ pub(super) fn halves(patch: &BezierPatch, segs: &[(Vec2, Vec2)]) -> (Half, Half)
 
 pub(super) fn centre(r: &Bounds) -> Vec2 {
     (r.lo + r.hi) * 0.5
-}
-
-/// The slab round `points` (a row-major net of the degrees `[p, q]`)
-/// normal to the cross product of its diagonals (the whole space when that
-/// vanishes), widened by `inflate`.
-fn slab_of(points: &[Point3], [p, q]: [usize; 2], inflate: f64) -> Slab {
-    let everywhere = Slab {
-        normal: Vec3::z(),
-        lo: f64::NEG_INFINITY,
-        hi: f64::INFINITY,
-    };
-    let corners = (
-        points.first(),
-        points.last(),
-        points.get(q),
-        points.get(p * (q + 1)),
-    );
-    let (Some(&c00), Some(&c11), Some(&c01), Some(&c10)) = corners else {
-        return everywhere;
-    };
-    let Some(normal) = (c11 - c00).cross(&(c01 - c10)).try_normalize(1e-12) else {
-        return everywhere;
-    };
-    let (lo, hi) = points
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
-            let s = p.coords.dot(&normal);
-            (l.min(s), h.max(s))
-        });
-    Slab {
-        normal,
-        lo: lo - inflate,
-        hi: hi + inflate,
-    }
-}
-
-/// The oriented box of the control points `points` (whose hull holds the
-/// surface) in the frame of `slab`'s normal and the direction across it
-/// from the first control point to the last (the net's diagonal), grown
-/// by `inflate` on every side; along the normal it is the slab itself
-/// (`None` without a normal or with the diagonal along it).
-fn obb_of(points: &[Point3], slab: &Slab, inflate: f64) -> Option<Obb> {
-    let n = slab.normal;
-    if !(slab.lo.is_finite() && slab.hi.is_finite()) {
-        return None;
-    }
-    let (first, last) = (points.first()?, points.last()?);
-    let d = last - first;
-    let t = (d - n * d.dot(&n)).try_normalize(1e-12)?;
-    let axes = [n, t, n.cross(&t)];
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in points {
-        for (k, e) in [t, axes[2]].iter().enumerate() {
-            let s = p.coords.dot(e);
-            (lo[k], hi[k]) = (lo[k].min(s), hi[k].max(s));
-        }
-    }
-    Some(Obb {
-        axes,
-        lo: Point3::new(slab.lo, lo[0] - inflate, lo[1] - inflate),
-        hi: Point3::new(slab.hi, hi[0] + inflate, hi[1] + inflate),
-    })
 }
 
 /// Largest distance of the control points from the bilinear surface

@@ -38,6 +38,7 @@ mod chord_tests;
 mod collide;
 mod leaves;
 mod line;
+mod mapped;
 mod pieces;
 #[cfg(test)]
 mod refit_tests;
@@ -51,8 +52,8 @@ mod trimmed_tests;
 pub use collide::{CollisionOptions, PartCheck, Strike};
 pub use leaves::LeafOptions;
 pub use pieces::PieceCache;
-pub use search::ContactSearch;
 pub(crate) use search::PartIndex;
+pub use search::{ContactSearch, Cursor};
 pub(crate) use shapes::Cylinder;
 
 use crate::math::{Point3, Vec2, Vec3};

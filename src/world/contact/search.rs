@@ -32,6 +32,7 @@ struct WarmFoot {
 /// A foot that takes part in the answer.
 #[derive(Debug, Clone, Copy)]
 struct Candidate {
+    leaf: u32,
     face: usize,
     foot: Foot,
     edge: bool,
@@ -79,7 +80,7 @@ impl PartIndex {
 /// The state of one stream of point queries on a [`PartIndex`]: the
 /// free-air bound, the list of near leaves, the warm feet.
 #[derive(Debug, Clone)]
-pub(crate) struct Cursor {
+pub struct Cursor {
     opts: ContactOptions,
     /// A point and a lower bound of the true distance from it, mm.
     anchor: Option<(Point3, f64)>,
@@ -89,6 +90,9 @@ pub(crate) struct Cursor {
     near: Vec<u32>,
     warm: Vec<WarmFoot>,
     stamp: u64,
+    /// The leaf of the last answer: searched first, its foot is the best
+    /// distance to beat from the start.
+    last: Option<u32>,
     /// Reused buffers: the near leaves' bounds, the candidates, the
     /// leaves whose foot left their face's trim.
     bounds: Vec<(f64, u32)>,
@@ -128,6 +132,24 @@ impl ContactSearch {
         self.cursor.reset();
     }
 
+    /// A stream of queries of its own on this search's part (another
+    /// thread's, say), knowing nothing yet: [`Self::query_on`].
+    pub fn cursor(&self) -> Cursor {
+        Cursor::new(&self.cursor.opts)
+    }
+
+    /// [`Self::query`] of the stream `cursor` (made by [`Self::cursor`]).
+    pub fn query_on(
+        &self,
+        cursor: &mut Cursor,
+        part: (&Workpiece, &AsMachined),
+        y: Point3,
+        reach: f64,
+        opts: &ProjectionOptions,
+    ) -> Result<Option<TrueContact>, ProjectionError> {
+        cursor.query(&self.index, part, y, reach, opts)
+    }
+
     /// The closest point of the true part to `y` (part frame) when it comes
     /// closer than `reach` (mm), else `None` (every point of the part is at
     /// least `reach` away). `opts` are the Newton tolerances.
@@ -153,6 +175,7 @@ impl Cursor {
             near: Vec::new(),
             warm: Vec::with_capacity(WARM_SLOTS),
             stamp: 0,
+            last: None,
             bounds: Vec::new(),
             found: Vec::new(),
             off_trim: Vec::new(),
@@ -164,6 +187,7 @@ impl Cursor {
         self.anchor = None;
         self.near_at = None;
         self.warm.clear();
+        self.last = None;
     }
 
     /// [`ContactSearch::query`] on the index `ix`.
@@ -225,7 +249,9 @@ impl Cursor {
             .map_or(0.0, |(a, listed)| listed - (y - a).norm());
         let floor = self.search(ix, (wp, am), y, reach, opts);
         self.anchor = Some((y, floor.min(off_list)));
-        Ok(self.answer(wp, am, y, reach))
+        let answer = self.answer(wp, am, y, reach);
+        self.last = answer.map(|(_, leaf)| leaf);
+        Ok(answer.map(|(c, _)| c))
     }
 
     /// Fills `self.found` with the feet that may take part in the answer
@@ -254,6 +280,15 @@ impl Cursor {
         }
         self.bounds
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        // The last answer's leaf first: the ball mostly stays over it, and
+        // its distance then clears the neighbours whose bounds reach under
+        // the ball (nearest bound first after it, as the loop ends at the
+        // first bound beyond the best).
+        if let Some(k) = (self.last).and_then(|l| self.bounds.iter().position(|b| b.1 == l)) {
+            if let Some(head) = self.bounds.get_mut(..=k) {
+                head.rotate_right(1);
+            }
+        }
         let mut floor = reach + tie;
         let mut best = f64::INFINITY;
         for k in 0..self.bounds.len() {
@@ -268,6 +303,13 @@ impl Cursor {
             let Some(leaf) = ix.leaves.leaves.get(id as usize) else {
                 continue;
             };
+            // The oriented box clears most of the neighbours of the leaf
+            // the ball is over (whose slab and box reach under it).
+            let tight = leaf.tight_bound(y, b);
+            if tight >= limit {
+                floor = floor.min(tight);
+                continue;
+            }
             let warm = (&mut self.warm, self.stamp, id);
             let foot = leaf_foot((ix, wp, am), leaf, warm, y, opts);
             let d = foot.dist2.sqrt();
@@ -283,7 +325,12 @@ impl Cursor {
                 !leaf.crossed() || wp.faces.get(face).is_some_and(|f| f.contains(foot.uv));
             if on_face {
                 let edge = on_domain_side(wp, face, foot.uv);
-                self.found.push(Candidate { face, foot, edge });
+                self.found.push(Candidate {
+                    leaf: id,
+                    face,
+                    foot,
+                    edge,
+                });
                 best = best.min(d);
                 continue;
             }
@@ -322,6 +369,7 @@ impl Cursor {
                 let df = f.dist2.sqrt();
                 if df < best.min(reach) + tie {
                     self.found.push(Candidate {
+                        leaf: id,
                         face,
                         foot: f,
                         edge: true,
@@ -333,14 +381,14 @@ impl Cursor {
     }
 
     /// The answer from `self.found`: the closest foot, signed by the sign
-    /// rule at a face boundary.
+    /// rule at a face boundary, with the leaf it was found on.
     fn answer(
         &self,
         wp: &Workpiece,
         am: &AsMachined,
         y: Point3,
         reach: f64,
-    ) -> Option<TrueContact> {
+    ) -> Option<(TrueContact, u32)> {
         let best = self
             .found
             .iter()
@@ -357,14 +405,15 @@ impl Cursor {
         } else {
             (tp.distance, away)
         };
-        Some(TrueContact {
+        let contact = TrueContact {
             face: best.face,
             uv: tp.uv,
             point: tp.point,
             distance,
             push,
             edge: best.edge,
-        })
+        };
+        Some((contact, best.leaf))
     }
 
     /// Whether `y` lies inside the material by the sign rule at the
