@@ -3,7 +3,7 @@
 //! half-written file behind (the quality bar).
 //!
 //! An [`OutputSet`] is written as one unit: every file goes to a temporary
-//! name first, and only when all of them are on disk are they renamed into
+//! name first, and only when all of them are written are they renamed into
 //! place. Folders created for the set are removed again when it fails.
 //! Temporary files and folders not yet in place are registered with the
 //! process, so that [`install_interrupt_cleanup`] can remove them on
@@ -167,13 +167,15 @@ impl OutputSet {
             let tmp = temp_path(path);
             register(Pending::File(tmp.clone()));
             temps.push((tmp.clone(), path.clone()));
-            // Each temporary file is flushed to disk before any rename, so
-            // that after a power loss or OS crash a target holds either its
-            // old contents or the complete new file, never an empty or
-            // partial one (a process crash alone cannot cause that: the
-            // kernel still has the data). It costs one fsync per file.
+            // Whatever stops cmm itself (a crash, an interrupt, a kill), a
+            // target holds its old contents or the complete new file: the
+            // kernel has the data before the rename. The files are not
+            // flushed to the disk one by one (an fsync each took about
+            // 0.3 ms of kernel time, a seventh of a short 10-variant
+            // batch's time); after a power loss or an OS crash they are
+            // what the file system kept.
             std::fs::File::create(&tmp)
-                .and_then(|mut f| f.write_all(bytes).and_then(|_| f.sync_all()))
+                .and_then(|mut f| f.write_all(bytes))
                 .map_err(|e| WriteError::new(path, e))?;
         }
         Ok(())
