@@ -118,7 +118,7 @@ fn csv_fields(line: &str) -> Vec<String> {
     fields
 }
 
-/// The number tokens inside every `"points"` array of the pretty JSON text,
+/// The number tokens inside every `"points"` array of the JSON text,
 /// in order, exactly as written (serde_json's default parser may be one ulp
 /// off, so the text is compared rather than parsed values).
 fn point_number_tokens(json: &str) -> Vec<String> {
@@ -131,9 +131,14 @@ fn point_number_tokens(json: &str) -> Vec<String> {
             None if item == "\"points\": [" => points_indent = Some(indent),
             Some(i) if indent == i && item.starts_with(']') => points_indent = None,
             Some(_) => {
-                let value = item.rsplit(": ").next().unwrap();
-                if value.parse::<f64>().is_ok() {
-                    tokens.push(value.to_string());
+                // `"key": 1.5` or `"key": [1.5, -2.0, 3.0]` (arrays of
+                // numbers stand on one line).
+                let value = item.split_once(": ").map_or(item, |(_, v)| v);
+                let inner = value.trim_start_matches('[').trim_end_matches(']');
+                for token in inner.split(", ") {
+                    if token.parse::<f64>().is_ok() {
+                        tokens.push(token.to_string());
+                    }
                 }
             }
             None => {}

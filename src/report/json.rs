@@ -1,15 +1,17 @@
 //! `report.json` (the cmm-report/1 format): the model serialised by serde.
 
+use super::layout::ReportFormatter;
 use super::model::Report;
 
 /// Bytes reserved for the JSON besides the points.
 const BASE_BYTES: usize = 8 * 1024;
-/// Typical bytes of one pretty-printed point.
-const POINT_BYTES: usize = 550;
+/// Typical bytes of one point as written.
+const POINT_BYTES: usize = 300;
 
-/// The report as pretty-printed JSON with a trailing newline. Deterministic:
-/// keys in model field order, numbers as `serde_json` writes `f64`
-/// (shortest round-trip form; non-finite values become `null`).
+/// The report as indented JSON ([`super::layout`]: arrays of numbers on
+/// one line) with a trailing newline. Deterministic: keys in model field
+/// order, numbers as `serde_json` writes `f64` (shortest round-trip form;
+/// non-finite values become `null`).
 pub fn to_json(report: &Report) -> String {
     String::from_utf8(to_json_bytes(report)).unwrap_or_default()
 }
@@ -19,7 +21,8 @@ pub fn to_json(report: &Report) -> String {
 pub fn to_json_bytes(report: &Report) -> Vec<u8> {
     let points: usize = report.features.iter().map(|f| f.points.len()).sum();
     let mut bytes = Vec::with_capacity(BASE_BYTES + points * POINT_BYTES);
-    match serde_json::to_writer_pretty(&mut bytes, report) {
+    let mut ser = serde_json::Serializer::with_formatter(&mut bytes, ReportFormatter::default());
+    match serde::Serialize::serialize(report, &mut ser) {
         Ok(()) => {
             bytes.push(b'\n');
             bytes

@@ -6,6 +6,7 @@ mod decimal;
 pub mod html;
 pub mod json;
 pub mod junit;
+mod layout;
 mod markup;
 pub mod model;
 mod plots;

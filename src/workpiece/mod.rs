@@ -77,6 +77,8 @@ pub struct Workpiece {
     /// Every face's box in one tree (made on first use): a query finds
     /// the faces near a point without touching the others.
     face_tree: std::sync::OnceLock<faces_near::FaceTree>,
+    /// [`Self::design_hash`], made on first use.
+    design_hash: std::sync::OnceLock<u64>,
 }
 
 /// The global closest point over all faces.
@@ -130,7 +132,36 @@ impl Workpiece {
             faces,
             options,
             face_tree: std::sync::OnceLock::new(),
+            design_hash: std::sync::OnceLock::new(),
         }
+    }
+
+    /// A hash of the whole design (every face's knots, control points,
+    /// weights, orientation and trim vertices; SipHash with fixed keys:
+    /// the same in every process), made once: what is derived from the
+    /// design alone can be kept under it.
+    pub fn design_hash(&self) -> u64 {
+        *self.design_hash.get_or_init(|| {
+            use std::hash::{DefaultHasher, Hash, Hasher};
+            let mut h = DefaultHasher::new();
+            let mut put = |x: f64| x.to_bits().hash(&mut h);
+            for f in &self.faces {
+                let s = &f.surface;
+                for x in s.knots_u().as_slice().iter().chain(s.knots_v().as_slice()) {
+                    put(*x);
+                }
+                for p in s.homogeneous_points() {
+                    p.iter().for_each(|x| put(*x));
+                }
+                put(f64::from(u8::from(s.is_reversed())));
+                for (a, b) in f.trim.iter().flat_map(|t| t.segments()) {
+                    [a.x, a.y, b.x, b.y].into_iter().for_each(&mut put);
+                }
+                put(f64::NAN);
+            }
+            self.faces.len().hash(&mut h);
+            h.finish()
+        })
     }
 
     /// A lower bound of the distance from `p` to face `i` (its box), mm;

@@ -161,6 +161,8 @@ pub struct PartCheck {
     /// descent's first point, then its least distance so far plus the
     /// margin (a farther point cannot lower it).
     reach: f64,
+    /// [`ContactOptions::free_air_ratio`].
+    free_air_ratio: f64,
 }
 
 impl PartCheck {
@@ -177,6 +179,7 @@ impl PartCheck {
             listed_at: None,
             listed: Vec::new(),
             reach: opts.reach_mm,
+            free_air_ratio: contact.free_air_ratio,
         }
     }
 
@@ -278,7 +281,10 @@ impl PartCheck {
             // or none was near: the nearest leaf's bound.
             let far = match listed {
                 true => self.opts.margin_mm,
-                false => ix.tree.nearest(leaves, seg) - cyl.radius,
+                false => {
+                    let kept = (cyl.radius, self.free_air_ratio);
+                    ix.tree.nearest_within(leaves, seg, kept) - cyl.radius
+                }
             };
             return Ok(Ok(far));
         }

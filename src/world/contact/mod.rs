@@ -70,6 +70,13 @@ pub struct ContactOptions {
     pub edge_tie_mm: f64,
     /// How the faces are split into leaves.
     pub leaves: LeafOptions,
+    /// In free air the bound a query or a shaft check leaves behind may
+    /// keep only this fraction (dimensionless, in `(0, 1]`) of the
+    /// nearest leaf's distance beyond the query's reach or the cylinder's
+    /// radius (how far the probe may move before the next search): the
+    /// search for the nearest leaf then skips every part of the tree that
+    /// cannot bring it below that.
+    pub free_air_ratio: f64,
 }
 
 impl Default for ContactOptions {
@@ -78,6 +85,7 @@ impl Default for ContactOptions {
             slack_mm: 0.3,
             edge_tie_mm: 1e-3,
             leaves: LeafOptions::default(),
+            free_air_ratio: 0.9,
         }
     }
 }

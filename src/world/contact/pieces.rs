@@ -2,8 +2,8 @@
 //! part: a batch's variants of a program share its design, so the faces
 //! are split once and each variant only maps the pieces. The cache is
 //! keyed by a fingerprint of the design (every control point, weight,
-//! knot and trim vertex) and the leaf options, so a part asked with other
-//! design data makes its own pieces.
+//! knot and trim vertex, hashed once per workpiece) and the leaf options,
+//! so a part asked with other design data makes its own pieces.
 use std::hash::{DefaultHasher, Hash, Hasher};
 use std::sync::{Arc, Mutex};
 
@@ -48,33 +48,19 @@ impl std::fmt::Debug for PieceCache {
     }
 }
 
-/// A hash of everything the splits depend on (SipHash with fixed keys:
-/// the same in every process).
+/// A hash of everything the splits depend on: the design
+/// ([`Workpiece::design_hash`]) and the leaf options.
 fn fingerprint(wp: &Workpiece, opts: &LeafOptions) -> u64 {
     let mut h = DefaultHasher::new();
-    let mut put = |x: f64| x.to_bits().hash(&mut h);
+    wp.design_hash().hash(&mut h);
     for x in [opts.flatness, opts.trim_leaf_mm, opts.trim_box_mm] {
-        put(x);
-    }
-    for f in &wp.faces {
-        let s = &f.surface;
-        for x in s.knots_u().as_slice().iter().chain(s.knots_v().as_slice()) {
-            put(*x);
-        }
-        for p in s.homogeneous_points() {
-            p.iter().for_each(|x| put(*x));
-        }
-        put(f64::from(u8::from(s.is_reversed())));
-        for (a, b) in f.trim.iter().flat_map(|t| t.segments()) {
-            [a.x, a.y, b.x, b.y].into_iter().for_each(&mut put);
-        }
-        put(f64::NAN);
+        x.to_bits().hash(&mut h);
     }
     let depths = (
         opts.max_flat_depth,
         opts.max_trim_depth,
         opts.max_trim_box_depth,
     );
-    (depths, wp.faces.len()).hash(&mut h);
+    depths.hash(&mut h);
     h.finish()
 }

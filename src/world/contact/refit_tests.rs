@@ -5,7 +5,7 @@
 use super::leaves::{LeafOptions, Leaves, Pieces};
 use super::shapes::Segment;
 use super::tree::{LeafTree, Shape};
-use crate::math::{Point3, Vec3};
+use crate::math::{Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::{AsMachined, AsMachinedSpec};
 use rand::{RngExt, SeedableRng};
@@ -97,4 +97,62 @@ fn refitted_tree_answers_as_every_leaf_does() {
         assert_eq!(fresh.nearest(&leaves.leaves, p), all);
     }
     assert!(hits > 1000, "{hits}");
+}
+
+/// Every leaf's box, slab and oriented box hold the true surface over its
+/// rectangle (points of it from the as-machined part's own evaluation), for
+/// the machined flange and for variants of it, whose leaves place the
+/// bounds the first one made at their own translation and form.
+#[test]
+fn placed_leaves_hold_their_true_surface() {
+    let wp = flange();
+    let pieces = Pieces::new(&wp, &LeafOptions::default());
+    let base = machined(&wp);
+    for am in [base.clone(), base.variant(3), base.variant(11)] {
+        let leaves = Leaves::of(&pieces, &am);
+        let mut worst: f64 = 0.0;
+        for l in &leaves.leaves {
+            for (i, j) in (0..5).flat_map(|i| (0..5).map(move |j| (i, j))) {
+                let (s, t) = (f64::from(i) / 4.0, f64::from(j) / 4.0);
+                let uv = l.bounds.lo + (l.bounds.hi - l.bounds.lo).component_mul(&Vec2::new(s, t));
+                let q = am.true_point(&wp, l.face, uv);
+                worst = worst.max(l.tight_bound(q, l.lower_bound(q)));
+            }
+        }
+        assert!(
+            worst < 1e-9,
+            "a true point {worst} mm outside its leaf's bounds"
+        );
+    }
+}
+
+/// The tree's nearest bound within a ratio of the excess over an offset
+/// keeps that ratio and never exceeds the least bound.
+#[test]
+fn nearest_within_a_ratio_keeps_it() {
+    let wp = flange();
+    let pieces = Pieces::new(&wp, &LeafOptions::default());
+    let leaves = Leaves::of(&pieces, &machined(&wp));
+    let tree = pieces.tree.refit(&leaves.leaves);
+    let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(5);
+    for k in 0..300 {
+        let t = Vec3::new(rng.random(), rng.random(), rng.random());
+        let p = Point3::from(
+            Vec3::new(-30.0, -60.0, -60.0) + t.component_mul(&Vec3::new(70.0, 120.0, 120.0)),
+        );
+        let all = (leaves.leaves.iter())
+            .map(|l| p.leaf_bound(l))
+            .fold(f64::INFINITY, f64::min);
+        let (offset, ratio) = (f64::from(k % 5), 0.9);
+        let got = tree.nearest_within(&leaves.leaves, p, (offset, ratio));
+        let kept = if all > offset {
+            offset + ratio * (all - offset)
+        } else {
+            all
+        };
+        assert!(
+            got <= all && got >= kept - 1e-12,
+            "{got} for {all} at {p:?}"
+        );
+    }
 }

@@ -239,7 +239,8 @@ impl Cursor {
             ix.tree.within(&ix.leaves.leaves, y, listed, &mut self.near);
             self.near_at = Some((y, listed));
             if self.near.is_empty() {
-                let floor = ix.tree.nearest(&ix.leaves.leaves, y);
+                let kept = (reach, self.opts.free_air_ratio);
+                let floor = ix.tree.nearest_within(&ix.leaves.leaves, y, kept);
                 self.anchor = Some((y, floor));
                 return Ok(None);
             }

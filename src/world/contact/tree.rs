@@ -152,21 +152,47 @@ impl LeafTree {
 
     /// The least lower bound of the leaves' distances from `p` (infinite
     /// for no leaf), mm.
+    #[cfg(test)]
     pub(crate) fn nearest<S: Shape>(&self, leaves: &[Leaf], p: S) -> f64 {
-        let mut best2 = f64::INFINITY;
+        self.nearest_within(leaves, p, (0.0, 1.0))
+    }
+
+    /// A lower bound of the leaves' distances from `p` that keeps at least
+    /// `ratio` (in `(0, 1]`) of their least lower bound's excess over
+    /// `offset` (mm; the reach or the radius the caller takes off), mm:
+    /// every node whose box is farther than `offset + ratio (best -
+    /// offset)` is skipped, `best` the least bound so far (which only
+    /// falls, so a skipped node's leaves keep that of the final one). Far
+    /// from the part, where many leaves lie at about the same distance,
+    /// this skips most of them.
+    pub(crate) fn nearest_within<S: Shape>(
+        &self,
+        leaves: &[Leaf],
+        p: S,
+        (offset, ratio): (f64, f64),
+    ) -> f64 {
+        let kept = |best: f64| {
+            if best > offset {
+                offset + ratio * (best - offset)
+            } else {
+                best
+            }
+        };
+        let (mut best, mut cut2) = (f64::INFINITY, f64::INFINITY);
         let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
         if let Some(root) = self.nodes.first() {
             stack.push((p.box_dist2(&root.aabb), 0));
         }
         while let Some((d2, i)) = stack.pop() {
-            let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < best2) else {
+            let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < cut2) else {
                 continue;
             };
             if node.leaf {
                 for l in self.leaves_of(node, leaves) {
-                    let b = p.leaf_bound(l);
-                    best2 = best2.min(b * b);
+                    best = best.min(p.leaf_bound(l));
                 }
+                let cut = kept(best);
+                cut2 = cut * cut;
                 continue;
             }
             let da = self.node_dist2(node.a, p);
@@ -177,9 +203,9 @@ impl LeafTree {
             } else {
                 ((db, node.b), (da, node.a))
             };
-            stack.extend([far, near].into_iter().filter(|c| c.0 < best2));
+            stack.extend([far, near].into_iter().filter(|c| c.0 < cut2));
         }
-        best2.sqrt()
+        kept(best)
     }
 
     /// Appends to `out` every leaf whose lower bound from `p` is below
