@@ -303,16 +303,24 @@ impl PartCheck {
         }
         // Nearest bound first; a leaf whose bound is not below the least
         // distance found so far holds no closer point.
-        for o in &mut self.order {
+        // Only leaves below the certifying distance are ever descended
+        // into: the others are sorted no further than the least of them.
+        let certify = self.opts.certify_mm;
+        let mut rest = f64::INFINITY;
+        self.order.retain_mut(|o| {
             o.0 -= cyl.radius;
-        }
+            let keep = o.0 < certify;
+            if !keep {
+                rest = rest.min(o.0);
+            }
+            keep
+        });
         self.order
             .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut floor = self.opts.margin_mm;
         self.seeds.clear();
         let mut least: Option<(f64, Point3)> = None;
-        let certify = self.opts.certify_mm;
-        let nearest = self.order.first().map_or(f64::INFINITY, |o| o.0);
+        let nearest = self.order.first().map_or(rest, |o| o.0);
         if nearest >= certify {
             return Ok(Ok(floor.min(nearest)));
         }
@@ -329,12 +337,14 @@ impl PartCheck {
                 Err(strike) => return Ok(Err(strike)),
             }
         }
+        let mut ended = true;
         for k in 0..self.order.len() {
             let Some(&(bound, id)) = self.order.get(k) else {
                 continue;
             };
             if bound >= floor.min(certify) {
                 floor = floor.min(bound);
+                ended = false;
                 break;
             }
             let Some(leaf) = leaves.get(id as usize) else {
@@ -359,6 +369,10 @@ impl PartCheck {
                 Ok(None) => floor = floor.min(bound),
                 Err(strike) => return Ok(Err(strike)),
             }
+        }
+        if ended {
+            // The next leaf in order would have been the least of the rest.
+            floor = floor.min(rest);
         }
         self.warm = least.map(|(_, at)| {
             let v = at - cyl.a;

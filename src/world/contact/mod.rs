@@ -39,6 +39,7 @@ mod collide;
 mod leaves;
 mod line;
 mod mapped;
+mod near;
 mod pieces;
 #[cfg(test)]
 mod refit_tests;

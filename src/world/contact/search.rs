@@ -4,6 +4,7 @@ use std::sync::{Arc, OnceLock};
 
 use super::box_tree::BoxTree;
 use super::leaves::{Leaf, Leaves, Pieces};
+use super::near::NearList;
 use super::tree::LeafTree;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::projection::{local_minimum, local_minimum_cached, Foot};
@@ -84,18 +85,15 @@ pub struct Cursor {
     opts: ContactOptions,
     /// A point and a lower bound of the true distance from it, mm.
     anchor: Option<(Point3, f64)>,
-    /// Where the list of near leaves was made and the bound it was made
-    /// within (mm), and the list.
-    near_at: Option<(Point3, f64)>,
-    near: Vec<u32>,
+    /// The leaves near the ball, in order of bound at each query.
+    near: NearList,
     warm: Vec<WarmFoot>,
     stamp: u64,
     /// The leaf of the last answer: searched first, its foot is the best
     /// distance to beat from the start.
     last: Option<u32>,
-    /// Reused buffers: the near leaves' bounds, the candidates, the
-    /// leaves whose foot left their face's trim.
-    bounds: Vec<(f64, u32)>,
+    /// Reused buffers: the candidates, the leaves whose foot left their
+    /// face's trim.
     found: Vec<Candidate>,
     off_trim: Vec<u32>,
 }
@@ -171,12 +169,10 @@ impl Cursor {
         Cursor {
             opts: *opts,
             anchor: None,
-            near_at: None,
-            near: Vec::new(),
+            near: NearList::default(),
             warm: Vec::with_capacity(WARM_SLOTS),
             stamp: 0,
             last: None,
-            bounds: Vec::new(),
             found: Vec::new(),
             off_trim: Vec::new(),
         }
@@ -185,7 +181,7 @@ impl Cursor {
     /// Forgets what earlier queries learnt (the answers stay the same).
     pub(crate) fn reset(&mut self) {
         self.anchor = None;
-        self.near_at = None;
+        self.near.clear();
         self.warm.clear();
         self.last = None;
     }
@@ -230,24 +226,17 @@ impl Cursor {
         // at `y` is below `listed - |y - a|`: it serves while that is at
         // least what the search looks at.
         let needed = reach + self.opts.edge_tie_mm;
-        let fresh = self
-            .near_at
-            .is_some_and(|(a, listed)| listed - (y - a).norm() >= needed);
+        let fresh = self.near.margin_at(y).is_some_and(|m| m >= needed);
         if !fresh {
             let listed = needed + 2.0 * self.opts.slack_mm;
-            self.near.clear();
-            ix.tree.within(&ix.leaves.leaves, y, listed, &mut self.near);
-            self.near_at = Some((y, listed));
-            if self.near.is_empty() {
+            if !self.near.list(&ix.tree, &ix.leaves.leaves, y, listed) {
                 let kept = (reach, self.opts.free_air_ratio);
                 let floor = ix.tree.nearest_within(&ix.leaves.leaves, y, kept);
                 self.anchor = Some((y, floor));
                 return Ok(None);
             }
         }
-        let off_list = self
-            .near_at
-            .map_or(0.0, |(a, listed)| listed - (y - a).norm());
+        let off_list = self.near.margin_at(y).unwrap_or(0.0);
         let floor = self.search(ix, (wp, am), y, reach, opts);
         self.anchor = Some((y, floor.min(off_list)));
         let answer = self.answer(wp, am, y, reach);
@@ -268,40 +257,29 @@ impl Cursor {
     ) -> f64 {
         let tie = self.opts.edge_tie_mm;
         self.stamp += 1;
-        self.bounds.clear();
         self.found.clear();
         self.off_trim.clear();
         let leaves = &ix.leaves.leaves;
-        for &id in &self.near {
-            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(y)) {
-                if b < reach + tie {
-                    self.bounds.push((b, id));
-                }
-            }
-        }
-        self.bounds
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         // The last answer's leaf first: the ball mostly stays over it, and
         // its distance then clears the neighbours whose bounds reach under
         // the ball (nearest bound first after it, as the loop ends at the
         // first bound beyond the best).
-        if let Some(k) = (self.last).and_then(|l| self.bounds.iter().position(|b| b.1 == l)) {
-            if let Some(head) = self.bounds.get_mut(..=k) {
-                head.rotate_right(1);
-            }
-        }
+        let first = (self.last)
+            .filter(|&l| self.near.holds(leaves, l))
+            .and_then(|l| leaves.get(l as usize).map(|leaf| (leaf.lower_bound(y), l)))
+            .filter(|&(b, _)| b < reach + tie);
+        self.near
+            .start(leaves, y, reach + tie, first.map(|(_, l)| l));
         let mut floor = reach + tie;
         let mut best = f64::INFINITY;
-        for k in 0..self.bounds.len() {
-            let Some(&(b, id)) = self.bounds.get(k) else {
-                break;
-            };
+        let mut taken = first;
+        while let Some((b, id)) = taken.take().or_else(|| self.near.pop(leaves)) {
             let limit = best.min(reach) + tie;
             if b >= limit {
                 floor = floor.min(b);
                 break;
             }
-            let Some(leaf) = ix.leaves.leaves.get(id as usize) else {
+            let Some(leaf) = leaves.get(id as usize) else {
                 continue;
             };
             // The oriented box clears most of the neighbours of the leaf

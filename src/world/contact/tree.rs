@@ -210,6 +210,7 @@ impl LeafTree {
 
     /// Appends to `out` every leaf whose lower bound from `p` is below
     /// `radius` (in tree order).
+    #[cfg(test)]
     pub(crate) fn within<S: Shape>(&self, leaves: &[Leaf], p: S, radius: f64, out: &mut Vec<u32>) {
         self.for_each_within(leaves, p, radius, |_, id| out.push(id));
     }

@@ -1,0 +1,254 @@
+//! The list of leaves near the ball and their order by bound at a query
+//! point, found lazily: a query looks at the few leaves its search reaches,
+//! not at every listed one.
+//!
+//! The list holds every leaf whose bound at the listing point `a` is below
+//! the listing radius, sorted by that bound. A leaf's bound is 1-Lipschitz
+//! in the point (the larger of two distances), so at `y` it is at least its
+//! bound at `a` less `|y - a|`: a leaf further down the list than the best
+//! bound found so far, by that shift, cannot come before it. The order a
+//! query gets is the same as sorting every listed leaf's bound at `y`
+//! (ties by leaf number).
+use std::cmp::Ordering;
+use std::collections::BinaryHeap;
+
+use super::leaves::Leaf;
+use super::tree::LeafTree;
+use crate::math::Point3;
+
+/// Added to the shift for the rounding of the bounds, mm: a leaf is looked
+/// at when its listed bound less the shift comes within this of the
+/// threshold (looking at one more leaf never changes the order).
+const BOUND_ROUNDING_MM: f64 = 1e-9;
+
+/// Lists up to this long are ordered by sorting all their bounds at the
+/// query point (cheaper than a heap for the few leaves a list mostly
+/// holds; the order is the same).
+const SORTED_MAX: usize = 24;
+
+/// A leaf's bound at the query point and its number, least first in a
+/// [`BinaryHeap`].
+#[derive(Debug, Clone, Copy)]
+struct Ranked(f64, u32);
+
+impl Ord for Ranked {
+    fn cmp(&self, other: &Self) -> Ordering {
+        (other.0.total_cmp(&self.0)).then(other.1.cmp(&self.1))
+    }
+}
+
+impl PartialOrd for Ranked {
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for Ranked {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other) == Ordering::Equal
+    }
+}
+
+impl Eq for Ranked {}
+
+/// The near leaves of one stream of queries (see the module docs).
+#[derive(Debug, Clone, Default)]
+pub(super) struct NearList {
+    /// Where the list was made and the radius it was made within, mm.
+    at: Option<(Point3, f64)>,
+    /// `(bound at the listing point, leaf)`, least first.
+    entries: Vec<(f64, u32)>,
+    /// The current query: its point, the shift from the listing point,
+    /// the bound a leaf must be under, the leaf it skips, the next entry
+    /// not looked at, and the looked-at leaves not yet taken.
+    y: Point3,
+    shift: f64,
+    cap: f64,
+    skip: Option<u32>,
+    next: usize,
+    heap: BinaryHeap<Ranked>,
+    /// A short list's bounds at the query point, sorted, and how many of
+    /// them were taken.
+    sorted: Vec<(f64, u32)>,
+    taken: usize,
+}
+
+impl NearList {
+    /// Forgets the list.
+    pub(super) fn clear(&mut self) {
+        self.at = None;
+    }
+
+    /// How far beyond `needed` (mm) the list still holds every leaf whose
+    /// bound at `y` is below it: the listing radius less the distance from
+    /// the listing point (negative or `None` when it no longer serves).
+    pub(super) fn margin_at(&self, y: Point3) -> Option<f64> {
+        self.at.map(|(a, listed)| listed - (y - a).norm())
+    }
+
+    /// Lists the leaves of `tree` whose bound at `y` is below `listed` (mm);
+    /// `false` when there is none.
+    pub(super) fn list(
+        &mut self,
+        tree: &LeafTree,
+        leaves: &[Leaf],
+        y: Point3,
+        listed: f64,
+    ) -> bool {
+        self.entries.clear();
+        tree.within_bounds(leaves, y, listed, &mut self.entries);
+        self.entries
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.at = Some((y, listed));
+        !self.entries.is_empty()
+    }
+
+    /// Whether `leaf` is on the list: its bound at the listing point, made
+    /// as the listing made it (the same bits), is looked up in the sorted
+    /// entries.
+    pub(super) fn holds(&self, leaves: &[Leaf], leaf: u32) -> bool {
+        let (Some((a, _)), Some(l)) = (self.at, leaves.get(leaf as usize)) else {
+            return false;
+        };
+        let key = l.lower_bound(a);
+        (self.entries)
+            .binary_search_by(|e| e.0.total_cmp(&key).then(e.1.cmp(&leaf)))
+            .is_ok()
+    }
+
+    /// Starts a query at `y` for the leaves whose bound is below `cap`
+    /// (mm), leaving out `skip`.
+    pub(super) fn start(&mut self, leaves: &[Leaf], y: Point3, cap: f64, skip: Option<u32>) {
+        self.y = y;
+        self.shift = self.at.map_or(0.0, |(a, _)| (y - a).norm()) + BOUND_ROUNDING_MM;
+        self.cap = cap;
+        self.skip = skip;
+        self.next = 0;
+        self.heap.clear();
+        self.sorted.clear();
+        self.taken = 0;
+        if self.entries.len() <= SORTED_MAX {
+            self.next = self.entries.len();
+            self.sort_all(leaves);
+        }
+    }
+
+    /// Every listed leaf's bound below the cap into `sorted`, in order.
+    fn sort_all(&mut self, leaves: &[Leaf]) {
+        for &(_, id) in &self.entries {
+            if self.skip == Some(id) {
+                continue;
+            }
+            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(self.y)) {
+                if b < self.cap {
+                    self.sorted.push((b, id));
+                }
+            }
+        }
+        self.sorted
+            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    }
+
+    /// The listed leaf with the least bound at the query point below the
+    /// cap and its bound, not taken yet (least leaf number among equal
+    /// bounds); `None` when none is left.
+    pub(super) fn pop(&mut self, leaves: &[Leaf]) -> Option<(f64, u32)> {
+        if let Some(&e) = self.sorted.get(self.taken) {
+            self.taken += 1;
+            return Some(e);
+        }
+        let threshold = self.heap.peek().map_or(self.cap, |r| r.0.min(self.cap));
+        while let Some(&(listed, id)) = self.entries.get(self.next) {
+            if listed - self.shift > threshold {
+                break;
+            }
+            self.next += 1;
+            if self.skip == Some(id) {
+                continue;
+            }
+            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(self.y)) {
+                if b < self.cap {
+                    self.heap.push(Ranked(b, id));
+                }
+            }
+        }
+        self.heap.pop().map(|Ranked(b, id)| (b, id))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::leaves::{LeafOptions, Leaves, Pieces};
+    use super::super::refit_tests::{flange, machined};
+    use super::*;
+    use crate::math::Vec3;
+    use rand::{RngExt, SeedableRng};
+
+    /// Every leaf's bound at `y` below `cap`, sorted (ties by leaf),
+    /// without `skip`, looking at each: what the lazy order must give.
+    fn sorted(leaves: &[Leaf], y: Point3, cap: f64, skip: Option<u32>) -> Vec<(f64, u32)> {
+        let mut all: Vec<(f64, u32)> = (0..leaves.len() as u32)
+            .filter(|&id| Some(id) != skip)
+            .map(|id| (leaves[id as usize].lower_bound(y), id))
+            .filter(|e| e.0 < cap)
+            .collect();
+        all.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        all
+    }
+
+    /// Queries at points moved up to the list's slack from where it was
+    /// made get every listed leaf below the cap in order of its bound at the
+    /// query point, as sorting them all does; and the list holds exactly
+    /// the leaves whose bound at its point is below its radius.
+    #[test]
+    fn the_lazy_order_is_the_sorted_order() {
+        let wp = flange();
+        let pieces = Pieces::new(&wp, &LeafOptions::default());
+        let leaves = Leaves::of(&pieces, &machined(&wp)).leaves;
+        let tree = pieces.tree.refit(&leaves);
+        let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(11);
+        let mut unit =
+            || Vec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - Vec3::repeat(1.0);
+        let mut list = NearList::default();
+        let (mut checked, mut taken, mut short) = (0, 0, 0);
+        for k in 0..300 {
+            // Points near the surface: a leaf's sample moved by up to 1 mm.
+            let leaf = &leaves[(k * 37) % leaves.len()];
+            let a = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5 + unit();
+            let listed = 1.0 + (k % 4) as f64;
+            list.list(&tree, &leaves, a, listed);
+            for (id, l) in leaves.iter().enumerate() {
+                assert_eq!(
+                    list.holds(&leaves, id as u32),
+                    l.lower_bound(a) < listed,
+                    "leaf {id}"
+                );
+            }
+            for j in 0..4 {
+                let y = a + unit() * (0.1 * j as f64);
+                let cap = list.margin_at(y).unwrap_or(0.0);
+                let skip = list.entries.get(j).map(|e| e.1).filter(|_| j % 2 == 1);
+                let want = sorted(&leaves, y, cap, skip);
+                list.start(&leaves, y, cap, skip);
+                let mut got = Vec::new();
+                while let Some(e) = list.pop(&leaves) {
+                    got.push(e);
+                    // Stop early now and then: what came before is right.
+                    if got.len() == 3 && j == 2 {
+                        break;
+                    }
+                }
+                assert_eq!(got[..], want[..got.len()], "query {k}.{j}");
+                if j != 2 {
+                    assert_eq!(got.len(), want.len());
+                }
+                checked += 1;
+                taken += got.len();
+                short += usize::from(list.entries.len() <= SORTED_MAX);
+            }
+        }
+        assert!(checked == 1200 && taken > 2000, "{taken}");
+        // Both ways of ordering were tried.
+        assert!(short > 200 && short < 1000, "{short} short lists");
+    }
+}
