@@ -292,16 +292,19 @@ pub(crate) struct Piece {
     pub(super) face: usize,
     rect: Bounds,
     pub(super) degree: [usize; 2],
-    /// Its nominal control points (row-major).
-    pub(super) points: Vec<Point3>,
+    /// Its nominal control points (row-major), for a piece the trim does
+    /// not cross ([`Piece::control_points`]: a crossed piece keeps them in
+    /// its patch only).
+    points: Vec<Point3>,
     /// Its trim segments, clipped to the rectangle.
     pub(super) segs: Vec<(Vec2, Vec2)>,
     /// For each segment: the nominal end points and a bound of the
     /// nominal image's distance from their chord, mm.
     chords: Vec<(Point3, Point3, f64)>,
     /// The nominal points of its 3 x 3 sample grid, made when first asked
-    /// for ([`Piece::nominal_samples`]).
-    samples: std::sync::OnceLock<[Point3; 9]>,
+    /// for ([`Piece::nominal_samples`]); boxed, as few pieces are ever
+    /// searched cold (216 bytes a piece less to write).
+    samples: std::sync::OnceLock<Box<[Point3; 9]>>,
     /// The box of its nominal control points (the nominal surface over
     /// the piece lies in their hull).
     nominal_box: (Point3, Point3),
@@ -314,14 +317,22 @@ pub(crate) struct Piece {
 }
 
 impl Piece {
+    /// Its nominal control points (row-major) to `visit`.
+    pub(super) fn control_points(&self, mut visit: impl FnMut(Point3)) {
+        match &self.crossed {
+            Some(patch) => patch.points().for_each(visit),
+            None => self.points.iter().for_each(|&p| visit(p)),
+        }
+    }
+
     /// The nominal points of its 3 x 3 sample grid on `surface` (its
     /// face's), made on first use.
     pub(super) fn nominal_samples(&self, surface: &NurbsSurface) -> &[Point3; 9] {
         self.samples.get_or_init(|| {
-            std::array::from_fn(|k| {
+            Box::new(std::array::from_fn(|k| {
                 let uv = sample_uv(&self.rect, k);
                 surface.point(uv.x, uv.y)
-            })
+            }))
         })
     }
 }
@@ -522,24 +533,28 @@ impl FaceContext<'_> {
         if segs.is_empty() && self.trim.is_some_and(|t| !t.contains(centre(&rect))) {
             return;
         }
-        let points: Vec<Point3> = patch.points().collect();
-        let size = Aabb::of(points.iter().copied());
+        // The control points are collected only for a finished piece (most
+        // calls split further).
+        let size = Aabb::of(patch.points());
         let diag = (size.max - size.min).norm();
-        let flat = deviation(&patch, &points) <= self.opts.flatness * diag;
+        let flat = deviation(&patch) <= self.opts.flatness * diag;
         let refine_flat = !flat && depth < self.opts.max_flat_depth;
         let refine_trim =
             !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
         if !(refine_flat || refine_trim) {
             out.push(Piece {
                 nominal_box: (size.min, size.max),
-                crossed: (!segs.is_empty()).then(|| patch.clone()),
                 trimmed: std::sync::OnceLock::new(),
                 face: self.face,
                 samples: std::sync::OnceLock::new(),
                 rect,
                 degree: patch.degree,
-                points,
+                points: match segs.is_empty() {
+                    true => patch.points().collect(),
+                    false => Vec::new(),
+                },
                 chords: segs.iter().map(|&seg| self.chord(seg)).collect(),
+                crossed: (!segs.is_empty()).then_some(patch),
                 segs,
             });
             return;
@@ -569,9 +584,11 @@ pub(super) fn centre(r: &Bounds) -> Vec2 {
 
 /// Largest distance of the control points from the bilinear surface
 /// through the corner control points, at their uniform parameters.
-fn deviation(patch: &BezierPatch, points: &[Point3]) -> f64 {
+fn deviation(patch: &BezierPatch) -> f64 {
     let [p, q] = patch.degree;
-    let at = |i: usize, j: usize| points.get(i * (q + 1) + j).copied();
+    let at = |i: usize, j: usize| {
+        (patch.pw.get(i * (q + 1) + j)).map(|c| Point3::new(c.x / c.w, c.y / c.w, c.z / c.w))
+    };
     let (Some(c00), Some(c10), Some(c01), Some(c11)) = (at(0, 0), at(p, 0), at(0, q), at(p, q))
     else {
         return 0.0;

@@ -28,7 +28,7 @@ impl Shape {
     /// `mapped` is room for them.
     fn of(piece: &Piece, linear: &Mat3, mapped: &mut Vec<Point3>) -> Shape {
         mapped.clear();
-        mapped.extend(piece.points.iter().map(|p| Point3::from(linear * p.coords)));
+        piece.control_points(|p| mapped.push(Point3::from(linear * p.coords)));
         let aabb = Aabb::of(mapped.iter().copied());
         let slab = Slab::of(mapped, piece.degree);
         let obb = Obb::of(mapped, piece.degree, &slab);
