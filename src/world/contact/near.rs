@@ -79,9 +79,9 @@ impl NearList {
         self.at = None;
     }
 
-    /// How far beyond `needed` (mm) the list still holds every leaf whose
-    /// bound at `y` is below it: the listing radius less the distance from
-    /// the listing point (negative or `None` when it no longer serves).
+    /// The listing radius less the distance of `y` from the listing point,
+    /// mm: the list holds every leaf whose bound at `y` is below it (`None`
+    /// before a list is made).
     pub(super) fn margin_at(&self, y: Point3) -> Option<f64> {
         self.at.map(|(a, listed)| listed - (y - a).norm())
     }
@@ -135,14 +135,10 @@ impl NearList {
 
     /// Every listed leaf's bound below the cap into `sorted`, in order.
     fn sort_all(&mut self, leaves: &[Leaf]) {
-        for &(_, id) in &self.entries {
-            if self.skip == Some(id) {
-                continue;
-            }
-            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(self.y)) {
-                if b < self.cap {
-                    self.sorted.push((b, id));
-                }
+        for k in 0..self.entries.len() {
+            let id = self.entries.get(k).map_or(u32::MAX, |e| e.1);
+            if let Some(b) = self.bound_below_cap(leaves, id) {
+                self.sorted.push((b, id));
             }
         }
         self.sorted
@@ -163,16 +159,18 @@ impl NearList {
                 break;
             }
             self.next += 1;
-            if self.skip == Some(id) {
-                continue;
-            }
-            if let Some(b) = leaves.get(id as usize).map(|l| l.lower_bound(self.y)) {
-                if b < self.cap {
-                    self.heap.push(Ranked(b, id));
-                }
+            if let Some(b) = self.bound_below_cap(leaves, id) {
+                self.heap.push(Ranked(b, id));
             }
         }
         self.heap.pop().map(|Ranked(b, id)| (b, id))
+    }
+
+    /// The bound at the query point of `id` when it is below the cap and
+    /// `id` is not the leaf left out.
+    fn bound_below_cap(&self, leaves: &[Leaf], id: u32) -> Option<f64> {
+        let leaf = leaves.get(id as usize).filter(|_| self.skip != Some(id))?;
+        Some(leaf.lower_bound(self.y)).filter(|&b| b < self.cap)
     }
 }
 
