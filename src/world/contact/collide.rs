@@ -315,8 +315,7 @@ impl PartCheck {
             }
             keep
         });
-        self.order
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.order.sort_unstable_by(super::near::by_bound);
         let mut floor = self.opts.margin_mm;
         self.seeds.clear();
         let mut least: Option<(f64, Point3)> = None;

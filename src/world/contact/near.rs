@@ -26,6 +26,11 @@ const BOUND_ROUNDING_MM: f64 = 1e-9;
 /// holds; the order is the same).
 const SORTED_MAX: usize = 24;
 
+/// The order of `(bound, leaf)` pairs: bound first, ties by leaf number.
+pub(super) fn by_bound(a: &(f64, u32), b: &(f64, u32)) -> Ordering {
+    a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
+}
+
 /// A leaf's bound at the query point and its number, least first in a
 /// [`BinaryHeap`].
 #[derive(Debug, Clone, Copy)]
@@ -33,7 +38,7 @@ struct Ranked(f64, u32);
 
 impl Ord for Ranked {
     fn cmp(&self, other: &Self) -> Ordering {
-        (other.0.total_cmp(&self.0)).then(other.1.cmp(&self.1))
+        by_bound(&(other.0, other.1), &(self.0, self.1))
     }
 }
 
@@ -97,8 +102,7 @@ impl NearList {
     ) -> bool {
         self.entries.clear();
         tree.within_bounds(leaves, y, listed, &mut self.entries);
-        self.entries
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        self.entries.sort_unstable_by(by_bound);
         self.at = Some((y, listed));
         !self.entries.is_empty()
     }
@@ -110,10 +114,8 @@ impl NearList {
         let (Some((a, _)), Some(l)) = (self.at, leaves.get(leaf as usize)) else {
             return false;
         };
-        let key = l.lower_bound(a);
-        (self.entries)
-            .binary_search_by(|e| e.0.total_cmp(&key).then(e.1.cmp(&leaf)))
-            .is_ok()
+        let key = (l.lower_bound(a), leaf);
+        self.entries.binary_search_by(|e| by_bound(e, &key)).is_ok()
     }
 
     /// Starts a query at `y` for the leaves whose bound is below `cap`
@@ -135,14 +137,13 @@ impl NearList {
 
     /// Every listed leaf's bound below the cap into `sorted`, in order.
     fn sort_all(&mut self, leaves: &[Leaf]) {
-        for k in 0..self.entries.len() {
-            let id = self.entries.get(k).map_or(u32::MAX, |e| e.1);
-            if let Some(b) = self.bound_below_cap(leaves, id) {
-                self.sorted.push((b, id));
-            }
-        }
-        self.sorted
-            .sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let mut sorted = std::mem::take(&mut self.sorted);
+        sorted.extend(
+            (self.entries.iter())
+                .filter_map(|&(_, id)| self.bound_below_cap(leaves, id).map(|b| (b, id))),
+        );
+        sorted.sort_unstable_by(by_bound);
+        self.sorted = sorted;
     }
 
     /// The listed leaf with the least bound at the query point below the
@@ -190,7 +191,7 @@ mod tests {
             .map(|id| (leaves[id as usize].lower_bound(y), id))
             .filter(|e| e.0 < cap)
             .collect();
-        all.sort_unstable_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        all.sort_unstable_by(by_bound);
         all
     }
 
