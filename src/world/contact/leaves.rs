@@ -477,7 +477,16 @@ pub(super) fn rect_of(patch: &BezierPatch) -> Bounds {
 
 /// The parts of `segs` inside `rect` (Liang-Barsky), leaving out points.
 fn clip_all(segs: &[(Vec2, Vec2)], rect: &Bounds) -> Vec<(Vec2, Vec2)> {
-    segs.iter().filter_map(|&s| clip(s, rect)).collect()
+    // Room for all the rest once one is inside: one allocation, none for
+    // the many rectangles the trim misses (a finished piece shrinks it).
+    let mut inside = segs.iter().filter_map(|&s| clip(s, rect));
+    let Some(first) = inside.next() else {
+        return Vec::new();
+    };
+    let mut out = Vec::with_capacity(1 + inside.size_hint().1.unwrap_or(0));
+    out.push(first);
+    out.extend(inside);
+    out
 }
 
 fn clip((a, b): (Vec2, Vec2), r: &Bounds) -> Option<(Vec2, Vec2)> {
@@ -525,7 +534,7 @@ impl FaceContext<'_> {
     fn split(
         &self,
         patch: BezierPatch,
-        segs: Vec<(Vec2, Vec2)>,
+        mut segs: Vec<(Vec2, Vec2)>,
         depth: usize,
         out: &mut Vec<Piece>,
     ) {
@@ -542,6 +551,7 @@ impl FaceContext<'_> {
         let refine_trim =
             !segs.is_empty() && diag > self.opts.trim_leaf_mm && depth < self.opts.max_trim_depth;
         if !(refine_flat || refine_trim) {
+            segs.shrink_to_fit();
             out.push(Piece {
                 nominal_box: (size.min, size.max),
                 trimmed: std::sync::OnceLock::new(),
