@@ -6,7 +6,7 @@ use crate::report::Report;
 
 /// `batch.json` (one row per part: folder, program, seed, status, times)
 /// and `batch-junit.xml` in `dir`, added to `set`.
-pub fn add_batch(set: &mut OutputSet, dir: &Path, rows: &[(String, Option<Report>, String)]) {
+pub fn add_batch(set: &mut OutputSet, dir: &Path, rows: &[(String, Option<&Report>, String)]) {
     let parts: Vec<serde_json::Value> = rows
         .iter()
         .map(|(folder, report, error)| match report {
@@ -19,9 +19,9 @@ pub fn add_batch(set: &mut OutputSet, dir: &Path, rows: &[(String, Option<Report
     let mut text = serde_json::to_string_pretty(&doc).unwrap_or_default();
     text.push('\n');
     set.add(&dir.join("batch.json"), text.into_bytes());
-    let reports: Vec<(String, Report)> = rows
+    let reports: Vec<(String, &Report)> = rows
         .iter()
-        .filter_map(|(f, r, _)| r.clone().map(|r| (f.clone(), r)))
+        .filter_map(|(f, r, _)| r.map(|r| (f.clone(), r)))
         .collect();
     set.add(
         &dir.join("batch-junit.xml"),

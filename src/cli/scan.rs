@@ -263,19 +263,19 @@ fn part_dir(args: &ScanArgs, part: &Part, programs: &[SimulatedPart]) -> String 
     format!("{:02}-{stem}-v{:03}", part.program, part.variant)
 }
 
-fn batch_rows(
+fn batch_rows<'r>(
     args: &ScanArgs,
     parts: &[Part],
-    results: &[PartResult],
+    results: &'r [PartResult],
     programs: &[SimulatedPart],
-) -> Vec<(String, Option<Report>, String)> {
+) -> Vec<(String, Option<&'r Report>, String)> {
     parts
         .iter()
         .zip(results)
         .map(|(p, r)| {
             let dir = part_dir(args, p, programs);
             match r {
-                Ok((report, _)) => (dir, Some(report.clone()), String::new()),
+                Ok((report, _)) => (dir, Some(report), String::new()),
                 Err(e) => (dir, None, e.to_string()),
             }
         })

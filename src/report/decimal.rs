@@ -123,16 +123,23 @@ fn round_shift(n: u128, shift: u32) -> u128 {
 /// the point (no point for 0 decimals); `decimals` is at most 22.
 fn push_digits(out: &mut String, scaled: u128, decimals: usize) {
     // At most 39 digits of a u128, at least decimals + 1 <= 23; the buffer
-    // starts as zeros, which pad a short number on the left.
-    let mut buf = [b'0'; 40];
+    // starts as zeros, which pad a short number on the left, and keeps
+    // room in front for the point.
+    let mut buf = [b'0'; 41];
     let end = buf.len();
     let start = write_u128(&mut buf, end, scaled).min(end - decimals - 1);
-    let point = end - decimals;
-    push_ascii(out, &buf[start..point]);
-    if decimals > 0 {
-        out.push('.');
-        push_ascii(out, &buf[point..]);
+    if decimals == 0 {
+        push_ascii(out, buf.get(start..).unwrap_or_default());
+        return;
     }
+    // The integer digits move one place to the left, the point follows
+    // them: the whole number goes out in one piece.
+    let point = end - decimals;
+    buf.copy_within(start..point, start - 1);
+    if let Some(dot) = buf.get_mut(point - 1) {
+        *dot = b'.';
+    }
+    push_ascii(out, buf.get(start - 1..).unwrap_or_default());
 }
 
 /// Appends ASCII digits.

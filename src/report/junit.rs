@@ -16,9 +16,12 @@ pub fn junit_xml(report: &Report) -> String {
     document(&[(report.program.clone(), report)])
 }
 
-/// JUnit XML for a batch: one `<testsuite>` per `(part name, report)`.
-pub fn junit_batch(parts: &[(String, Report)]) -> String {
-    let suites: Vec<(String, &Report)> = parts.iter().map(|(n, r)| (n.clone(), r)).collect();
+/// JUnit XML for a batch: one `<testsuite>` per `(part name, report)`
+/// (reports owned or borrowed).
+pub fn junit_batch<R: std::borrow::Borrow<Report>>(parts: &[(String, R)]) -> String {
+    let suites: Vec<(String, &Report)> = (parts.iter())
+        .map(|(n, r)| (n.clone(), r.borrow()))
+        .collect();
     document(&suites)
 }
 

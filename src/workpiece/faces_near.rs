@@ -99,22 +99,8 @@ impl FaceTree {
             return;
         }
         out.extend(self.unboxed.iter().filter(|_| d >= 0.0));
-        let mut stack: Vec<usize> = self.nodes.len().checked_sub(1).into_iter().collect();
-        while let Some(i) = stack.pop() {
-            let Some(node) = self.nodes.get(i) else {
-                continue;
-            };
-            // A node's box holds its faces' boxes, so it is no farther.
-            if box_distance(&node.aabb, p) > d {
-                continue;
-            }
-            match &node.kind {
-                Kind::Split(l, r) => stack.extend([*l, *r]),
-                Kind::Faces(range) => out.extend(
-                    (self.order.get(range.clone()).unwrap_or(&[]).iter())
-                        .filter(|&&f| self.face_within(f, p, d)),
-                ),
-            }
+        if let Some(root) = self.nodes.len().checked_sub(1) {
+            self.within_node(root, p, d, out);
         }
         out.sort_unstable();
     }
@@ -124,19 +110,8 @@ impl FaceTree {
     /// does).
     pub(crate) fn overlapping(&self, lo: Point3, hi: Point3, out: &mut Vec<usize>) {
         out.clear();
-        let meets = |b: &FaceBox| (0..3).all(|k| b[k] <= hi[k] && b[k + 3] >= lo[k]);
-        let mut stack: Vec<usize> = self.nodes.len().checked_sub(1).into_iter().collect();
-        while let Some(i) = stack.pop() {
-            let Some(node) = self.nodes.get(i).filter(|n| meets(&n.aabb)) else {
-                continue;
-            };
-            match &node.kind {
-                Kind::Split(l, r) => stack.extend([*l, *r]),
-                Kind::Faces(range) => out.extend(
-                    (self.order.get(range.clone()).unwrap_or(&[]).iter())
-                        .filter(|&&f| self.boxes.get(f).is_some_and(meets)),
-                ),
-            }
+        if let Some(root) = self.nodes.len().checked_sub(1) {
+            self.overlapping_node(root, (lo, hi), out);
         }
         out.sort_unstable();
     }
@@ -188,6 +163,50 @@ impl FaceTree {
             }
         }
         best
+    }
+
+    /// The faces of node `i`'s subtree whose box lies no farther than `d`
+    /// from `p`, into `out` (in tree order). Recursive: the median splits
+    /// keep the depth at the logarithm of the number of faces, and a
+    /// query needs no stack of its own on the heap.
+    fn within_node(&self, i: usize, p: Point3, d: f64, out: &mut Vec<usize>) {
+        let Some(node) = self.nodes.get(i) else {
+            return;
+        };
+        // A node's box holds its faces' boxes, so it is no farther.
+        if box_distance(&node.aabb, p) > d {
+            return;
+        }
+        match &node.kind {
+            Kind::Split(l, r) => {
+                self.within_node(*l, p, d, out);
+                self.within_node(*r, p, d, out);
+            }
+            Kind::Faces(range) => out.extend(
+                (self.order.get(range.clone()).unwrap_or(&[]).iter())
+                    .filter(|&&f| self.face_within(f, p, d)),
+            ),
+        }
+    }
+
+    /// The faces of node `i`'s subtree whose box meets the box from `lo`
+    /// to `hi`, into `out` (in tree order; recursive as
+    /// [`Self::within_node`]).
+    fn overlapping_node(&self, i: usize, (lo, hi): (Point3, Point3), out: &mut Vec<usize>) {
+        let meets = |b: &FaceBox| (0..3).all(|k| b[k] <= hi[k] && b[k + 3] >= lo[k]);
+        let Some(node) = self.nodes.get(i).filter(|n| meets(&n.aabb)) else {
+            return;
+        };
+        match &node.kind {
+            Kind::Split(l, r) => {
+                self.overlapping_node(*l, (lo, hi), out);
+                self.overlapping_node(*r, (lo, hi), out);
+            }
+            Kind::Faces(range) => out.extend(
+                (self.order.get(range.clone()).unwrap_or(&[]).iter())
+                    .filter(|&&f| self.boxes.get(f).is_some_and(meets)),
+            ),
+        }
     }
 
     fn face_within(&self, f: usize, p: Point3, d: f64) -> bool {

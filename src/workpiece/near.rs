@@ -13,7 +13,7 @@ pub use hint::{FootHint, KnownFoot};
 pub use reach::{FaceList, FeetWithinReach, Reach};
 
 /// Room for the faces near a query point (more only costs an allocation).
-const NEAR_FACES: usize = 16;
+const NEAR_FACES: usize = 64;
 
 /// Relative slack on the squared search radius of a face, so that
 /// rounding cannot drop a point right at it (the exact tests follow).
