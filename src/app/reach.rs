@@ -43,6 +43,7 @@ pub fn program_margins(program: &Program, base: ClearanceOptions) -> ClearanceOp
         tight_margin_mm: m.tight_margin_mm,
         posture_margin_mm: m.posture_margin_mm,
         step_mm: base.step_mm.min(tightest),
+        ..base
     }
 }
 

@@ -69,6 +69,12 @@ pub struct ClearanceOptions {
     /// shaft radius from the wall (a 0.3 mm ball's default shaft 0.075 mm):
     /// a margin above that calls every such touch a strike.
     pub posture_margin_mm: f64,
+    /// Room a standoff where an approach starts keeps beyond the tight
+    /// margin, mm: the route down to it is checked with the tight margin,
+    /// and a start that met that margin exactly (a round-numbered bore
+    /// whose far wall the full standoff just reaches) would be called clear
+    /// or not by the rounding of the check.
+    pub start_room_mm: f64,
 }
 
 impl Default for ClearanceOptions {
@@ -78,6 +84,7 @@ impl Default for ClearanceOptions {
             step_mm: 2.0,
             tight_margin_mm: 1.0,
             posture_margin_mm: 0.1,
+            start_room_mm: 0.01,
         }
     }
 }
@@ -460,6 +467,11 @@ impl FreeSpace for PartClearance<'_> {
             .iter()
             .all(|c| c.iter().all(|x| x.is_finite()));
         finite && self.area_clear(path, r, step)
+    }
+
+    fn start_clear(&self, at: Point3) -> bool {
+        let margin = self.opts.tight_margin_mm + self.opts.start_room_mm;
+        self.probe_clear(at, at, margin)
     }
 
     fn segment_clear_with(&self, from: Point3, to: Point3, tight: bool) -> bool {

@@ -21,6 +21,15 @@ pub trait FreeSpace {
         self.segment_clear(from, to)
     }
 
+    /// Whether an approach may start with the ball centre at `at`
+    /// (machine coordinates): the probe keeps the tight margin with some
+    /// room to spare, so that the route down to it, checked with the tight
+    /// margin, is not refused by the rounding of a margin met exactly.
+    /// Without a finer check, the tight segment check of the point.
+    fn start_clear(&self, at: Point3) -> bool {
+        self.segment_clear_with(at, at, true)
+    }
+
     /// Whether the ball centre can move straight from `from` to `to`
     /// (machine coordinates) without crossing into the part: an approach's
     /// measuring move, which ends touching, so no clearance margin; `to`
@@ -76,16 +85,14 @@ pub fn approach_standoff(
     if free.approach_clear(near_end, near_end) {
         return standoffs
             .clone()
-            .find(|&s| {
-                free.segment_clear_with(at(s), at(s), true) && free.approach_clear(at(s), near_end)
-            })
+            .find(|&s| free.start_clear(at(s)) && free.approach_clear(at(s), near_end))
             .unwrap_or(shortest);
     }
     // The touch lies inside the design (the true part stands out of it,
     // the ball backing off it): the design says nothing of the line's
     // end, only that it must be clear down to the nearest clear standoff.
     let Some(nearest) = (standoffs.clone())
-        .filter(|&s| free.segment_clear_with(at(s), at(s), true))
+        .filter(|&s| free.start_clear(at(s)))
         .last()
     else {
         return shortest;

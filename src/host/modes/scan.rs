@@ -5,7 +5,7 @@
 //! trajectory error `dL` leaves its tolerance).
 use super::approach_standoff;
 use super::motion::approach_to;
-use super::touch::finish;
+use super::touch::{finish, line_start, LINE_GAIN};
 use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::host::path::{
@@ -98,7 +98,8 @@ fn approach(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let (p0, n0) = (path.position(0.0), path.normal(0.0));
-    reposition(cmm, tr, scan_start(path, ep, tr.free(), opts), n0, opts)?;
+    let start = scan_start(path, ep, tr.free(), opts);
+    reposition(cmm, tr, start, n0, opts)?;
     if kind == ScanKind::Passive {
         approach_to(cmm, tr, p0, opts.approach_speed_mm_s, opts)?;
         tr.enter(cmm, Phase::Scan);
@@ -106,15 +107,20 @@ fn approach(
     }
     tr.enter(cmm, Phase::Approach);
     let reach = 2.0 * (ep + opts.standoff_mm) + 2.0;
-    let from = tr.ball_undeflected();
+    let from = line_start(tr, start, n0);
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= ep {
             return Ok(());
         }
-        if (tr.ball_undeflected() - from).norm() > reach {
+        let off = tr.ball_undeflected() - from;
+        if off.norm() > reach {
             return Err(Outcome::LostContact);
         }
-        if let Some(o) = tr.step(cmm, -n0 * opts.approach_speed_mm_s) {
+        // Held on the line through the path's start, as a touch approach
+        // is: the scan starts on the section, not where the move before
+        // left the servo's following error.
+        let sideways = off - n0 * off.dot(&n0);
+        if let Some(o) = tr.step(cmm, -n0 * opts.approach_speed_mm_s - sideways * LINE_GAIN) {
             return Err(o);
         }
     }

@@ -46,12 +46,12 @@ pub fn touch_start(
 /// Gain of the touch approach's hold on its line, 1/s: that of the last
 /// millimetre of a positioning move (below the critical gain of the
 /// servo's 5 ms lag).
-const LINE_GAIN: f64 = 50.0;
+pub(super) const LINE_GAIN: f64 = 50.0;
 
 /// Where the approach's line starts: `start` when the ball stands on the
 /// line through it along `normal` (within the servo's lag of it), else
 /// where the ball stands (a start moved for want of room).
-fn line_start(tr: &Tracker, start: Point3, normal: Vec3) -> Point3 {
+pub(super) fn line_start(tr: &Tracker, start: Point3, normal: Vec3) -> Point3 {
     let off = tr.ball_undeflected() - start;
     if (off - normal * off.dot(&normal)).norm() <= LINE_REACH_MM {
         start

@@ -24,6 +24,8 @@ enum Query {
     },
     /// The probe standing with its ball centre here.
     Posture([u64; 3]),
+    /// An approach starting with the ball centre here.
+    Start([u64; 3]),
     /// An approach's measuring move of the ball centre (no margin).
     Approach { from: [u64; 3], to: [u64; 3] },
 }
@@ -130,6 +132,13 @@ impl FreeSpace for Remembering<'_> {
         a == Answer::Clear(true)
     }
 
+    fn start_clear(&self, at: Point3) -> bool {
+        let a = self.answer(Query::Start(bits(at)), || {
+            Answer::Clear(self.inner.start_clear(at))
+        });
+        a == Answer::Clear(true)
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         let a = self.answer(Query::Posture(bits(ball)), || {
             Answer::Strikes(self.inner.posture(ball))
@@ -156,6 +165,7 @@ fn setting_bits(c: &PartClearance<'_>) -> Vec<u64> {
             o.step_mm,
             o.tight_margin_mm,
             o.posture_margin_mm,
+            o.start_room_mm,
         ])
         .map(f64::to_bits)
         .collect()
