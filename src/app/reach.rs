@@ -7,7 +7,7 @@ use crate::host::inspect::correction::DesignPoint;
 use crate::host::inspect::reach::{Reach, Unreachable};
 use crate::host::modes::{HostProbe, ModeOptions};
 use crate::program::limits::start_position;
-use crate::program::{Feature, Program};
+use crate::program::{Feature, Program, Travel};
 
 /// The nominal part's free space for the probe `probe` of `program`.
 pub fn part_clearance<'p>(
@@ -47,6 +47,13 @@ pub fn program_margins(program: &Program, base: ClearanceOptions) -> ClearanceOp
     }
 }
 
+/// The box the program's machine moves its probe mount in, `(lo, hi)`,
+/// machine coordinates, mm ([`ModeOptions::travel_mm`]).
+pub fn travel_box(program: &Program) -> ([f64; 3], [f64; 3]) {
+    let t = Travel::of(&program.machine);
+    (t.lo, t.hi)
+}
+
 /// Every feature (name, section curve index or touch point index) that the
 /// program's nominal probe cannot measure, and why.
 pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachable)> {
@@ -55,6 +62,7 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
     let free = part_clearance(program, probe, margins);
     let modes = ModeOptions {
         clearance_z_mm: Some(start_position(program).1),
+        travel_mm: Some(travel_box(program)),
         ..ModeOptions::default()
     };
     let reach = Reach {

@@ -253,6 +253,7 @@ fn measure_program<'p>(
     let mut traced = Compensated::new(&mut raw, &setup.map, host_probe.probe_vector);
     let modes = ModeOptions {
         clearance_z_mm: Some(start_position(program).1),
+        travel_mm: Some(super::reach::travel_box(program)),
         ..opts.modes
     };
     let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {

@@ -119,7 +119,7 @@ impl Reach<'_> {
         let n = self.pose.dir_to_machine(d.normal);
         let at = touching + n * approach_standoff(Some(self.free), touching, n, self.modes);
         let start = self.pose.to_part(at);
-        match route_from_above(self.free, at, n, self.modes) {
+        match route_from_above(self.free, (at, self.probe.probe_vector), n, self.modes) {
             true => Ok(()),
             false => Err(Unreachable::NoRoute { start }),
         }

@@ -212,6 +212,15 @@ pub struct ModeOptions {
     /// Height (machine z of the ball centre) above the part for moves
     /// between measurements; `None` moves in a straight line.
     pub clearance_z_mm: Option<f64>,
+    /// The box the machine's linear axes (the scales' readings) may move
+    /// in, `(lo, hi)`, machine coordinates, mm: positioning moves brake so
+    /// that they stop inside it (the controller's soft limits; `None`:
+    /// not known, no braking).
+    pub travel_mm: Option<([f64; 3], [f64; 3])>,
+    /// How far inside each end of [`Self::travel_mm`] positioning moves
+    /// stop, mm: the axes lag the commands, and the braking that aims at
+    /// the very end would touch the hard limit.
+    pub soft_limit_mm: f64,
     /// How the probe backs out after it struck the part.
     pub escape: EscapeOptions,
 }
@@ -268,6 +277,8 @@ impl Default for ModeOptions {
             stall_mm: 0.1,
             arrive_tol_mm: 0.01,
             clearance_z_mm: None,
+            travel_mm: None,
+            soft_limit_mm: 0.1,
             escape: EscapeOptions::default(),
         }
     }

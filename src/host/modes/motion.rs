@@ -352,7 +352,7 @@ pub fn reposition(
     }
     match tr.free {
         Some(free) => {
-            let route = route::plan_route(free, here, target, approach, opts);
+            let route = route::plan_route(free, (here, tr.probe.probe_vector), target, approach, opts);
             let route = route.ok_or(Outcome::Blocked)?;
             waypoints.extend(route.waypoints);
             let roomy = free.margin_mm().is_none_or(|m| m >= BLEND_ROOM_MM);
@@ -498,6 +498,11 @@ pub(super) fn travel(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     let a = opts.rapid_accel_mm_s2;
+    let pv = tr.probe.probe_vector;
+    let inside: Vec<Point3> = (waypoints.iter())
+        .map(|&w| inside_travel(w - pv, opts) + pv)
+        .collect();
+    let waypoints = inside.as_slice();
     let corners = corner_speeds(tr.ball_undeflected(), waypoints, speed, end_speed, a);
     let max_dv = a * cmm.cycle_s();
     let mut v_prev = tr.command;
@@ -523,8 +528,12 @@ pub(super) fn travel(
         let want = err
             .try_normalize(1e-12)
             .map_or(Vec3::zeros(), |d| d * limit.max(end_speed));
+        let want = within_travel(want, tr.now.scales, v_prev, opts);
         let dv = want - v_prev;
+        // The travel's envelope holds whatever the acceleration budget
+        // left for each axis (a blended corner spends it sideways).
         let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
+        let v = within_travel(v, tr.now.scales, v_prev, opts);
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
@@ -532,6 +541,51 @@ pub(super) fn travel(
         v_prev = v;
     }
     Err(Outcome::Aborted)
+}
+
+/// How long the machine's axes may lag behind the commanded positions,
+/// s: the distance they still travel at a speed `v` after the command
+/// stops is taken as `v` times this on top of the braking distance (a
+/// servo's following error; the simulated servo's lag is 5 ms).
+const FOLLOWING_ALLOWANCE_S: f64 = 0.01;
+
+/// `want` with each axis's speed towards an end of the travel
+/// ([`ModeOptions::travel_mm`]) no more than the positioning
+/// acceleration can stop before it: a move to a clearance height near the
+/// top of the travel, blended into the next leg, does not overshoot into
+/// the limit. `scales` are the axes' readings, `v` the velocity last
+/// commanded.
+fn within_travel(want: Vec3, scales: Point3, v: Vec3, opts: &ModeOptions) -> Vec3 {
+    let Some((lo, hi)) = soft_travel(opts) else {
+        return want;
+    };
+    let a = BRAKE_SHARE * opts.rapid_accel_mm_s2;
+    let mut out = want;
+    for k in 0..3 {
+        let lag = v[k].abs() * FOLLOWING_ALLOWANCE_S;
+        let up = (2.0 * a * (hi[k] - scales[k] - lag).max(0.0)).sqrt();
+        let down = (2.0 * a * (scales[k] - lo[k] - lag).max(0.0)).sqrt();
+        out[k] = want[k].clamp(-down, up);
+    }
+    out
+}
+
+/// The travel less [`ModeOptions::soft_limit_mm`] at each end, if known.
+fn soft_travel(opts: &ModeOptions) -> Option<([f64; 3], [f64; 3])> {
+    let m = opts.soft_limit_mm;
+    opts.travel_mm
+        .map(|(lo, hi)| (lo.map(|x| x + m), hi.map(|x| x - m)))
+}
+
+/// `mount` (the axes' position, machine coordinates) moved inside the
+/// soft travel: a waypoint the braking would never let the axes reach
+/// (a clearance height at the very top of the travel) is reached where
+/// they stop.
+fn inside_travel(mount: Point3, opts: &ModeOptions) -> Point3 {
+    let Some((lo, hi)) = soft_travel(opts) else {
+        return mount;
+    };
+    Point3::from(Vec3::from_fn(|k, _| mount[k].clamp(lo[k], hi[k].max(lo[k]))))
 }
 
 /// The ball's collision watch of a move that does not measure: once the

@@ -32,12 +32,12 @@ const ENTRY_MM: [f64; 5] = [15.0, 10.0, 5.0, 2.0, 0.0];
 /// clearance height (`None`: straight moves only).
 pub fn plan(
     free: &dyn FreeSpace,
-    here: Point3,
+    (here, probe_vector): (Point3, Vec3),
     target: Point3,
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Option<Vec<Point3>> {
-    plan_route(free, here, target, approach, opts).map(|r| r.waypoints)
+    plan_route(free, (here, probe_vector), target, approach, opts).map(|r| r.waypoints)
 }
 
 /// A clear route and the margin it was found with.
@@ -54,12 +54,13 @@ pub struct Route {
 /// [`plan`] with the margin the route was found with.
 pub fn plan_route(
     free: &dyn FreeSpace,
-    here: Point3,
+    (here, probe_vector): (Point3, Vec3),
     target: Point3,
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Option<Route> {
-    let candidates = candidates(here, target, approach, opts);
+    let mut candidates = candidates(here, target, approach, opts);
+    candidates.retain(|c| c.iter().all(|&w| within_travel(w - probe_vector, opts)));
     // Candidates share legs (the climb, the last leg in): each leg is
     // checked once per margin.
     let mut checked = Vec::new();
@@ -74,18 +75,26 @@ pub fn plan_route(
     })
 }
 
+/// Whether the probe mount at `mount` (machine coordinates) lies inside
+/// the machine's travel ([`ModeOptions::travel_mm`]; anywhere when it is
+/// not known): a route whose waypoint the machine cannot reach is no route.
+fn within_travel(mount: Point3, opts: &ModeOptions) -> bool {
+    opts.travel_mm
+        .is_none_or(|(lo, hi)| (0..3).all(|k| (lo[k]..=hi[k]).contains(&mount[k])))
+}
+
 /// Whether a route comes to `target` from the clearance height straight
 /// above it (the start of a feature's measuring, wherever the probe is
 /// before it: every route goes over the clearance height at worst).
 pub fn route_from_above(
     free: &dyn FreeSpace,
-    target: Point3,
+    (target, probe_vector): (Point3, Vec3),
     approach: Vec3,
     opts: &ModeOptions,
 ) -> bool {
     let z = opts.clearance_z_mm.unwrap_or(target.z).max(target.z);
     let above = Point3::new(target.x, target.y, z);
-    plan(free, above, target, approach, opts).is_some()
+    plan(free, (above, probe_vector), target, approach, opts).is_some()
 }
 
 /// The candidate routes in the order they are tried.
@@ -179,7 +188,7 @@ mod tests {
         let free = Slab { r_hole: 6.0 };
         let target = Point3::new(4.0, 0.0, 5.0);
         let here = Point3::new(40.0, 0.0, 20.0);
-        let route = plan(&free, here, target, -Vec3::x(), &opts()).expect("a route");
+        let route = plan(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts()).expect("a route");
         let entry = route[route.len() - 2];
         assert!(entry.xy().coords.norm() < 6.0, "entry {entry:?}");
         assert!(legs_clear(&free, here, &route, false, &mut Vec::new()));
@@ -192,7 +201,7 @@ mod tests {
         let free = Slab { r_hole: 0.0 };
         let target = Point3::new(0.0, 0.0, -5.0);
         let here = Point3::new(40.0, 0.0, 20.0);
-        assert_eq!(plan(&free, here, target, -Vec3::z(), &opts()), None);
+        assert_eq!(plan(&free, (here, Vec3::zeros()), target, -Vec3::z(), &opts()), None);
     }
 
     #[test]
@@ -200,7 +209,7 @@ mod tests {
         let free = Slab { r_hole: 100.0 };
         let target = Point3::new(4.0, 0.0, 5.0);
         let here = Point3::new(10.0, 0.0, 5.0);
-        let route = plan(&free, here, target, Vec3::x(), &opts()).expect("a route");
+        let route = plan(&free, (here, Vec3::zeros()), target, Vec3::x(), &opts()).expect("a route");
         assert_eq!(route.len(), 2, "{route:?}");
     }
 }
