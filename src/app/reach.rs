@@ -54,8 +54,12 @@ pub fn travel_box(program: &Program) -> ([f64; 3], [f64; 3]) {
     (t.lo, t.hi)
 }
 
+/// The name [`unreachable_features`] gives the alignment's touch points.
+pub const ALIGNMENT: &str = "alignment";
+
 /// Every feature (name, section curve index or touch point index) that the
-/// program's nominal probe cannot measure, and why.
+/// program's nominal probe cannot measure, and why; the alignment's touch
+/// points first, named [`ALIGNMENT`].
 pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachable)> {
     let probe = HostProbe::nominal(program.probe_vector(), program.probe.tip_radius_mm);
     let margins = program_margins(program, ClearanceOptions::default());
@@ -73,6 +77,11 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
     };
     let design = |point, normal| DesignPoint { point, normal };
     let mut out = Vec::new();
+    for (k, p) in program.alignment.iter().flatten().enumerate() {
+        if let Err(u) = reach.touch(&design(p.point, p.normal)) {
+            out.push((ALIGNMENT.to_string(), k, u));
+        }
+    }
     for f in &program.features {
         match f {
             Feature::Section {

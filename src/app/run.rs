@@ -167,7 +167,10 @@ pub(super) fn run_variant(
         format: REPORT_FORMAT,
         program: program.name.clone(),
         seed: opts.seed,
-        status: overall(&features),
+        status: match m.alignment.as_ref().and_then(|a| a.failed) {
+            Some(_) => Verdict::Incomplete,
+            None => overall(&features),
+        },
         machine_time_s: m.machine_time_s,
         wall_time_s: part.load_s + started.elapsed().as_secs_f64(),
         part_to_machine: part_to_machine(aligned),
@@ -389,14 +392,16 @@ fn aligned_program<'p>(
     ))
 }
 
-/// A failed alignment: reported, and the nominal placement kept.
-fn failed_alignment(_outcome: Outcome) -> AlignmentReport {
+/// A failed alignment: reported with how its touch points ended, and the
+/// nominal placement kept (the run is then incomplete).
+fn failed_alignment(outcome: Outcome) -> AlignmentReport {
     AlignmentReport {
         points: 0,
         rms_mm: f64::NAN,
         max_mm: f64::NAN,
         iterations: 0,
         machine_time_s: 0.0,
+        failed: Some(outcome),
     }
 }
 

@@ -301,6 +301,18 @@ fn print_summary(results: &[PartResult]) -> Result<(), CliError> {
 }
 
 fn report_lines(r: &Report, lines: &mut Vec<String>) {
+    if let Some(outcome) = r.alignment.as_ref().and_then(|a| a.failed) {
+        lines.push(format!(
+            "{:<20} {:<24} {:>10} {:>7} {:>9} {:>9}  points:{} (features measured at the nominal placement)",
+            r.program,
+            "alignment",
+            serde_name(&Verdict::Incomplete),
+            0,
+            "-",
+            "-",
+            serde_name(&outcome)
+        ));
+    }
     for f in &r.features {
         let attempts: Vec<String> = f
             .attempts

@@ -74,6 +74,7 @@ pub fn align(
         max_mm: residuals.iter().fold(0.0, |a: f64, r| a.max(r.abs())),
         iterations,
         machine_time_s: cmm.readings().time_s - t0,
+        failed: None,
     };
     Ok((pose, report))
 }

@@ -115,4 +115,9 @@ pub struct AlignmentReport {
     pub iterations: usize,
     /// Machine time of the alignment, s.
     pub machine_time_s: f64,
+    /// How the alignment's touch points ended when it failed (the
+    /// features were then measured at the nominal placement and the run is
+    /// incomplete); absent when it succeeded.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed: Option<crate::host::modes::Outcome>,
 }

@@ -352,7 +352,8 @@ pub fn reposition(
     }
     match tr.free {
         Some(free) => {
-            let route = route::plan_route(free, (here, tr.probe.probe_vector), target, approach, opts);
+            let route =
+                route::plan_route(free, (here, tr.probe.probe_vector), target, approach, opts);
             let route = route.ok_or(Outcome::Blocked)?;
             waypoints.extend(route.waypoints);
             let roomy = free.margin_mm().is_none_or(|m| m >= BLEND_ROOM_MM);
@@ -585,7 +586,9 @@ fn inside_travel(mount: Point3, opts: &ModeOptions) -> Point3 {
     let Some((lo, hi)) = soft_travel(opts) else {
         return mount;
     };
-    Point3::from(Vec3::from_fn(|k, _| mount[k].clamp(lo[k], hi[k].max(lo[k]))))
+    Point3::from(Vec3::from_fn(|k, _| {
+        mount[k].clamp(lo[k], hi[k].max(lo[k]))
+    }))
 }
 
 /// The ball's collision watch of a move that does not measure: once the

@@ -188,7 +188,8 @@ mod tests {
         let free = Slab { r_hole: 6.0 };
         let target = Point3::new(4.0, 0.0, 5.0);
         let here = Point3::new(40.0, 0.0, 20.0);
-        let route = plan(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts()).expect("a route");
+        let route =
+            plan(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts()).expect("a route");
         let entry = route[route.len() - 2];
         assert!(entry.xy().coords.norm() < 6.0, "entry {entry:?}");
         assert!(legs_clear(&free, here, &route, false, &mut Vec::new()));
@@ -201,7 +202,10 @@ mod tests {
         let free = Slab { r_hole: 0.0 };
         let target = Point3::new(0.0, 0.0, -5.0);
         let here = Point3::new(40.0, 0.0, 20.0);
-        assert_eq!(plan(&free, (here, Vec3::zeros()), target, -Vec3::z(), &opts()), None);
+        assert_eq!(
+            plan(&free, (here, Vec3::zeros()), target, -Vec3::z(), &opts()),
+            None
+        );
     }
 
     #[test]
@@ -209,7 +213,8 @@ mod tests {
         let free = Slab { r_hole: 100.0 };
         let target = Point3::new(4.0, 0.0, 5.0);
         let here = Point3::new(10.0, 0.0, 5.0);
-        let route = plan(&free, (here, Vec3::zeros()), target, Vec3::x(), &opts()).expect("a route");
+        let route =
+            plan(&free, (here, Vec3::zeros()), target, Vec3::x(), &opts()).expect("a route");
         assert_eq!(route.len(), 2, "{route:?}");
     }
 }

@@ -1,0 +1,205 @@
+//! Programs on real CAD parts that a CMM programmer writes without
+//! thinking of the numbers' coincidences: round-numbered bolt holes whose
+//! far wall meets the approach standoff at exactly the tight clearance
+//! margin, a clearance height just under the top of the machine's travel,
+//! a section through a steep drill-point cone. References are independent
+//! of the measuring code: the holes' geometry (through holes, open from
+//! above, 7 mm across for a 1 mm ball), the travel of the embedded machine
+//! (Z up to 600 mm) and the section plane itself.
+mod common;
+
+use std::path::Path;
+
+use common::{arg, cmm, repo};
+use serde_json::{json, Value};
+
+/// Writes `program` (its workpiece a file of `workpieces/`) to `dir`.
+fn write_program(dir: &Path, program: &Value) -> String {
+    let path = dir.join("p.json");
+    std::fs::write(&path, program.to_string()).unwrap();
+    arg(&path)
+}
+
+fn workpiece(name: &str) -> String {
+    arg(&repo(&format!("workpieces/{name}")))
+}
+
+/// The six 7 mm bolt holes of the io1 flange, each a section at mid-depth
+/// with a 1 mm ball, the part on its face turned `rz` degrees.
+fn bolt_holes(rz: f64) -> Value {
+    let holes = [
+        ["face11", "face25"],
+        ["face12", "face24"],
+        ["face13", "face26"],
+        ["face14", "face28"],
+        ["face15", "face22"],
+        ["face16", "face23"],
+    ];
+    let features: Vec<Value> = (holes.iter())
+        .map(|[a, b]| {
+            json!({ "name": format!("{a}-{b}"), "type": "section_scan",
+                    "plane": { "origin_mm": [3, 0, 0], "normal": [1, 0, 0] },
+                    "surfaces": [a, b], "tolerance_mm": [-0.05, 0.05] })
+        })
+        .collect();
+    json!({ "format": "cmm-program/1", "name": "holes",
+            "workpiece": workpiece("io1-flange.stp"),
+            "placement": { "translate_mm": [350, 500, 80], "rotate_deg": [0, -90, rz] },
+            "probe": { "tip_diameter_mm": 1.0, "stylus_length_mm": 50 },
+            "defaults": { "speed_mm_s": 30, "deflection_mm": 0.2, "pitch_mm": 0.2 },
+            "features": features })
+}
+
+#[test]
+fn small_ball_bolt_holes_are_reachable_however_the_part_is_turned() {
+    let dir = tempfile::tempdir().unwrap();
+    for rz in [0.0, 15.0, 30.0, 45.0, 60.0, 90.0] {
+        let program = write_program(dir.path(), &bolt_holes(rz));
+        let check = cmm(&["check", &program]);
+        let text = String::from_utf8_lossy(&check.stdout);
+        assert_eq!(check.status.code(), Some(0), "rz {rz}: {text}");
+    }
+}
+
+#[test]
+fn every_bolt_hole_is_measured_one_after_the_other() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = write_program(dir.path(), &bolt_holes(0.0));
+    let out = dir.path().join("out");
+    let run = cmm(&["scan", &program, "--ideal", "--quiet", "--out", &arg(&out)]);
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    let report = read_report(&out);
+    for f in report["features"].as_array().unwrap() {
+        assert_eq!(f["status"], "pass", "{}", f["name"]);
+        // 2 pi 3.5 mm at a 0.2 mm pitch.
+        assert!(
+            f["points"].as_array().unwrap().len() >= 105,
+            "{}",
+            f["name"]
+        );
+    }
+}
+
+fn read_report(out: &Path) -> Value {
+    serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap()
+}
+
+/// The largest machine z of the trace's axes.
+fn highest_z(trace: &str) -> f64 {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let z = header.iter().position(|h| *h == "z_mm").unwrap();
+    (lines.map(|l| l.split(',').nth(z).unwrap().parse::<f64>().unwrap())).fold(f64::MIN, f64::max)
+}
+
+#[test]
+fn positioning_under_the_top_of_the_travel_stays_inside_it() {
+    // A 120 mm stylus over NIST CTC 05 put 15 mm low: the clearance height
+    // leaves the Z axis 0.8 mm under its 600 mm limit, and routes to the
+    // block's top and back come from above.
+    let program = json!({ "format": "cmm-program/1", "name": "high",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, -15], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 120 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [
+            { "name": "block-back-z190", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 190], "normal": [0, 0, 1] },
+              "surfaces": ["face88"], "tolerance_mm": [-0.05, 0.05] },
+            { "name": "block-top", "type": "touch_points",
+              "points_mm": [[80, -40, 279.4], [-80, -40, 279.4], [0, 50, 279.4]],
+              "surfaces": ["face97"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_program(dir.path(), &program);
+    let check = cmm(&["check", &path]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let (out, trace) = (dir.path().join("out"), dir.path().join("t.csv"));
+    let run = cmm(&[
+        "scan",
+        &path,
+        "--ideal",
+        "--quiet",
+        "--out",
+        &arg(&out),
+        "--trace",
+        &arg(&trace),
+    ]);
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    for f in read_report(&out)["features"].as_array().unwrap() {
+        assert_eq!(f["status"], "pass", "{f}");
+    }
+    let top = highest_z(&std::fs::read_to_string(trace).unwrap());
+    assert!(top < 600.0, "the Z axis reached {top} mm");
+}
+
+#[test]
+fn a_scan_on_a_steep_cone_starts_on_its_section_plane() {
+    // CTC 05's 118 degree drill points: at z = 14 the cone's normal leans
+    // 59 degrees out of the section plane. The drill hole above it is
+    // scanned first, so the probe comes down from its wall with the
+    // servo's following error sideways: an approach that keeps it starts
+    // the scan off the plane (its first point 0.07 mm below it).
+    let program = json!({ "format": "cmm-program/1", "name": "cone",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 1.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 30, "deflection_mm": 0.15, "pitch_mm": 0.2,
+                      "trajectory_tolerance_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0.005, -0.004, 0] } },
+        "features": [
+            { "name": "drill-z20", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 20], "normal": [0, 0, 1] },
+              "surfaces": ["face196", "face197"], "tolerance_mm": [-0.05, 0.05] },
+            { "name": "drill-cone-z14", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 14], "normal": [0, 0, 1] },
+              "surfaces": ["face198", "face199"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_program(dir.path(), &program);
+    let out = dir.path().join("out");
+    let run = cmm(&["scan", &path, "--ideal", "--quiet", "--out", &arg(&out)]);
+    assert_eq!(run.status.code(), Some(0), "{run:?}");
+    let report = read_report(&out);
+    let points = report["features"][1]["points"].as_array().unwrap();
+    for p in points.iter().take(5) {
+        let z = p["measured"][2].as_f64().unwrap();
+        assert!((z - 14.0).abs() < 0.01, "a first point at z = {z}");
+    }
+}
+
+#[test]
+fn an_alignment_that_cannot_be_measured_leaves_the_run_incomplete() {
+    // Alignment touches on CTC 05's plate, its 45 degree faces and the
+    // block's underside (face113, open only from below): the last cannot
+    // be reached from above. `cmm check` says so, and `cmm scan` does not
+    // go on to measure the part as if it were where the placement says.
+    let program = json!({ "format": "cmm-program/1", "name": "align",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, -60], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "defaults": { "speed_mm_s": 80, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0.2, -0.15, 0.02] } },
+        "alignment": { "points_mm": [[0, 180, 25.4], [200, -150, 25.4], [-200, -150, 25.4],
+                                     [88.9, -60, 200], [88.9, -35, 160], [-88.9, -60, 200],
+                                     [40, -68.395, 200], [-40, -68.395, 200]],
+                       "surfaces": ["face20", "face21", "face99", "face113", "face112"] },
+        "features": [
+            { "name": "col-z460", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 460], "normal": [0, 0, 1] },
+              "surfaces": ["face129", "face130"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_program(dir.path(), &program);
+    let check = cmm(&["check", &path]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(3), "{text}");
+    assert!(text.contains("alignment [4]: not reachable"), "{text}");
+    let out = dir.path().join("out");
+    let run = cmm(&["scan", &path, "--ideal", "--quiet", "--out", &arg(&out)]);
+    assert_eq!(run.status.code(), Some(3), "{run:?}");
+    let report = read_report(&out);
+    assert_eq!(report["status"], "incomplete");
+    assert!(
+        report["alignment"]["failed"].is_string(),
+        "{}",
+        report["alignment"]
+    );
+}
