@@ -48,8 +48,39 @@ const ON_BOUNDARY_UV: f64 = 1e-9;
 /// reported deviation would exceed the normal one by up to this.
 const BEYOND_EDGE_MM: f64 = 1e-4;
 
+/// How near (mm) to its face's edge the nominal point of a point whose
+/// measured normal turns by more than 10 degrees may lie and still count
+/// as rolled over the edge: the ball touching the edge itself puts the
+/// measured point on the edge only to within the probe's errors (its
+/// radius and the direction of its deflection, a few tens of
+/// micrometres), often just inside the face.
+const EDGE_NEAR_MM: f64 = 0.1;
+
 fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: Vec3) -> bool {
-    measured_normal.dot(&nominal.projection.normal) < EDGE_COS && on_boundary(wp, nominal)
+    measured_normal.dot(&nominal.projection.normal) < EDGE_COS
+        && (on_boundary(wp, nominal) || edge_distance_mm(wp, nominal) <= EDGE_NEAR_MM)
+}
+
+/// An upper bound of the distance (mm) from the foot to its face's edge
+/// (the trim, else the surface's boundary): the distance in the parameters
+/// times the larger of the surface's first derivatives there (exact to
+/// first order on a face whose parameters stretch alike both ways).
+fn edge_distance_mm(wp: &Workpiece, nominal: &FaceProjection) -> f64 {
+    let Some(face) = wp.faces.get(nominal.face) else {
+        return f64::INFINITY;
+    };
+    let uv = nominal.projection.uv;
+    let d = face.surface.derivs(uv.x, uv.y, 1);
+    let (su, sv) = (d.su().norm(), d.sv().norm());
+    let ((u0, u1), (v0, v1)) = face.surface.domain();
+    let sides = [
+        (uv.x - u0) * su,
+        (u1 - uv.x) * su,
+        (uv.y - v0) * sv,
+        (v1 - uv.y) * sv,
+    ];
+    let trim = (face.trim.as_ref()).map_or(f64::INFINITY, |t| t.distance(uv) * su.max(sv));
+    sides.iter().fold(trim, |m, &x| m.min(x.abs()))
 }
 
 fn beyond_edge(wp: &Workpiece, nominal: &FaceProjection, p: Point3) -> bool {

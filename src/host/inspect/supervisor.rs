@@ -159,7 +159,15 @@ fn design_attempt(
         &ctx.modes,
     );
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
-    let gap_limit = ctx.supervisor.max_gap_pitches * targets.pitch_mm;
+    // The design's own gaps are no loss: a concave corner the ball
+    // bridges, trimmed from the section where it would touch both walls,
+    // leaves at most the ball's diameter between its last point on one
+    // wall and its first on the other.
+    let design_gap = (design.windows(2))
+        .map(|w| (w[1].point - w[0].point).norm())
+        .fold(0.0, f64::max)
+        .min(2.0 * ctx.probe.tip_radius_mm);
+    let gap_limit = ctx.supervisor.max_gap_pitches * targets.pitch_mm + design_gap;
     let gap = largest_gap(&attempt.points);
     if attempt.outcome == Outcome::Completed && gap > gap_limit {
         attempt.outcome = Outcome::LostContact;
