@@ -203,3 +203,79 @@ fn an_alignment_that_cannot_be_measured_leaves_the_run_incomplete() {
         report["alignment"]
     );
 }
+
+/// `cmm scan` of `program` (`--ideal` if `ideal`): its exit code and
+/// report.
+fn run_default(program: &Value, ideal: bool) -> (Option<i32>, Value) {
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_program(dir.path(), program);
+    let out = dir.path().join("out");
+    let mut args = vec!["scan", path.as_str(), "--quiet", "--out"];
+    let out_arg = arg(&out);
+    args.push(&out_arg);
+    if ideal {
+        args.push("--ideal");
+    }
+    let run = cmm(&args);
+    (run.status.code(), read_report(&out))
+}
+
+#[test]
+fn a_corner_the_ball_rolls_over_stays_out_of_the_deviations() {
+    // CTC 05's block outline at z = 190: two convex 90 degree corners,
+    // measured with the default (uncalibrated) probe errors. A point taken
+    // while the ball rolls over a corner carries the error of a deflection
+    // that is not the face's normal (35 um); the others the probe's few.
+    let program = json!({ "format": "cmm-program/1", "name": "corners",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, -15], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [-0.01, 0.012, 0.005],
+                                        "rotate_deg": [0, 0, -0.002] },
+                         "form": [{ "kind": "offset", "mm": 0.006 },
+                                  { "kind": "bump", "center_mm": [88.9, -40, 190],
+                                    "radius_mm": 8, "height_mm": 0.02 },
+                                  { "kind": "waviness", "amplitude_mm": 0.002,
+                                    "wavelength_mm": 40, "direction": [1, 0, 0] }],
+                         "roughness_um": 0.2 },
+        "features": [
+            { "name": "block-front-z190", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 190], "normal": [0, 0, 1] },
+              "surfaces": ["face112", "face99", "face113"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let (code, report) = run_default(&program, false);
+    assert_eq!(code, Some(0), "{report}");
+    let points = report["features"][0]["points"].as_array().unwrap();
+    let worst = (points.iter())
+        .filter(|p| p["edge"] != true)
+        .map(|p| {
+            (p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap()).abs()
+        })
+        .fold(0.0, f64::max);
+    assert!(worst < 0.015, "a measurement error of {worst} mm");
+}
+
+#[test]
+fn a_profile_with_concave_corners_is_not_called_lost_contact() {
+    // The fixture assembly's second bracket cut at z = 40: concave corners
+    // with fillets smaller than the 1.5 mm ball, which bridges them, so
+    // the measured points jump up to about 2 mm (four pitches) there.
+    let program = json!({ "format": "cmm-program/1", "name": "profile",
+        "workpiece": workpiece("fixture-assembly.step"),
+        "placement": { "translate_mm": [250, 300, 60], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0.01, 0, -0.005],
+                                        "rotate_deg": [0, 0, 0.003] },
+                         "form": [{ "kind": "offset", "mm": 0.005 }] },
+        "features": [
+            { "name": "b2-profile-z40", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 40], "normal": [0, 0, 1] },
+              "surfaces": (1..=29).map(|k| format!("bracket#2/face{k}")).collect::<Vec<_>>(),
+              "tolerance_mm": [-0.05, 0.05] } ] });
+    let (code, report) = run_default(&program, true);
+    assert_eq!(code, Some(0), "{}", report["features"][0]["notes"]);
+    for a in report["features"][0]["attempts"].as_array().unwrap() {
+        assert_eq!(a["outcome"], "completed");
+    }
+}
