@@ -12,6 +12,7 @@
 mod clip;
 mod march;
 mod refine;
+mod shared;
 mod stitch;
 
 use crate::geometry::Trim;
@@ -32,6 +33,16 @@ pub struct SectionOptions {
     pub max_refine_depth: usize,
     /// Curve ends closer than this are joined (across faces and seams), mm.
     pub join_tol_mm: f64,
+    /// Curve ends still apart after joining at `join_tol_mm` are joined,
+    /// nearest first, when closer than this, mm: two faces' curves meet on
+    /// their shared edge only as well as the faces' trim loops (polylines,
+    /// sampled by the CAD importers to about 1 um) agree.
+    pub gap_tol_mm: f64,
+    /// Section points closer than this to a face's boundary (trim loops or
+    /// parameter domain sides) count as on it, mm: where the curve runs
+    /// along the boundary (a face split in the section plane) it is kept,
+    /// once for the faces that share that edge.
+    pub edge_tol_mm: f64,
     /// Residual `|g|` at which a section point counts as on the plane, mm.
     pub plane_tol_mm: f64,
     /// Grid nodes closer to the plane than this count as on it (so that a
@@ -47,6 +58,8 @@ impl Default for SectionOptions {
             min_cells: 32,
             max_refine_depth: 24,
             join_tol_mm: 1e-6,
+            gap_tol_mm: 2e-3,
+            edge_tol_mm: 1e-6,
             plane_tol_mm: 1e-11,
             snap_tol_mm: 1e-10,
         }
@@ -121,27 +134,34 @@ pub struct FaceRef<'a> {
 }
 
 /// Section of `faces`, stitched across faces and seams into maximal curves
-/// (closed where they close).
+/// (closed where they close); a stretch along an edge that two of the faces
+/// share is kept once.
 pub fn section_faces(
     faces: &[FaceRef<'_>],
     plane: &Plane,
     opts: &SectionOptions,
 ) -> Vec<SectionCurve> {
-    let branches: Vec<SectionCurve> = faces
+    let pieces: Vec<clip::Piece> = faces
         .iter()
-        .flat_map(|f| section_face(f, plane, opts))
+        .flat_map(|f| face_pieces(f, plane, opts))
         .collect();
-    stitch::stitch(branches, opts.join_tol_mm)
+    let tol = opts.gap_tol_mm + opts.chord_tol_mm;
+    stitch::stitch(shared::once(pieces, tol), opts.join_tol_mm, opts.gap_tol_mm)
 }
 
-/// Section of one face: its surface's branches clipped to its trim.
+/// Section of one face: its surface's branches clipped to its trim
+/// (stretches along its boundary included), split where they join or leave
+/// the boundary.
 pub fn section_face(face: &FaceRef<'_>, plane: &Plane, opts: &SectionOptions) -> Vec<SectionCurve> {
-    let branches = section_surface(face.surface, face.id, plane, opts);
-    match face.trim {
-        None => branches,
-        Some(trim) => branches
-            .into_iter()
-            .flat_map(|c| clip::clip(c, face.surface, trim, plane, opts))
-            .collect(),
-    }
+    face_pieces(face, plane, opts)
+        .into_iter()
+        .map(|p| p.curve)
+        .collect()
+}
+
+fn face_pieces(face: &FaceRef<'_>, plane: &Plane, opts: &SectionOptions) -> Vec<clip::Piece> {
+    section_surface(face.surface, face.id, plane, opts)
+        .into_iter()
+        .flat_map(|c| clip::clip(c, face.surface, face.trim, plane, opts))
+        .collect()
 }

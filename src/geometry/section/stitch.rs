@@ -20,9 +20,17 @@ pub(super) fn orient(mut curve: SectionCurve, plane: &Plane) -> SectionCurve {
     curve
 }
 
-/// Joins curves whose end meets another's start (within `tol`, mm) and
-/// closes those whose ends meet.
-pub(super) fn stitch(mut curves: Vec<SectionCurve>, tol: f64) -> Vec<SectionCurve> {
+/// Joins curves whose end meets another's start and closes those whose
+/// ends meet: first within `join_tol` (ends that coincide), then, among the
+/// curves still open, within `gap_tol` (ends on an edge two faces share,
+/// apart by how much the faces' trims disagree), mm.
+pub(super) fn stitch(curves: Vec<SectionCurve>, join_tol: f64, gap_tol: f64) -> Vec<SectionCurve> {
+    join(join(curves, join_tol), gap_tol)
+}
+
+/// One joining pass at `tol`, mm: each curve's end goes to the nearest
+/// start within `tol`.
+fn join(mut curves: Vec<SectionCurve>, tol: f64) -> Vec<SectionCurve> {
     let mut k = 0;
     while k < curves.len() {
         if curves[k].closed {
@@ -47,13 +55,14 @@ pub(super) fn stitch(mut curves: Vec<SectionCurve>, tol: f64) -> Vec<SectionCurv
 
 fn find_successor(curves: &[SectionCurve], k: usize, tol: f64) -> Option<usize> {
     let end = curves[k].points.last()?.point;
-    curves.iter().enumerate().position(|(m, c)| {
-        m != k
-            && !c.closed
-            && c.points
-                .first()
-                .is_some_and(|p| (p.point - end).norm() <= tol)
-    })
+    let gap = |c: &SectionCurve| c.points.first().map(|p| (p.point - end).norm());
+    curves
+        .iter()
+        .enumerate()
+        .filter(|&(m, c)| m != k && !c.closed)
+        .filter_map(|(m, c)| gap(c).filter(|&g| g <= tol).map(|g| (m, g)))
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(m, _)| m)
 }
 
 fn close_if_meeting(curve: &mut SectionCurve, tol: f64) {
