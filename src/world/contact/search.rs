@@ -399,7 +399,8 @@ impl Cursor {
     /// boundary foot `best`: among the feet on other faces within the edge
     /// tie of it (and `best` itself), the one whose outward normal is best
     /// aligned with its offset from `y` decides; with no other face near,
-    /// outside.
+    /// or none whose normal leans from the offset's perpendicular by
+    /// [`SIGN_MIN_COS`], outside.
     fn sign_inside(&self, wp: &Workpiece, am: &AsMachined, y: Point3, best: &Candidate) -> bool {
         let tie = self.opts.edge_tie_mm;
         let d = best.foot.dist2.sqrt();
@@ -416,9 +417,20 @@ impl Cursor {
                 decisive = (cos.abs(), cos < 0.0);
             }
         }
-        decisive.1
+        decisive.0 >= SIGN_MIN_COS && decisive.1
     }
 }
+
+/// The least `|cos|` between a boundary foot's outward normal and the
+/// ball's offset from it that decides the sign at an edge (about 6
+/// degrees off the face's plane). Feet whose offset runs along their face
+/// say nothing of the side: the ball stands beyond their edge, over the
+/// face's extension. The as-machined form moves each face along its own
+/// normal, so the faces of an edge part by micrometres (a bore's rim
+/// standing over the top face that an offset lowered), and a ball coming
+/// down over such a rim on the seam of two half bores finds only their
+/// rims, the offset all but tangent to both: outside, not 1 mm inside.
+const SIGN_MIN_COS: f64 = 0.1;
 
 /// Newton on the true surface over `leaf` (number `id`), warm from its
 /// last foot among `warm` when it has one (which `stamp` marks used).
