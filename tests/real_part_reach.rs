@@ -282,3 +282,39 @@ fn a_profile_with_concave_corners_is_not_called_lost_contact() {
         assert_eq!(a["outcome"], "completed");
     }
 }
+
+#[test]
+fn a_fit_its_nominal_points_cannot_make_is_bad_input() {
+    // A sphere asked of four touch points on CTC 05's flat shoulder: no
+    // sphere goes through four coplanar points, so nothing is measured.
+    let program = json!({ "format": "cmm-program/1", "name": "fit",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [400, 400, -60], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "features": [
+            { "name": "shoulder", "type": "touch_points",
+              "points_mm": [[120, 0, 127], [0, 120, 127], [-120, 0, 127], [0, -120, 127]],
+              "surfaces": ["face84"], "tolerance_mm": [-0.05, 0.05],
+              "fit": { "element": "sphere" } } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let path = write_program(dir.path(), &program);
+    for args in [
+        vec!["check", path.as_str()],
+        vec!["scan", path.as_str(), "--quiet"],
+    ] {
+        let out = dir.path().join("out");
+        let mut args = args;
+        let out_arg = arg(&out);
+        if args[0] == "scan" {
+            args.extend(["--out", out_arg.as_str()]);
+        }
+        let run = cmm(&args);
+        let err = String::from_utf8_lossy(&run.stderr);
+        assert_eq!(run.status.code(), Some(2), "{err}");
+        assert!(
+            err.contains("$.features[0].fit") && err.contains("coplanar"),
+            "{err}"
+        );
+        assert!(!out.exists());
+    }
+}

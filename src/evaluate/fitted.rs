@@ -42,12 +42,13 @@ pub struct FitResult {
 }
 
 fn kind(e: FitElement) -> (ElementKind, &'static str) {
-    match e {
-        FitElement::Circle => (ElementKind::Circle, "circle"),
-        FitElement::Plane => (ElementKind::Plane, "plane"),
-        FitElement::Sphere => (ElementKind::Sphere, "sphere"),
-        FitElement::Cylinder => (ElementKind::Cylinder, "cylinder"),
-    }
+    let name = match e {
+        FitElement::Circle => "circle",
+        FitElement::Plane => "plane",
+        FitElement::Sphere => "sphere",
+        FitElement::Cylinder => "cylinder",
+    };
+    (e.kind(), name)
 }
 
 /// Fits and checks; `None` when there are no points.

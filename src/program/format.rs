@@ -291,6 +291,19 @@ pub enum FitElement {
     Cylinder,
 }
 
+impl FitElement {
+    /// The element kind the fitting code takes.
+    pub fn kind(self) -> crate::fit::ElementKind {
+        use crate::fit::ElementKind;
+        match self {
+            FitElement::Circle => ElementKind::Circle,
+            FitElement::Plane => ElementKind::Plane,
+            FitElement::Sphere => ElementKind::Sphere,
+            FitElement::Cylinder => ElementKind::Cylinder,
+        }
+    }
+}
+
 /// A fitted element with its tolerances; the nominal element is the same fit
 /// of the nominal points.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]

@@ -150,7 +150,32 @@ pub fn resolve(
         clearance,
     };
     check_reach(&cx, &program, &Travel::of(&program.machine))?;
+    check_fits(&cx, &program)?;
     Ok(program)
+}
+
+/// Every fit the program asks for can be made from its nominal points (a
+/// sphere from four coplanar touch points cannot, nor a cylinder from one
+/// section's circle): else an error at the feature's `fit`, before
+/// anything is measured.
+fn check_fits(cx: &Ctx, program: &Program) -> Result<(), ProgramError> {
+    use crate::fit::{fit, FitOptions, Method};
+    for (i, f) in program.features.iter().enumerate() {
+        let Some(spec) = f.fit() else {
+            continue;
+        };
+        let points: Vec<Point3> = match f {
+            Feature::Section { curves, .. } => (curves.iter())
+                .flat_map(|c| c.points.iter().map(|p| p.point))
+                .collect(),
+            Feature::Touch { points, .. } => points.iter().map(|p| p.point).collect(),
+        };
+        let opts = FitOptions::default();
+        if let Err(e) = fit(spec.element.kind(), Method::Lsq, &points, &opts) {
+            return Err(cx.err(format!("$.features[{i}].fit"), e.to_string()));
+        }
+    }
+    Ok(())
 }
 
 fn check_header(cx: &Ctx, spec: &ProgramFile) -> Result<(), ProgramError> {
