@@ -95,6 +95,7 @@ fn scan_once(sp: &SimulatedPart, model: &MachineModel, path: &BallPath, plan: &S
         deflection_mm: 0.3,
         pitch_mm: 0.5,
         trajectory_tolerance_mm: 1.5,
+        plane_normal: None,
     };
     let modes = ModeOptions::default();
     design_value_scan(

@@ -141,6 +141,7 @@ fn scan(
         deflection_mm: ep,
         pitch_mm: opts.scan_pitch_mm,
         trajectory_tolerance_mm: opts.trajectory_tolerance_mm,
+        plane_normal: None,
     };
     let modes = modes(opts, &probe);
     let a = design_value_scan(cmm, (probe, None), &path, &plan, targets, &modes);

@@ -144,6 +144,7 @@ fn design_attempt(
         deflection_mm: ctx.settings.deflection_mm,
         pitch_mm: ctx.settings.pitch_mm,
         trajectory_tolerance_mm: ctx.settings.trajectory_tolerance_mm,
+        plane_normal: Some(ctx.pose.dir_to_machine(ctx.plane_normal)),
     };
     let t0 = ctx.cmm.readings().time_s;
     position(

@@ -116,6 +116,11 @@ impl<'f> Tracker<'f> {
         self.now.scales + self.probe.probe_vector
     }
 
+    /// The ball radius the host knows, mm.
+    pub fn probe_radius(&self) -> f64 {
+        self.probe.tip_radius_mm
+    }
+
     /// Deflection magnitude, mm.
     pub fn deflection(&self) -> f64 {
         self.now.deflection.norm()

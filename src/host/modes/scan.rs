@@ -31,6 +31,11 @@ pub struct ScanTargets {
     pub pitch_mm: f64,
     /// Trajectory tolerance (active), mm.
     pub trajectory_tolerance_mm: f64,
+    /// Normal of the section plane the path lies in (machine frame), if it
+    /// is a plane section: on a surface inclined to the plane the active
+    /// scan's sideways correction then holds the measured point on the
+    /// design curve across that plane ([`control`]).
+    pub plane_normal: Option<Vec3>,
 }
 
 /// What a design-value scan follows: passive scanning the speed profile
@@ -241,6 +246,7 @@ fn active(
     };
     let stall_cycles = (opts.stall_s / dt).ceil() as usize;
     let mut mark = (0.0f64, 0usize);
+    let mut settled = t.plane_normal.is_none();
     for cycle in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
@@ -268,15 +274,40 @@ fn active(
             .max(CREEP_MM_S)
             .min(brake.max(0.5));
         speed += (want - speed).clamp(-a * dt, a * dt);
-        let v = control(tr, p, a0, tan * speed, n_path, t.deflection_mm, opts);
+        let v = control(
+            tr,
+            (p, a0),
+            tan * speed,
+            (n_path, t.plane_normal),
+            t.deflection_mm,
+            opts,
+        );
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
         }
         contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
-        tr.sample(t.pitch_mm);
+        settled = settled
+            || progress >= SETTLE_WITHIN_MM
+            || (t.plane_normal)
+                .and_then(|m| plane_offset(tr, (p, n_path), m, t.deflection_mm))
+                .is_some_and(|e| e.abs() <= SETTLED_MM);
+        if settled {
+            tr.sample(t.pitch_mm);
+        }
     }
     Err(Outcome::Aborted)
 }
+
+/// A plane section's scan records points once the measured point has come
+/// within this of the design curve across the plane, mm (an approach
+/// along the design normal ends off the plane by the true surface's offset
+/// times the normal's slope across it; the plane hold takes that out
+/// within a few pitches).
+const SETTLED_MM: f64 = 0.005;
+
+/// ... or once the scan has gone this far along its path, mm (where the
+/// point cannot be held in the plane it is recorded as it comes).
+const SETTLE_WITHIN_MM: f64 = 2.0;
 
 /// The closest-point search's start for this cycle: the last location
 /// moved `ds` mm along its segment (chord-length parameters, so about `ds`
@@ -293,28 +324,80 @@ fn ahead(path: &BallPath, here: &PathLocation, ds: f64) -> PathLocation {
 }
 
 /// `V = Gf Vf + Ge Ve + Gc Vc2` with `q = normalize(n x Vf)`, `Vc2 = (Vc1 . q) q`.
+///
+/// The plane hold: on a plane section (normal `m`) over a surface inclined
+/// to the plane, `Vc1 . q` keeps the ball on its path, so where the true
+/// surface lies off the design the deflection loop puts the ball off the
+/// path along the normal and the measured point off the plane by the
+/// offset times `n . m` (a shifted sphere's cap: 0.1 mm). There the
+/// correction slides the ball along `q` (the contact slides along the
+/// surface) by the measured point's offset `e` across the plane from its
+/// design point, `Vc2 = -e / (q . m) q`, and carries away what
+/// `Gf Vf + Ge Ve` moves across the plane ([`plane_hold`] says when).
 fn control(
     tr: &Tracker,
-    p: Point3,
-    a0: Point3,
+    (p, a0): (Point3, Point3),
     vf: Vec3,
-    n_path: Vec3,
+    (n_path, plane): (Vec3, Option<Vec3>),
     ep: f64,
     opts: &ModeOptions,
 ) -> Vec3 {
     let d = tr.now.deflection;
-    let n = if d.norm() > opts.contact_mm {
-        d.normalize()
-    } else {
-        n_path
-    };
+    let touching = d.norm() > opts.contact_mm;
+    let n = if touching { d.normalize() } else { n_path };
     let ve = -n * (ep - d.norm());
-    let vc1 = p - a0;
-    let vc2 = n
-        .cross(&vf)
-        .try_normalize(1e-12)
-        .map_or(Vec3::zeros(), |q| q * vc1.dot(&q));
-    vf * opts.gain_follow + ve * opts.gain_deflection + vc2 * opts.gain_correction
+    let along = vf * opts.gain_follow + ve * opts.gain_deflection;
+    let Some(q) = n.cross(&vf).try_normalize(1e-12) else {
+        return along;
+    };
+    let held = plane.filter(|&m| touching && plane_hold((a0 - p, n, n_path), q, m));
+    let vc2 = held
+        .and_then(|m| {
+            let e = plane_offset(tr, (p, n_path), m, ep)?;
+            let drift = along.dot(&m) / opts.gain_correction;
+            Some(q * (-(e + drift) / q.dot(&m)))
+        })
+        .unwrap_or_else(|| q * (p - a0).dot(&q));
+    along + vc2 * opts.gain_correction
+}
+
+/// Least `|n . m|` of the path's normal across the plane for the plane
+/// hold: a wall square to the plane keeps its points in it with the ball
+/// on its path.
+const HOLD_INCLINED_MIN: f64 = 0.1;
+
+/// Least `|q . m|` for the plane hold: where the surface's sideways
+/// direction runs nearly along the plane, sliding cannot move the point
+/// across it.
+const HOLD_SLIDE_MIN: f64 = 0.2;
+
+/// Least cosine between the measured and the path's normal for the plane
+/// hold (10 degrees): past it the ball touches an edge or a face the path
+/// does not follow, the contact does not slide with the ball, and the
+/// hold would drive the ball up the wall.
+const HOLD_ALIGNED_COS: f64 = 0.984_807_753_012_208;
+
+/// How far (mm) the ball may stand sideways off its path for the plane
+/// hold; beyond, it is held on its path again.
+const HOLD_SLIDE_MAX_MM: f64 = 0.3;
+
+/// Whether the plane hold applies with the ball `off` its path, the
+/// measured normal `n`, the path's `n_path`, the sideways direction `q`
+/// and the plane's normal `m`.
+fn plane_hold((off, n, n_path): (Vec3, Vec3, Vec3), q: Vec3, m: Vec3) -> bool {
+    n_path.dot(&m).abs() >= HOLD_INCLINED_MIN
+        && q.dot(&m).abs() >= HOLD_SLIDE_MIN
+        && n.dot(&n_path) >= HOLD_ALIGNED_COS
+        && off.dot(&q).abs() <= HOLD_SLIDE_MAX_MM
+}
+
+/// The measured point's offset across the plane (normal `m`) from the
+/// design point under the path point `p` (path normal `n_path`), mm;
+/// `None` while the stylus is free.
+fn plane_offset(tr: &Tracker, (p, n_path): (Point3, Vec3), m: Vec3, ep: f64) -> Option<f64> {
+    let measured = tr.measured()?;
+    let design = p - n_path * (tr.probe_radius() - ep);
+    Some((measured.point - design).dot(&m))
 }
 
 /// Signed arc-length step from `progress` to the local parameter `s_loc`,
