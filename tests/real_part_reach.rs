@@ -356,3 +356,72 @@ fn a_section_of_an_inclined_surface_stays_in_its_plane_on_a_shifted_part() {
         "centre {centre}"
     );
 }
+
+/// The io1 flange aligned by twelve points on its faces round about its
+/// axis (the x axis: flange and boss faces, bore, boss and outside
+/// cylinders).
+fn flange_alignment() -> Value {
+    let points = vec![
+        [6.0, 40.0, 0.0],
+        [6.0, -20.0, 34.64],
+        [6.0, -20.0, -34.64],
+        [31.0, 24.0, 0.0],
+        [31.0, -12.0, 20.78],
+        [31.0, -12.0, -20.78],
+        [25.0, 31.0, 0.0],
+        [25.0, -15.5, 26.8468],
+        [25.0, -15.5, -26.8468],
+        [12.0, 15.5, 26.8468],
+        [12.0, -31.0, 0.0],
+        [12.0, 15.5, -26.8468],
+    ];
+    let faces = vec!["face10", "face4", "face5", "face27", "face9", "face19"];
+    json!({ "format": "cmm-program/1", "name": "aligned",
+        "workpiece": workpiece("io1-flange.stp"),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, -90, 0] },
+        "probe": { "tip_diameter_mm": 1.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 30, "deflection_mm": 0.15, "pitch_mm": 0.25 },
+        "alignment": { "points_mm": points, "surfaces": faces },
+        "features": [
+            { "name": "flange-top", "type": "touch_points",
+              "points_mm": [[6, 40, 0], [6, -40, 0], [6, 20, 34.64]],
+              "tolerance_mm": [-0.05, 0.05] } ] })
+}
+
+#[test]
+fn an_alignment_that_leaves_a_turn_free_says_so() {
+    // Every point's surface is round about the flange's axis: no point
+    // resists a turn about it.
+    let (code, report) = run_default(&flange_alignment(), true);
+    assert_eq!(code, Some(0), "{}", report["alignment"]);
+    let notes = report["alignment"]["notes"].as_array().unwrap();
+    assert_eq!(notes.len(), 1, "{notes:?}");
+    let note = notes[0].as_str().unwrap();
+    assert!(
+        note.contains("turn about the axis (1.000, 0.000, 0.000)"),
+        "{note}"
+    );
+    // CTC 05's plate top, its block's 45 degree faces and front: every
+    // motion is resisted, and no note is made.
+    let program = json!({ "format": "cmm-program/1", "name": "aligned",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "as_machined": { "transform": { "translate_mm": [0.2, -0.15, 0.05],
+                                        "rotate_deg": [0.01, -0.01, 0.05] } },
+        "alignment": { "points_mm": [[0, 180, 25.4], [200, -150, 25.4], [-200, -150, 25.4],
+                                     [88.9, -60, 200], [88.9, -45, 250], [-88.9, -60, 200],
+                                     [40, -68.395, 200], [-40, -68.395, 200]],
+                       "surfaces": ["face20", "face21", "face99", "face113", "face112"] },
+        "features": [
+            { "name": "col-z400", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 400], "normal": [0, 0, 1] },
+              "surfaces": ["face129", "face130"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let (code, report) = run_default(&program, true);
+    assert_eq!(code, Some(0), "{}", report["alignment"]);
+    assert!(
+        report["alignment"].get("notes").is_none(),
+        "{}",
+        report["alignment"]
+    );
+}

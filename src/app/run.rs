@@ -402,6 +402,7 @@ fn failed_alignment(outcome: Outcome) -> AlignmentReport {
         iterations: 0,
         machine_time_s: 0.0,
         failed: Some(outcome),
+        notes: Vec::new(),
     }
 }
 

@@ -75,8 +75,73 @@ pub fn align(
         iterations,
         machine_time_s: cmm.readings().time_s - t0,
         failed: None,
+        notes: undetermined(points),
     };
     Ok((pose, report))
+}
+
+/// Singular values of the alignment's design Jacobian (rotation columns
+/// scaled by the points' spread) below this fraction of the largest leave
+/// a motion of the part that no alignment point's surface resists.
+const UNDETERMINED_RATIO: f64 = 1e-6;
+
+/// What the alignment points cannot fix, from the design alone: each
+/// rigid motion that moves every point along its surface (all points on
+/// faces round about one axis leave the turn about it), as a note; the
+/// fit then keeps the placement's value of it.
+fn undetermined(points: &[NominalPoint]) -> Vec<String> {
+    let n = points.len().max(1) as f64;
+    let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
+    let spread = (points.iter())
+        .map(|p| (p.point.coords - c).norm_squared())
+        .sum::<f64>();
+    let l = (spread / n).sqrt().max(1e-9);
+    let jac = DMatrix::from_fn(points.len(), 6, |i, j| {
+        let (x, nn) = (points[i].point.coords - c, points[i].normal);
+        if j < 3 {
+            x.cross(&nn)[j] / l
+        } else {
+            nn[j - 3]
+        }
+    });
+    let svd = jac.svd(false, true);
+    let (Some(vt), Some(top)) = (
+        svd.v_t.as_ref(),
+        svd.singular_values.iter().copied().reduce(f64::max),
+    ) else {
+        return Vec::new();
+    };
+    let free = |k: usize| {
+        svd.singular_values
+            .get(k)
+            .is_some_and(|&s| s < UNDETERMINED_RATIO * top)
+    };
+    (0..svd.singular_values.len().min(vt.nrows()))
+        .filter(|&k| free(k))
+        .map(|k| motion_note(vt.row(k).iter().copied().collect(), c, l))
+        .collect()
+}
+
+/// The note for the free motion `v` (scaled rotation, translation) of
+/// points about their centroid `c` with spread `l`.
+fn motion_note(v: Vec<f64>, c: Vec3, l: f64) -> String {
+    let at = |k: usize| v.get(k).copied().unwrap_or(0.0);
+    let (w, t) = (
+        Vec3::new(at(0), at(1), at(2)),
+        Vec3::new(at(3), at(4), at(5)),
+    );
+    let what = if w.norm() >= t.norm() {
+        let axis = w.normalize();
+        let through = c + w.cross(&t) * (l / w.norm_squared());
+        format!(
+            "a turn about the axis ({:.3}, {:.3}, {:.3}) through ({:.3}, {:.3}, {:.3})",
+            axis.x, axis.y, axis.z, through.x, through.y, through.z
+        )
+    } else {
+        let d = t.normalize();
+        format!("a shift along ({:.3}, {:.3}, {:.3})", d.x, d.y, d.z)
+    };
+    format!("the alignment points do not fix {what} (part frame): the fit keeps the placement's")
 }
 
 /// Signed distance of a measured machine point from the design surfaces

@@ -120,4 +120,8 @@ pub struct AlignmentReport {
     /// incomplete); absent when it succeeded.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<crate::host::modes::Outcome>,
+    /// What the alignment points leave undetermined (a turn about an axis
+    /// every point's surface is round about), one note each.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub notes: Vec<String>,
 }
