@@ -425,3 +425,29 @@ fn an_alignment_that_leaves_a_turn_free_says_so() {
         report["alignment"]
     );
 }
+
+#[test]
+fn alignment_touches_route_into_a_bolt_hole() {
+    // A thirteenth point on a bolt hole's wall, facing round the axis,
+    // fixes the turn; its touch comes down inside the hole (it drove the
+    // ball straight at the wall through the flange before).
+    let mut program = flange_alignment();
+    program["alignment"]["points_mm"]
+        .as_array_mut()
+        .unwrap()
+        .push(json!([3.0, 30.726, 21.781]));
+    for face in ["face11", "face25"] {
+        program["alignment"]["surfaces"]
+            .as_array_mut()
+            .unwrap()
+            .push(json!(face));
+    }
+    program["as_machined"] = json!({ "transform": { "translate_mm": [0.02, -0.01, 0.01],
+                                                    "rotate_deg": [0.05, 0, 0] } });
+    let (code, report) = run_default(&program, true);
+    let alignment = &report["alignment"];
+    assert_eq!(code, Some(0), "{alignment}");
+    assert_eq!(alignment["points"], 13, "{alignment}");
+    assert!(alignment.get("notes").is_none(), "{alignment}");
+    assert!(alignment["rms_mm"].as_f64().unwrap() < 1e-6, "{alignment}");
+}

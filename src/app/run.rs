@@ -259,7 +259,8 @@ fn measure_program<'p>(
         travel_mm: Some(super::reach::travel_box(program)),
         ..opts.modes
     };
-    let (aligned, alignment) = match aligned_program(program, &mut traced, host_probe, &modes) {
+    let (aligned, alignment) = match aligned_program((part, opts), &mut traced, host_probe, &modes)
+    {
         Ok(a) => a,
         Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
     };
@@ -366,17 +367,23 @@ pub fn probe_calibration(
 /// The program with its placement replaced by the best-fit alignment (when
 /// it has alignment points; else the program itself, not a copy).
 fn aligned_program<'p>(
-    program: &'p Program,
+    (part, opts): (&'p SimulatedPart, &RunOptions),
     cmm: &mut dyn Machine,
     probe: HostProbe,
     modes: &ModeOptions,
 ) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), Outcome> {
+    let program = &part.program;
     let Some(points) = &program.alignment else {
         return Ok((Cow::Borrowed(program), None));
     };
+    // The touches route round the part as placed nominally.
+    let margins = super::reach::program_margins(program, opts.clearance);
+    let clearance = super::reach::part_clearance(program, probe, margins);
+    let free = Remembering::new(&clearance, &part.free_space);
+    let free = opts.direct_moves.then_some(&free as &dyn FreeSpace);
     let (pose, report) = align(
         cmm,
-        probe,
+        (probe, free),
         &program.workpiece,
         &program.placement,
         points,

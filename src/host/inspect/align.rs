@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector, Rotation3};
 
 use super::record::AlignmentReport;
-use crate::host::modes::{touch_point, HostProbe, ModeOptions, Outcome};
+use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::math::{Mat3, Point3, Vec3};
 use crate::program::{NominalPoint, Pose};
@@ -32,11 +32,12 @@ impl Default for AlignOptions {
     }
 }
 
-/// Touches the alignment points and returns the fitted pose and a summary;
+/// Touches the alignment points (routing round the part that `free`
+/// describes, when given) and returns the fitted pose and a summary;
 /// `None` when a touch failed (the nominal placement is kept).
 pub fn align(
     cmm: &mut dyn Machine,
-    probe: HostProbe,
+    (probe, free): (HostProbe, Option<&dyn FreeSpace>),
     wp: &Workpiece,
     nominal: &Pose,
     points: &[NominalPoint],
@@ -50,7 +51,7 @@ pub fn align(
             nominal.to_machine(p.point),
             nominal.dir_to_machine(p.normal),
         );
-        let a = touch_point(cmm, (probe, None), m, n, opts.search_mm, modes);
+        let a = touch_point(cmm, (probe, free), m, n, opts.search_mm, modes);
         match (a.outcome, a.points.first()) {
             (Outcome::Completed, Some(hit)) => measured.push(hit.point),
             (o, _) => {
