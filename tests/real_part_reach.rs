@@ -392,6 +392,13 @@ fn flange_alignment() -> Value {
 fn an_alignment_that_leaves_a_turn_free_says_so() {
     // Every point's surface is round about the flange's axis: no point
     // resists a turn about it.
+    let dir = tempfile::tempdir().unwrap();
+    let check = cmm(&["check", &write_program(dir.path(), &flange_alignment())]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(
+        text.contains("alignment: note: the alignment points do not fix a turn"),
+        "{text}"
+    );
     let (code, report) = run_default(&flange_alignment(), true);
     assert_eq!(code, Some(0), "{}", report["alignment"]);
     let notes = report["alignment"]["notes"].as_array().unwrap();

@@ -34,6 +34,11 @@ pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
             program.workpiece.faces.len(),
             program.features.len()
         )];
+        if let Some(points) = &program.alignment {
+            lines.push(format!("  alignment: {} touch points", points.len()));
+            let free = crate::host::inspect::align::undetermined(points);
+            lines.extend(free.iter().map(|note| format!("  alignment: note: {note}")));
+        }
         for f in &program.features {
             lines.push(format!("  {}", describe(f)));
         }

@@ -90,7 +90,7 @@ const UNDETERMINED_RATIO: f64 = 1e-6;
 /// rigid motion that moves every point along its surface (all points on
 /// faces round about one axis leave the turn about it), as a note; the
 /// fit then keeps the placement's value of it.
-fn undetermined(points: &[NominalPoint]) -> Vec<String> {
+pub fn undetermined(points: &[NominalPoint]) -> Vec<String> {
     let n = points.len().max(1) as f64;
     let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
     let spread = (points.iter())
