@@ -60,7 +60,7 @@ pub fn plan_route(
     opts: &ModeOptions,
 ) -> Option<Route> {
     let mut candidates = candidates(here, target, approach, opts);
-    candidates.retain(|c| c.iter().all(|&w| within_travel(w - probe_vector, opts)));
+    candidates.retain(|c| c.iter().all(|&w| mount_reachable(w - probe_vector, opts)));
     // Candidates share legs (the climb, the last leg in): each leg is
     // checked once per margin.
     let mut checked = Vec::new();
@@ -78,7 +78,7 @@ pub fn plan_route(
 /// Whether the probe mount at `mount` (machine coordinates) lies inside
 /// the machine's travel ([`ModeOptions::travel_mm`]; anywhere when it is
 /// not known): a route whose waypoint the machine cannot reach is no route.
-fn within_travel(mount: Point3, opts: &ModeOptions) -> bool {
+fn mount_reachable(mount: Point3, opts: &ModeOptions) -> bool {
     opts.travel_mm
         .is_none_or(|(lo, hi)| (0..3).all(|k| (lo[k]..=hi[k]).contains(&mount[k])))
 }
