@@ -19,6 +19,7 @@ pub use run::{probe_calibration, run_program, run_program_traced, RunError, RunO
 
 use crate::formats::as_machined::AsMachinedSpec;
 use crate::host::inspect::clearance::memo::FreeSpaceMemo;
+use crate::host::inspect::design_memo::DesignMemo;
 use crate::machine::MachineProfile;
 use crate::program::{MachineFiles, ProfileSource, Program, ProgramError};
 use crate::world::as_machined::AsMachined;
@@ -41,6 +42,9 @@ pub struct SimulatedPart {
     /// The free-space answers of the design data, shared by every run of
     /// the program (a batch's variants).
     pub free_space: FreeSpaceMemo,
+    /// The section designs of its curves, shared by every run of the
+    /// program.
+    pub designs: DesignMemo,
 }
 
 /// Reads and validates a part program and the scenario it names; every
@@ -72,6 +76,7 @@ pub fn load_on(file: &Path, files: &MachineFiles) -> Result<SimulatedPart, Progr
         profile,
         load_s: started.elapsed().as_secs_f64(),
         free_space: FreeSpaceMemo::default(),
+        designs: DesignMemo::default(),
     })
 }
 

@@ -274,6 +274,7 @@ fn measure_program<'p>(
         supervisor: opts.supervisor,
         learned: &opts.learned,
         free: opts.direct_moves.then_some(&free as &dyn FreeSpace),
+        designs: &part.designs,
     };
     let mut learned = Vec::new();
     let measured = aligned

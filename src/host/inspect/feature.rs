@@ -2,6 +2,7 @@
 //! supervisor's corrections and fallbacks.
 use super::corners::{own_faces, section_design, CornerOptions};
 use super::correction::DesignPoint;
+use super::design_memo::DesignMemo;
 use super::reach::{Reach, Unreachable};
 use super::record::{AttemptMode, FeatureKind};
 use super::supervisor::{scan_curve, SupervisorOptions};
@@ -25,6 +26,8 @@ pub struct Run<'r> {
     /// Free space for direct moves (`None`: always over the clearance
     /// height).
     pub free: Option<&'r dyn FreeSpace>,
+    /// Section designs shared with the program's other runs.
+    pub designs: &'r DesignMemo,
 }
 
 /// A feature as measured, before its points are evaluated.
@@ -54,6 +57,7 @@ pub fn measure_feature(
         supervisor,
         learned: known,
         free,
+        designs,
     } = *run;
     let reach = free.map(|free| Reach {
         free,
@@ -75,19 +79,18 @@ pub fn measure_feature(
                 .iter()
                 .enumerate()
                 .map(|(k, c)| {
-                    let design: Vec<DesignPoint> = c
-                        .points
-                        .iter()
-                        .map(|p| DesignPoint {
-                            point: p.point,
-                            normal: p.normal,
-                        })
-                        .collect();
                     let r = probe.tip_radius_mm;
-                    let corners = CornerOptions::default();
-                    let on = (&program.workpiece, plane.normal());
-                    let own = own_faces(c);
-                    let design = section_design((&design, &own), c.closed, on, r, &corners);
+                    let design = designs.design((name, k), r, || {
+                        let design: Vec<DesignPoint> = (c.points.iter())
+                            .map(|p| DesignPoint {
+                                point: p.point,
+                                normal: p.normal,
+                            })
+                            .collect();
+                        let on = (&program.workpiece, plane.normal());
+                        let corners = CornerOptions::default();
+                        section_design((&design, &own_faces(c)), c.closed, on, r, &corners)
+                    });
                     if design.len() < 2 {
                         return not_measured(Unreachable::TooNarrow);
                     }
@@ -116,7 +119,7 @@ pub fn measure_feature(
                         learned,
                         free,
                     };
-                    let mut res = scan_curve(&mut ctx, design, c.closed, settings.mode);
+                    let mut res = scan_curve(&mut ctx, design.to_vec(), c.closed, settings.mode);
                     res.notes.extend(warning);
                     if let Some(l) = &res.learned {
                         learned_out.push((key, l.clone()));

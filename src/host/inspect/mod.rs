@@ -8,6 +8,7 @@ pub mod align;
 pub mod clearance;
 pub mod corners;
 pub mod correction;
+pub mod design_memo;
 pub mod feature;
 pub mod learned;
 pub mod prepared;

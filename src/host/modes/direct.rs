@@ -2,6 +2,7 @@
 //! free to the next probing start point when that line is clear of the
 //! part, instead of the detour over the clearance height.
 use super::motion::{free_stylus, travel};
+use super::route::{grid_point, mount_inside_soft_travel};
 use super::{HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
@@ -108,8 +109,9 @@ pub fn approach_standoff(
 const APPROACH_END_SHARE: f64 = 0.25;
 
 /// Moves straight to `target` (ball centre, ending at rest) when the line
-/// from where the stylus is free to `target` is clear; returns whether it
-/// did. When it is not, the probe is left free of the part, for the
+/// from where the stylus is free to `target` is clear (by way of the
+/// nearest point of the planning grid, [`ModeOptions::plan_grid_mm`], as
+/// routes are planned); returns whether it did. When it is not, the probe is left free of the part, for the
 /// measuring mode's own repositioning.
 pub fn direct_move(
     cmm: &mut dyn Machine,
@@ -121,9 +123,18 @@ pub fn direct_move(
     let mut tr = Tracker::new(cmm, probe).avoiding(Some(free)).escaping(opts);
     let away = free_stylus(cmm, &mut tr, opts)?;
     let from = away.unwrap_or_else(|| tr.ball_undeflected());
-    let clear = free.segment_clear(from, target);
+    let home = grid_point(from, opts.plan_grid_mm);
+    let via_home = home != from;
+    let clear = if via_home {
+        mount_inside_soft_travel(home - probe.probe_vector, opts)
+            && free.segment_clear(home, target)
+            && free.segment_clear(from, home)
+    } else {
+        free.segment_clear(from, target)
+    };
     let mut waypoints: Vec<Point3> = away.into_iter().collect();
     if clear {
+        waypoints.extend(via_home.then_some(home));
         waypoints.push(target);
     }
     tr.enter(cmm, Phase::Position);

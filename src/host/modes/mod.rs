@@ -221,6 +221,14 @@ pub struct ModeOptions {
     /// stop, mm: the axes lag the commands, and the braking that aims at
     /// the very end would touch the hard limit.
     pub soft_limit_mm: f64,
+    /// Spacing of the grid that moves between measurements are planned
+    /// from, mm: a route starts with a short leg from where the probe
+    /// came free (which the measurement decides) to the nearest grid
+    /// point, and is planned from there, so that a batch's parts, each
+    /// freeing the probe micrometres from the others, share their routes'
+    /// checks (a route is planned from the probe's own position when the
+    /// grid point gives none). 0: from the probe's own position.
+    pub plan_grid_mm: f64,
     /// How the probe backs out after it struck the part.
     pub escape: EscapeOptions,
 }
@@ -279,6 +287,7 @@ impl Default for ModeOptions {
             clearance_z_mm: None,
             travel_mm: None,
             soft_limit_mm: 0.1,
+            plan_grid_mm: 1.0,
             escape: EscapeOptions::default(),
         }
     }

@@ -358,7 +358,7 @@ pub fn reposition(
     match tr.free {
         Some(free) => {
             let route =
-                route::plan_route(free, (here, tr.probe.probe_vector), target, approach, opts);
+                route::plan_route_from(free, (here, tr.probe.probe_vector), target, approach, opts);
             let route = route.ok_or(Outcome::Blocked)?;
             waypoints.extend(route.waypoints);
             let roomy = free.margin_mm().is_none_or(|m| m >= BLEND_ROOM_MM);

@@ -75,12 +75,59 @@ pub fn plan_route(
     })
 }
 
+/// [`plan_route`] from where the probe came free, `here` (a point the
+/// measurement decides): first from the nearest point of the planning grid
+/// ([`ModeOptions::plan_grid_mm`]) with a first leg to it from `here`
+/// (clear with the route's margin), so that the checks of the route's
+/// legs are the same for every part of a batch whose probe comes free
+/// within the same grid cell; else from `here` itself.
+pub fn plan_route_from(
+    free: &dyn FreeSpace,
+    (here, probe_vector): (Point3, Vec3),
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Option<Route> {
+    let home = grid_point(here, opts.plan_grid_mm);
+    let via_home = (home != here).then(|| {
+        let route = plan_route(free, (home, probe_vector), target, approach, opts)?;
+        let reachable = mount_inside_soft_travel(home - probe_vector, opts);
+        (reachable && free.segment_clear_with(here, home, route.tight)).then(|| Route {
+            waypoints: std::iter::once(home).chain(route.waypoints).collect(),
+            ..route
+        })
+    });
+    via_home
+        .flatten()
+        .or_else(|| plan_route(free, (here, probe_vector), target, approach, opts))
+}
+
+/// The point of the grid of spacing `grid` (mm) nearest to `p`; `p` itself
+/// for a grid of no positive spacing. A coordinate rounded to zero is +0
+/// (the free-space answers are remembered by their inputs' bits).
+pub fn grid_point(p: Point3, grid: f64) -> Point3 {
+    if grid > 0.0 && grid.is_finite() {
+        p.map(|x| (x / grid).round() * grid + 0.0)
+    } else {
+        p
+    }
+}
+
 /// Whether the probe mount at `mount` (machine coordinates) lies inside
 /// the machine's travel ([`ModeOptions::travel_mm`]; anywhere when it is
 /// not known): a route whose waypoint the machine cannot reach is no route.
 fn mount_reachable(mount: Point3, opts: &ModeOptions) -> bool {
     opts.travel_mm
         .is_none_or(|(lo, hi)| (0..3).all(|k| (lo[k]..=hi[k]).contains(&mount[k])))
+}
+
+/// Whether the probe mount at `mount` lies inside the travel less
+/// [`ModeOptions::soft_limit_mm`] at each end, where the positioning moves
+/// reach their waypoints exactly (anywhere when the travel is not known).
+pub(super) fn mount_inside_soft_travel(mount: Point3, opts: &ModeOptions) -> bool {
+    let m = opts.soft_limit_mm;
+    opts.travel_mm
+        .is_none_or(|(lo, hi)| (0..3).all(|k| mount[k] >= lo[k] + m && mount[k] <= hi[k] - m))
 }
 
 /// Whether a route comes to `target` from the clearance height straight
@@ -206,6 +253,94 @@ mod tests {
             plan(&free, (here, Vec3::zeros()), target, -Vec3::z(), &opts()),
             None
         );
+    }
+
+    /// [`Slab`] that also refuses every segment touching the ball `r`
+    /// round `blocked` (a point probe), counting the segments asked.
+    struct Counting {
+        slab: Slab,
+        blocked: Option<(Point3, f64)>,
+        asked: std::cell::Cell<usize>,
+    }
+
+    impl FreeSpace for Counting {
+        fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+            self.asked.set(self.asked.get() + 1);
+            let hits = |(c, r): (Point3, f64)| {
+                let d = to - from;
+                let t = ((c - from).dot(&d) / d.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+                (from + d * t - c).norm() < r
+            };
+            !self.blocked.is_some_and(hits) && self.slab.segment_clear(from, to)
+        }
+    }
+
+    #[test]
+    fn plans_from_the_nearest_grid_point() {
+        // Two probes freed 0.2 mm apart in one grid cell: both routes go
+        // by the same grid point, then the same waypoints.
+        let free = Slab { r_hole: 6.0 };
+        let target = Point3::new(4.0, 0.0, 5.0);
+        let opts = opts();
+        let plan = |here: Point3| {
+            plan_route_from(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts)
+                .expect("a route")
+        };
+        let (a, b) = (
+            plan(Point3::new(40.3, 0.1, 20.2)),
+            plan(Point3::new(40.1, -0.1, 19.9)),
+        );
+        assert_eq!(a.waypoints.first(), Some(&Point3::new(40.0, 0.0, 20.0)));
+        assert_eq!(a, b);
+        // The rest is the route planned from the grid point itself.
+        let from_grid = plan_route(
+            &free,
+            (Point3::new(40.0, 0.0, 20.0), Vec3::zeros()),
+            target,
+            -Vec3::x(),
+            &opts,
+        );
+        assert_eq!(
+            a.waypoints.get(1..),
+            from_grid.as_ref().map(|r| &r.waypoints[..])
+        );
+    }
+
+    #[test]
+    fn plans_from_the_probe_when_the_grid_point_is_blocked() {
+        let here = Point3::new(40.3, 0.1, 20.2);
+        let free = Counting {
+            slab: Slab { r_hole: 6.0 },
+            blocked: Some((Point3::new(40.0, 0.0, 20.0), 0.05)),
+            asked: std::cell::Cell::new(0),
+        };
+        let target = Point3::new(4.0, 0.0, 5.0);
+        let route = plan_route_from(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts())
+            .expect("a route");
+        let direct = plan_route(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts());
+        assert_eq!(Some(route), direct);
+    }
+
+    #[test]
+    fn plans_from_the_probe_without_a_grid() {
+        let here = Point3::new(40.3, 0.1, 20.2);
+        let free = Counting {
+            slab: Slab { r_hole: 6.0 },
+            blocked: None,
+            asked: std::cell::Cell::new(0),
+        };
+        let opts = ModeOptions {
+            plan_grid_mm: 0.0,
+            ..opts()
+        };
+        let target = Point3::new(4.0, 0.0, 5.0);
+        let route = plan_route_from(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts);
+        let asked = free.asked.get();
+        let direct = plan_route(&free, (here, Vec3::zeros()), target, -Vec3::x(), &opts);
+        assert_eq!(route, direct);
+        assert_eq!(free.asked.get(), 2 * asked, "planned once only");
+        assert_eq!(grid_point(here, 0.0), here);
+        assert_eq!(grid_point(here, 0.5), Point3::new(40.5, 0.0, 20.0));
     }
 
     #[test]
