@@ -31,7 +31,7 @@ use crate::math::{Point3, Vec3};
 use crate::program::Pose;
 use crate::seam::ProbePart;
 use crate::workpiece::Workpiece;
-use area::AreaCheck;
+use area::{AreaCheck, AreaPiece};
 
 /// Smallest sampling step the check accepts, mm (a floor for a zero or
 /// negative `step_mm`, which would never stop cutting).
@@ -89,13 +89,16 @@ impl Default for ClearanceOptions {
     }
 }
 
-/// The probe body above the stylus: a cylinder from the probe mount on,
-/// along the stylus (away from the ball). The check takes the points
-/// within its radius of its axis from one radius above the mount to its
-/// top (a capsule whose lower cap ends at the mount): the cylinder's flat
-/// end holds no more than that cap below its rim, so the check never
-/// refuses a posture for the part lying just below the body, and leaves
-/// out only the ring between the cap and the flat end's rim.
+/// The probe body above the stylus: a solid cylinder with flat ends from
+/// the probe mount on, along the stylus (away from the ball). The check
+/// covers all of it: the points within its radius of its axis from one
+/// radius above the mount to its top (a capsule whose lower cap ends at
+/// the mount) by the axis' swept area, and the flat end's region below
+/// (the disc and the ring round the cap) by its boundary (see the `body`
+/// module). Every point of the cylinder (swept along a move) keeps the
+/// margin less `step_mm / sqrt(2)` (less `step_mm` on the flat end's rim);
+/// the check reaches no farther below the flat end than the margin, so a
+/// part more than the margin below it is clear.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProbeBody {
     /// Radius, mm.
@@ -254,11 +257,12 @@ struct Known {
 }
 
 impl Known {
-    /// What the look at `parent`, whose sample keeps at least `d`, tells
-    /// of `half`'s sample: at least `d` less the distance between the two
-    /// (the distance from the part changes no faster than the point).
-    fn from(parent: &Piece, d: f64, half: &Piece) -> Known {
-        let apart = (half.sample() - parent.sample()).norm();
+    /// What the look at a parent's sample `parent`, which keeps at least
+    /// `d`, tells of its half's sample `half`: at least `d` less the
+    /// distance between the two (the distance from the part changes no
+    /// faster than the point).
+    fn from(parent: Point3, d: f64, half: Point3) -> Known {
+        let apart = (half - parent).norm();
         Known {
             floor: d - apart,
             same: apart == 0.0,
@@ -299,7 +303,7 @@ impl PartClearance<'_> {
     /// touching when that comes too close, clear when it is far enough for
     /// the whole piece (sphere tracing) or when the piece is fine enough to
     /// be judged by its sample.
-    fn verdict(&self, piece: &Piece, known: Known, check: &mut AreaCheck) -> Verdict {
+    fn verdict<P: AreaPiece>(&self, piece: &P, known: Known, check: &mut AreaCheck) -> Verdict {
         let (need, reach) = (check.need, piece.reach());
         let fine = reach <= check.fine_reach;
         // A fine piece is judged by its sample alone: its boxes could only
@@ -307,7 +311,8 @@ impl PartClearance<'_> {
         let clear = if fine {
             known.floor >= need
         } else {
-            known.same && known.floor >= need + reach || !self.boxes_near(piece, check)
+            let far = known.same && known.floor >= need + reach;
+            far || !self.boxes_near(piece.hull().as_ref(), check)
         };
         if clear {
             return Verdict::Clear;
@@ -329,20 +334,35 @@ impl PartClearance<'_> {
     /// Whether every point of `area` keeps `need` from the part (to the
     /// sampling `step`), cutting it as far as that takes.
     fn area_clear(&self, area: Piece, need: f64, step: f64) -> bool {
-        let mut check = AreaCheck::new(need, step * std::f64::consts::FRAC_1_SQRT_2, &area);
+        let check = AreaCheck::new(need, step * std::f64::consts::FRAC_1_SQRT_2, area.axes());
+        self.pieces_clear([area], check)
+    }
+
+    /// Whether every point of `pieces` keeps the distance `check`
+    /// requires (to its sampling step), cutting them as far as that takes;
+    /// the pieces are looked at in order.
+    fn pieces_clear<P: AreaPiece>(
+        &self,
+        pieces: impl IntoIterator<Item = P>,
+        mut check: AreaCheck,
+    ) -> bool {
         let start = Known {
             floor: 0.0,
             same: false,
         };
-        let mut pieces = vec![(area, start)];
+        let mut pieces: Vec<(P, Known)> = pieces.into_iter().map(|p| (p, start)).collect();
+        pieces.reverse();
         while let Some((piece, known)) = pieces.pop() {
             match self.verdict(&piece, known, &mut check) {
                 Verdict::Clear => {}
                 Verdict::Touches => return false,
                 Verdict::Split(d) => {
                     // The first half is looked at first.
-                    let [first, second] = piece.halves();
-                    pieces.extend([second, first].map(|h| (h, Known::from(&piece, d, &h))));
+                    let ([first, second], s) = (piece.halves(), piece.sample());
+                    pieces.extend([second, first].map(|h| {
+                        let known = Known::from(s, d, h.sample());
+                        (h, known)
+                    }));
                 }
             }
         }
@@ -351,16 +371,6 @@ impl PartClearance<'_> {
 }
 
 impl PartClearance<'_> {
-    /// The area the probe body sweeps when the ball centre moves from
-    /// `from` to `to` (machine), in part coordinates.
-    fn body_swept(&self, from: Point3, to: Point3, body: &ProbeBody) -> Option<Piece> {
-        let (bottom, top) = body_axis(self.stylus, body)?;
-        Some(self.swept(from + bottom, to + bottom)).map(|p| Piece {
-            b: self.pose.to_part(from + top) - p.origin,
-            ..p
-        })
-    }
-
     /// Whether the ball, the stylus and the body keep `margin` (mm) from
     /// the part on the move from `from` to `to` (machine).
     fn probe_clear(&self, from: Point3, to: Point3, margin: f64) -> bool {
@@ -370,12 +380,7 @@ impl PartClearance<'_> {
         let stylus_clear =
             finite(&stylus) && self.area_clear(stylus, self.tip_radius_mm + margin, step);
         stylus_clear
-            && self.body.is_none_or(|body| {
-                let area = self.body_swept(from, to, &body);
-                area.is_some_and(|a| {
-                    finite(&a) && self.area_clear(a, body.radius_mm + margin, step)
-                })
-            })
+            && (self.body).is_none_or(|body| self.body_clear((from, to), &body, margin, step))
     }
 }
 
@@ -409,25 +414,10 @@ impl PartClearance<'_> {
                     )
             }
             (false, _, None) => finite,
-            (true, Some(b), Some(_)) => match body_axis(self.stylus, &b) {
-                Some((bottom, top)) => {
-                    let area = piece(ball + bottom, top - bottom);
-                    finite && self.area_clear(area, b.radius_mm + margin, step)
-                }
-                None => true,
-            },
+            (true, Some(b), Some(_)) => finite && self.body_clear((ball, ball), &b, margin, step),
             (true, _, _) => true,
         }
     }
-}
-
-/// The body's checked axis from the ball centre, mm: from one body radius
-/// above the probe mount to the body's top (`None`: no stylus direction,
-/// or a body no longer than its radius, which the stylus check covers).
-fn body_axis(stylus: Vec3, body: &ProbeBody) -> Option<(Vec3, Vec3)> {
-    let up = stylus.try_normalize(1e-12)?;
-    let (bottom, top) = (body.radius_mm, body.length_mm);
-    (top > bottom).then(|| (stylus + up * bottom, stylus + up * top))
 }
 
 impl FreeSpace for PartClearance<'_> {
@@ -485,6 +475,7 @@ impl FreeSpace for PartClearance<'_> {
 }
 
 mod area;
+mod body;
 pub mod memo;
 
 #[cfg(test)]

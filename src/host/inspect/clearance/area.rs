@@ -41,13 +41,14 @@ pub(super) struct AreaCheck {
 }
 
 impl AreaCheck {
-    /// The check of `area` for the distance `need` (mm), judging pieces
-    /// within `fine_reach` (mm) of their samples by the samples alone.
-    pub(super) fn new(need: f64, fine_reach: f64, area: &Piece) -> AreaCheck {
+    /// The check of an area with the separating axes `axes` for the
+    /// distance `need` (mm), judging pieces within `fine_reach` (mm) of
+    /// their samples by the samples alone.
+    pub(super) fn new(need: f64, fine_reach: f64, axes: Axes) -> AreaCheck {
         AreaCheck {
             need,
             fine_reach,
-            axes: area.axes(),
+            axes,
             near: Vec::new(),
             faces: Vec::new(),
             hint: None,
@@ -72,6 +73,46 @@ impl AreaCheck {
     }
 }
 
+/// A piece of a checked area: the check looks at its sample, bounds the
+/// rest by its reach and its hull, and cuts it in two while undecided.
+pub(super) trait AreaPiece: Sized {
+    /// Points whose convex hull holds the piece.
+    type Hull: AsRef<[Point3]>;
+
+    /// Points whose convex hull holds the piece (part coordinates).
+    fn hull(&self) -> Self::Hull;
+
+    /// The point that stands for the piece (part coordinates).
+    fn sample(&self) -> Point3;
+
+    /// An upper bound of the distance from the sample to the piece's
+    /// farthest point, mm.
+    fn reach(&self) -> f64;
+
+    /// The piece cut in two, the half looked at first first.
+    fn halves(&self) -> [Self; 2];
+}
+
+impl AreaPiece for Piece {
+    type Hull = [Point3; 4];
+
+    fn hull(&self) -> [Point3; 4] {
+        self.corners()
+    }
+
+    fn sample(&self) -> Point3 {
+        Piece::sample(self)
+    }
+
+    fn reach(&self) -> f64 {
+        Piece::reach(self)
+    }
+
+    fn halves(&self) -> [Piece; 2] {
+        Piece::halves(self)
+    }
+}
+
 /// The box round `points`.
 fn box_of(points: &[Point3]) -> (Point3, Point3) {
     let first = points.first().copied().unwrap_or_else(Point3::origin);
@@ -80,18 +121,17 @@ fn box_of(points: &[Point3]) -> (Point3, Point3) {
 
 impl PartClearance<'_> {
     /// Whether some face's leaf boxes may come within the required
-    /// distance of `piece` (with the axes of the area it was cut from).
-    /// The face found near last is tried first.
-    pub(super) fn boxes_near(&self, piece: &Piece, check: &mut AreaCheck) -> bool {
-        let hull = piece.corners();
-        let (lo, hi) = box_of(&hull);
+    /// distance of the convex hull of `hull` (with the axes of the area it
+    /// was cut from). The face found near last is tried first.
+    pub(super) fn boxes_near(&self, hull: &[Point3], check: &mut AreaCheck) -> bool {
+        let (lo, hi) = box_of(hull);
         let size = lo.coords.abs().max().max(hi.coords.abs().max());
         let pad = Vec3::repeat(check.need + BOX_ROUNDING * (1.0 + size));
         let mut near = std::mem::take(&mut check.near);
         self.workpiece
             .faces_overlapping(lo - pad, hi + pad, &mut near);
         let axes = (check.axes.normals.as_slice(), check.axes.edges.as_slice());
-        let shape = HullShadows::new(&hull, axes);
+        let shape = HullShadows::new(hull, axes);
         let first = near.partition_point(|&i| i < check.near_face);
         let (before, after) = near.split_at(first);
         let found = after.iter().chain(before).copied().find(|&i| {
