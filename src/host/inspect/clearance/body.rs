@@ -407,3 +407,6 @@ impl AreaPiece for Patch {
         }
     }
 }
+
+#[cfg(test)]
+mod tests;
