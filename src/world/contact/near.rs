@@ -154,8 +154,10 @@ impl NearList {
             self.taken += 1;
             return Some(e);
         }
-        let threshold = self.heap.peek().map_or(self.cap, |r| r.0.min(self.cap));
+        // The threshold falls as leaves come in: a listed leaf whose bound
+        // here cannot come under the least one looked at stays unlooked.
         while let Some(&(listed, id)) = self.entries.get(self.next) {
+            let threshold = self.heap.peek().map_or(self.cap, |r| r.0.min(self.cap));
             if listed - self.shift > threshold {
                 break;
             }
@@ -193,6 +195,35 @@ mod tests {
             .collect();
         all.sort_unstable_by(by_bound);
         all
+    }
+
+    /// The first leaf of a long list is found looking at the few leaves
+    /// whose listed bound, less the shift, comes under the least bound
+    /// found so far, not at every leaf under the cap.
+    #[test]
+    fn the_first_leaf_is_found_looking_at_few() {
+        let wp = flange();
+        let pieces = Pieces::new(&wp, &LeafOptions::default());
+        let leaves = Leaves::of(&pieces, &machined(&wp)).leaves;
+        let tree = pieces.tree.refit(&leaves);
+        let mut list = NearList::default();
+        let (mut lists, mut looked, mut listed) = (0, 0, 0);
+        for k in 0..40 {
+            let leaf = &leaves[(k * 37) % leaves.len()];
+            let a = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5;
+            let radius = 8.0;
+            list.list(&tree, &leaves, a, radius);
+            if list.entries.len() <= SORTED_MAX {
+                continue;
+            }
+            let y = a + Vec3::new(0.01, -0.02, 0.015);
+            let want = sorted(&leaves, y, radius - 0.03, None);
+            list.start(&leaves, y, radius - 0.03, None);
+            assert_eq!(list.pop(&leaves), want.first().copied(), "query {k}");
+            (lists, looked, listed) = (lists + 1, looked + list.next, listed + want.len());
+        }
+        assert!(lists > 10, "{lists} long lists");
+        assert!(looked * 10 < listed, "looked at {looked} of {listed}");
     }
 
     /// Queries at points moved up to the list's slack from where it was
