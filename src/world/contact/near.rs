@@ -197,15 +197,21 @@ mod tests {
         all
     }
 
+    /// The machined flange's leaves and their tree.
+    fn flange_leaves() -> (Vec<Leaf>, LeafTree) {
+        let wp = flange();
+        let pieces = Pieces::new(&wp, &LeafOptions::default());
+        let leaves = Leaves::of(&pieces, &machined(&wp)).leaves;
+        let tree = pieces.tree.refit(&leaves);
+        (leaves, tree)
+    }
+
     /// The first leaf of a long list is found looking at the few leaves
     /// whose listed bound, less the shift, comes under the least bound
     /// found so far, not at every leaf under the cap.
     #[test]
     fn the_first_leaf_is_found_looking_at_few() {
-        let wp = flange();
-        let pieces = Pieces::new(&wp, &LeafOptions::default());
-        let leaves = Leaves::of(&pieces, &machined(&wp)).leaves;
-        let tree = pieces.tree.refit(&leaves);
+        let (leaves, tree) = flange_leaves();
         let mut list = NearList::default();
         let (mut lists, mut looked, mut listed) = (0, 0, 0);
         for k in 0..40 {
@@ -232,10 +238,7 @@ mod tests {
     /// the leaves whose bound at its point is below its radius.
     #[test]
     fn the_lazy_order_is_the_sorted_order() {
-        let wp = flange();
-        let pieces = Pieces::new(&wp, &LeafOptions::default());
-        let leaves = Leaves::of(&pieces, &machined(&wp)).leaves;
-        let tree = pieces.tree.refit(&leaves);
+        let (leaves, tree) = flange_leaves();
         let mut rng = rand::rngs::ChaCha8Rng::seed_from_u64(11);
         let mut unit =
             || Vec3::new(rng.random(), rng.random(), rng.random()) * 2.0 - Vec3::repeat(1.0);
