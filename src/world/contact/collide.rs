@@ -9,7 +9,7 @@
 //!   `m + radius |e' - e|` of the old one, so no check runs until that
 //!   reaches `L`.
 //! - **Broad phase**: the leaves whose bound comes within the radius plus
-//!   [`CollisionOptions::margin_mm`] of the axis segment (an exact
+//!   the check's margin (at most [`CollisionOptions::margin_mm`]) of the axis segment (an exact
 //!   segment-box distance and the leaf's slab); with none, `L` is the
 //!   nearest leaf bound less the radius. A leaf whose bound keeps
 //!   [`CollisionOptions::certify_mm`] from the cylinder's surface is
@@ -43,6 +43,8 @@
 //!   its trim, over a hole too: they only choose the seeds, the descent's
 //!   point queries honour the trims.
 mod descent;
+#[cfg(test)]
+mod tests;
 
 use super::search::{Cursor, PartIndex};
 use super::shapes::{Cylinder, Segment};
@@ -56,10 +58,20 @@ use crate::world::as_machined::AsMachined;
 /// Tolerances of the collision check of the probe's shaft and body (mm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CollisionOptions {
-    /// Leaves whose bound comes within the part's radius plus this (mm) of
-    /// its axis are checked exactly; after an exact check the free-air
-    /// bound is at most this.
+    /// Leaves whose bound comes within the part's radius plus the check's
+    /// margin (mm) of its axis are checked exactly; after an exact check
+    /// the free-air bound is at most that margin. The margin is at most
+    /// this.
     pub margin_mm: f64,
+    /// The check's margin is [`Self::margin_growth`] times the last
+    /// check's free-air bound, but not under this (mm) nor over
+    /// [`Self::margin_mm`]: a probe part that runs close beside the part
+    /// (a stylus down a small bore) looks only at the leaves near it,
+    /// while one in free air keeps the full margin.
+    pub min_margin_mm: f64,
+    /// See [`Self::min_margin_mm`]: the free-air bound can grow by this
+    /// factor from one check to the next.
+    pub margin_growth: f64,
     /// A probe part collides once a point of it lies this far (mm) inside
     /// the material, or a point of the part's surface this far inside it:
     /// a touch within this counts as free (the ball's roughness and the
@@ -85,17 +97,26 @@ pub struct CollisionOptions {
     /// and slab hold the true surface over it, so the bound is a true
     /// lower bound); the free-air bound is then at most that bound.
     pub certify_mm: f64,
-    /// The leaves near the axis are listed this much (mm) beyond what a
-    /// check needs, and the list serves the next checks while neither
-    /// axis end has moved farther than that (a leaf's bound from the axis
-    /// changes by at most the larger end move).
-    pub list_slack_mm: f64,
+    /// The leaves near the axis are listed this many margins (at most
+    /// [`Self::max_list_slack_mm`]) beyond what a check needs, and the
+    /// list serves the next checks while neither axis end has moved
+    /// farther than that (a leaf's bound from the axis changes by at most
+    /// the larger end move): a shaft close beside the part lists again
+    /// after a short move rather than looking again at every leaf a long
+    /// move could have brought near (a list made for a wider margin
+    /// serves only while the axis has moved less than this check's
+    /// slack).
+    pub list_slack_margins: f64,
+    /// See [`Self::list_slack_margins`], mm.
+    pub max_list_slack_mm: f64,
 }
 
 impl Default for CollisionOptions {
     fn default() -> Self {
         CollisionOptions {
             margin_mm: 1.0,
+            min_margin_mm: 0.1,
+            margin_growth: 4.0,
             penetration_mm: 1e-3,
             tolerance_mm: 1e-4,
             line_tolerance_mm: 1e-3,
@@ -103,7 +124,8 @@ impl Default for CollisionOptions {
             seed_merge_mm: 1.0,
             reach_mm: 5.0,
             certify_mm: 0.05,
-            list_slack_mm: 2.0,
+            list_slack_margins: 2.0,
+            max_list_slack_mm: 2.0,
         }
     }
 }
@@ -152,6 +174,9 @@ pub struct PartCheck {
     order: Vec<(f64, u32)>,
     seeds: Vec<Point3>,
     exact_checks: u64,
+    /// Leaf bounds the broad phase worked out so far: the leaves listed
+    /// and the listed leaves looked at again.
+    bounds_looked: u64,
     /// The leaves listed near the axis: the axis ends and the distance
     /// (mm) they were listed within, and the leaves with their bounds
     /// from the axis then (mm).
@@ -163,6 +188,8 @@ pub struct PartCheck {
     reach: f64,
     /// [`ContactOptions::free_air_ratio`].
     free_air_ratio: f64,
+    /// The margin of the check running, mm.
+    margin: f64,
 }
 
 impl PartCheck {
@@ -176,10 +203,12 @@ impl PartCheck {
             order: Vec::new(),
             seeds: Vec::new(),
             exact_checks: 0,
+            bounds_looked: 0,
             listed_at: None,
             listed: Vec::new(),
             reach: opts.reach_mm,
             free_air_ratio: contact.free_air_ratio,
+            margin: opts.margin_mm,
         }
     }
 
@@ -195,6 +224,14 @@ impl PartCheck {
     /// mm.
     fn slack(&self) -> f64 {
         self.opts.tolerance_mm.max(self.opts.line_tolerance_mm)
+    }
+
+    /// The margin of the next exact check, mm (see
+    /// [`CollisionOptions::min_margin_mm`]).
+    fn margin(&self) -> f64 {
+        let o = &self.opts;
+        let last = self.anchor.map_or(o.margin_mm, |k| k.floor);
+        (o.margin_growth * last).clamp(o.min_margin_mm, o.margin_mm)
     }
 
     /// Number of exact checks run so far.
@@ -265,7 +302,9 @@ impl PartCheck {
     ) -> Result<Result<f64, Strike>, ProjectionError> {
         let seg = cyl.segment();
         let leaves = &ix.leaves.leaves;
-        let near = cyl.radius + self.opts.margin_mm;
+        let margin = self.margin();
+        self.margin = margin;
+        let near = cyl.radius + margin;
         self.near_leaves(ix, seg, near);
         let listed = !self.order.is_empty();
         // The listed bounds are the axis's distance; beyond an end cap the
@@ -280,7 +319,7 @@ impl PartCheck {
             // Every leaf keeps the margin (those listed by their end gap),
             // or none was near: the nearest leaf's bound.
             let far = match listed {
-                true => self.opts.margin_mm,
+                true => margin,
                 false => {
                     let kept = (cyl.radius, self.free_air_ratio);
                     ix.tree.nearest_within(leaves, seg, kept) - cyl.radius
@@ -316,7 +355,7 @@ impl PartCheck {
             keep
         });
         self.order.sort_unstable_by(super::near::by_bound);
-        let mut floor = self.opts.margin_mm;
+        let mut floor = margin;
         self.seeds.clear();
         let mut least: Option<(f64, Point3)> = None;
         let nearest = self.order.first().map_or(rest, |o| o.0);
@@ -384,7 +423,7 @@ impl PartCheck {
     /// Fills `self.order` with every leaf whose bound from `seg` is below
     /// `radius`, with its bound (in no particular order): from the listed
     /// leaves while the list serves, else from the tree (listing again,
-    /// [`CollisionOptions::list_slack_mm`] wider). A leaf's bound is the
+    /// [`CollisionOptions::list_slack_margins`] wider). A leaf's bound is the
     /// larger of a box and a slab distance, each moving by at most the
     /// larger end move `m` when the axis moves (every point of the axis
     /// moves by at most that), so a listed leaf whose bound then was at
@@ -393,10 +432,13 @@ impl PartCheck {
         let leaves = &ix.leaves.leaves;
         self.order.clear();
         let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
-        let fresh = self.listed_at.filter(|l| l.2 - moved(*l) >= radius);
+        let o = &self.opts;
+        let slack = (o.list_slack_margins * self.margin).min(o.max_list_slack_mm);
+        let fresh = (self.listed_at).filter(|l| l.2 - moved(*l) >= radius && moved(*l) <= slack);
         let Some(listed_at) = fresh else {
-            let wide = radius + self.opts.list_slack_mm;
+            let wide = radius + slack;
             ix.tree.within_bounds(leaves, seg, wide, &mut self.order);
+            self.bounds_looked += self.order.len() as u64;
             self.listed.clear();
             self.listed.extend_from_slice(&self.order);
             self.listed_at = Some((seg.a, seg.b, wide));
@@ -412,6 +454,7 @@ impl PartCheck {
             let Some(l) = leaves.get(id as usize) else {
                 continue;
             };
+            self.bounds_looked += 1;
             match seg.leaf_bound_within(l, r2) {
                 Some(bound) if bound < radius => self.order.push((bound, id)),
                 _ => {}

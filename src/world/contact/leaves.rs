@@ -42,7 +42,7 @@ impl Default for LeafOptions {
         LeafOptions {
             flatness: 0.05,
             max_flat_depth: 8,
-            trim_leaf_mm: 4.0,
+            trim_leaf_mm: 8.0,
             max_trim_depth: 16,
             trim_box_mm: 0.15,
             max_trim_box_depth: 12,

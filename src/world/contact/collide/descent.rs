@@ -36,7 +36,7 @@ impl PartCheck {
         // point within the tolerance of it is not looked at again.
         let mut last_support: Option<(Point3, TrueContact)> = None;
         for _ in 0..self.opts.max_steps {
-            let near = c.distance.max(0.0) + self.opts.margin_mm;
+            let near = c.distance.max(0.0) + self.margin;
             self.reach = near.min(self.opts.reach_mm);
             let support = cyl.support(-c.push, p);
             // The closest point barely moved from `p` and not downhill
