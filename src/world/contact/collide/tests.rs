@@ -39,7 +39,6 @@ fn feet(wp: &Workpiece, am: &AsMachined) -> Vec<(Point3, Vec3)> {
 /// Runs 40 checks of a 10 mm shaft whose axis passes `gap` (mm) outside
 /// the surface at `foot` (normal `n`) along the surface, moved 0.02 mm a
 /// check; the answers and the leaf bounds looked at.
-
 fn run(
     (wp, am, ix): (&Workpiece, &AsMachined, &PartIndex),
     (foot, n): (Point3, Vec3),
