@@ -9,9 +9,9 @@
 //!   `m + radius |e' - e|` of the old one, so no check runs until that
 //!   reaches `L`.
 //! - **Broad phase**: the leaves whose bound comes within the radius plus
-//!   the check's margin (at most [`CollisionOptions::margin_mm`]) of the axis segment (an exact
-//!   segment-box distance and the leaf's slab); with none, `L` is the
-//!   nearest leaf bound less the radius. A leaf whose bound keeps
+//!   the check's margin (at most [`CollisionOptions::margin_mm`]) of the
+//!   axis segment (an exact segment-box distance and the leaf's slab);
+//!   with none, `L` is the nearest leaf bound less the radius. A leaf whose bound keeps
 //!   [`CollisionOptions::certify_mm`] from the cylinder's surface is
 //!   cleared by its bound alone (a shaft running 0.4 mm beside a wall is
 //!   cleared this way, without a descent).
@@ -228,7 +228,7 @@ impl PartCheck {
 
     /// The margin of the next exact check, mm (see
     /// [`CollisionOptions::min_margin_mm`]).
-    fn margin(&self) -> f64 {
+    fn next_margin(&self) -> f64 {
         let o = &self.opts;
         let last = self.anchor.map_or(o.margin_mm, |k| k.floor);
         (o.margin_growth * last).clamp(o.min_margin_mm, o.margin_mm)
@@ -302,7 +302,7 @@ impl PartCheck {
     ) -> Result<Result<f64, Strike>, ProjectionError> {
         let seg = cyl.segment();
         let leaves = &ix.leaves.leaves;
-        let margin = self.margin();
+        let margin = self.next_margin();
         self.margin = margin;
         let near = cyl.radius + margin;
         self.near_leaves(ix, seg, near);

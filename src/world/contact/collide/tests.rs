@@ -75,10 +75,11 @@ fn a_shaft_close_beside_the_part_looks_at_the_leaves_near_it() {
     // Places where the shaft runs free of the part all along.
     let free: Vec<_> = (feet(&wp, &am).into_iter())
         .filter(|&f| run(part, f, &full, 0.02).0.iter().all(|hit| !hit))
+        .take(3)
         .collect();
     assert!(free.len() >= 3, "{}", free.len());
     let (mut looked, mut looked_full) = (0, 0);
-    for &f in free.iter().take(3) {
+    for &f in &free {
         let (hits, n) = run(part, f, &adaptive, 0.02);
         assert!(hits.iter().all(|hit| !hit));
         looked += n;
