@@ -207,6 +207,32 @@ fn a_groove_narrower_than_the_ball_is_not_measured() {
     assert_eq!(boss["status"], "pass");
 }
 
+/// A touch point on the flange's face beside the boss with a 5 mm ball:
+/// the route comes out over the face and then straight down beside the
+/// boss (4.5 mm clear of it). The positioning move follows that route, so
+/// the ball touches nothing on the way and the point is measured (a move
+/// that swung round its corner ran the ball into the boss at 27 mm/s).
+#[test]
+fn a_touch_point_beside_the_boss_is_reached_without_touching_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "beside-boss",
+        "workpiece": s(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, -90, 0] },
+        "probe": { "tip_diameter_mm": 5.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [
+            { "name": "flange-top", "type": "touch_points", "points_mm": [[6, 38, 0]],
+              "surfaces": ["face10"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let file = dir.path().join("beside.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let (report, trace) = scan_ideal_ending(&file, dir.path(), 0);
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "pass", "{f}");
+    assert_eq!(f["points"].as_array().unwrap().len(), 1);
+    positioning_touches_nothing_over(&trace, 100);
+}
+
 #[test]
 fn abc_lamp_program_measures_every_feature_exactly() {
     let out = tempfile::tempdir().unwrap();

@@ -509,18 +509,15 @@ pub(super) fn travel(
         .map(|&w| inside_travel(w - pv, opts) + pv)
         .collect();
     let waypoints = inside.as_slice();
-    let corners = corner_speeds(tr.ball_undeflected(), waypoints, speed, end_speed, a);
+    let start = tr.ball_undeflected();
+    let corners = corner_speeds(start, waypoints, speed, end_speed, a);
     let max_dv = a * cmm.cycle_s();
     let mut v_prev = tr.command;
     let mut k = 0;
     let mut guard = Guard::new(tr, opts);
     for _ in 0..opts.max_cycles {
         let here = tr.ball_undeflected();
-        while k + 1 < waypoints.len()
-            && waypoints
-                .get(k)
-                .is_some_and(|w| (w - here).norm() <= WAYPOINT_PASS_MM)
-        {
+        while k + 1 < waypoints.len() && passed(here, start, waypoints, k) {
             k += 1;
         }
         let (Some(&w), Some(ahead)) = (waypoints.get(k), waypoints.get(k..)) else {
@@ -531,14 +528,12 @@ pub(super) fn travel(
             return Ok(());
         }
         let limit = speed_limit(here, ahead, corners.get(k..).unwrap_or(&[]), speed, a);
-        let want = err
-            .try_normalize(1e-12)
-            .map_or(Vec3::zeros(), |d| d * limit.max(end_speed));
+        let leg = leg_direction(start, waypoints, k).unwrap_or(err);
+        let want = along_leg(err, leg, limit.max(end_speed), a);
         let want = within_travel(want, tr.now.scales, v_prev, opts);
-        let dv = want - v_prev;
         // The travel's envelope holds whatever the acceleration budget
         // left for each axis (a blended corner spends it sideways).
-        let v = v_prev + dv * (max_dv / dv.norm().max(max_dv));
+        let v = v_prev + budgeted(want - v_prev, leg, max_dv);
         let v = within_travel(v, tr.now.scales, v_prev, opts);
         if let Some(o) = tr.step(cmm, v) {
             return Err(o);
@@ -547,6 +542,64 @@ pub(super) fn travel(
         v_prev = v;
     }
     Err(Outcome::Aborted)
+}
+
+/// Whether the move at `here` is done with waypoint `k` (of the move from
+/// `start` through `waypoints`): within [`WAYPOINT_PASS_MM`] of it, or
+/// past it along its leg (a blended corner that swung wide of it).
+fn passed(here: Point3, start: Point3, waypoints: &[Point3], k: usize) -> bool {
+    let Some(w) = waypoints.get(k) else {
+        return true;
+    };
+    let beyond = leg_direction(start, waypoints, k).is_some_and(|d| (here - w).dot(&d) >= 0.0);
+    (w - here).norm() <= WAYPOINT_PASS_MM || beyond
+}
+
+/// The unit direction of the leg that ends at waypoint `k` (from `start`
+/// for the first), `None` for a leg of no length.
+fn leg_direction(start: Point3, waypoints: &[Point3], k: usize) -> Option<Vec3> {
+    let from = match k {
+        0 => start,
+        _ => *waypoints.get(k - 1)?,
+    };
+    (waypoints.get(k)? - from).try_normalize(1e-9)
+}
+
+/// The velocity wanted `err` before the end of a leg running along the
+/// unit `leg`: `speed` along the leg towards its end, and back onto the
+/// leg's line across it (at the proportional gain, no faster than the
+/// acceleration `a` can stop over the distance), so that the ball follows
+/// the route the clearance checks passed rather than swinging round the
+/// waypoint it aims at.
+fn along_leg(err: Vec3, leg: Vec3, speed: f64, a: f64) -> Vec3 {
+    let Some(leg) = leg.try_normalize(1e-12) else {
+        return Vec3::zeros();
+    };
+    let along = err.dot(&leg);
+    let across = err - leg * along;
+    let off = across.norm();
+    let back = (POSITION_GAIN * off).min((2.0 * BRAKE_SHARE * a * off).sqrt());
+    let sideways = across
+        .try_normalize(1e-12)
+        .map_or(Vec3::zeros(), |u| u * back);
+    leg * (speed * along.signum()) + sideways
+}
+
+/// The velocity change `dv` within the budget `max_dv` (mm/s a cycle),
+/// its part across the unit `leg` first: the speed that would carry the
+/// ball off the leg's line goes before any gain along it.
+fn budgeted(dv: Vec3, leg: Vec3, max_dv: f64) -> Vec3 {
+    let Some(leg) = leg.try_normalize(1e-12) else {
+        return dv * (max_dv / dv.norm().max(max_dv));
+    };
+    let along = leg * dv.dot(&leg);
+    let across = dv - along;
+    let n = across.norm();
+    if n >= max_dv {
+        return across * (max_dv / n);
+    }
+    let left = (max_dv * max_dv - n * n).sqrt();
+    across + along * (left / along.norm().max(left))
 }
 
 /// How long the machine's axes may lag behind the commanded positions,
