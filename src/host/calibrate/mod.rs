@@ -67,6 +67,12 @@ pub struct CalibrationOptions {
     pub max_iterations: usize,
     /// Deflections closer than this count as one level, mm.
     pub level_tolerance_mm: f64,
+    /// A level of the scans' readings counts towards the degree of the
+    /// normal-tilt polynomials only when it holds at least this share
+    /// (dimensionless, 0..1) of its group's readings: the few readings of
+    /// a scan's start and end, on the way to or from the target
+    /// deflection, are no level the scans were made at.
+    pub level_min_share: f64,
     /// Measuring-mode gains and thresholds (trigger deflection etc.).
     pub modes: ModeOptions,
 }
@@ -90,6 +96,7 @@ impl Default for CalibrationOptions {
             step_tolerance_mm: 1e-10,
             max_iterations: 30,
             level_tolerance_mm: 0.02,
+            level_min_share: 0.1,
             modes: ModeOptions::default(),
         }
     }

@@ -218,7 +218,7 @@ fn tilts(
             }
         }
     }
-    let fitted = groups.map(|g| g.map(|s| fit_poly(&s, opts.level_tolerance_mm)));
+    let fitted = groups.map(|g| g.map(|s| fit_poly(&s, opts)));
     fill_missing(fitted)
 }
 
@@ -239,12 +239,10 @@ fn tilt_sample(
 }
 
 /// Weighted least-squares polynomial in the deflection, its degree limited
-/// by the distinct deflections present; `None` without data.
-fn fit_poly(samples: &[(f64, f64, f64)], level_tol: f64) -> Option<DeflectionPoly> {
-    let mut levels: Vec<f64> = samples.iter().map(|s| s.0).collect();
-    levels.sort_by(f64::total_cmp);
-    levels.dedup_by(|a, b| (*a - *b).abs() < level_tol);
-    let terms = levels.len().min(CORRECTION_TERMS);
+/// by the levels the readings were taken at; `None` without data.
+fn fit_poly(samples: &[(f64, f64, f64)], opts: &CalibrationOptions) -> Option<DeflectionPoly> {
+    let levels: Vec<f64> = samples.iter().map(|s| s.0).collect();
+    let terms = held_levels(levels, opts).min(CORRECTION_TERMS);
     if terms == 0 {
         return None;
     }
@@ -259,6 +257,24 @@ fn fit_poly(samples: &[(f64, f64, f64)], level_tol: f64) -> Option<DeflectionPol
     let mut poly = [0.0; CORRECTION_TERMS];
     poly.iter_mut().zip(sol.iter()).for_each(|(p, s)| *p = *s);
     Some(poly)
+}
+
+/// The number of levels among the deflections `d` (runs within
+/// [`CalibrationOptions::level_tolerance_mm`] of their first, sorted) that
+/// hold at least [`CalibrationOptions::level_min_share`] of them; at least
+/// one when there are any.
+fn held_levels(mut d: Vec<f64>, opts: &CalibrationOptions) -> usize {
+    d.sort_by(f64::total_cmp);
+    let need = opts.level_min_share * d.len() as f64;
+    let mut runs: Vec<(f64, usize)> = Vec::new();
+    for x in d {
+        match runs.last_mut() {
+            Some((first, n)) if x - *first < opts.level_tolerance_mm => *n += 1,
+            _ => runs.push((x, 1)),
+        }
+    }
+    let held = runs.iter().filter(|r| r.1 as f64 >= need).count();
+    held.max(usize::from(!runs.is_empty()))
 }
 
 /// Missing (plane, direction) groups take the other direction of the same
@@ -279,4 +295,28 @@ fn mean_poly(polys: &[DeflectionPoly]) -> DeflectionPoly {
         out.iter_mut().zip(p).for_each(|(o, c)| *o += c / n);
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Readings of scans at 0.2 and 0.5 mm with a few on the way to and
+    /// from each (a scan's start and end): two levels, not five.
+    #[test]
+    fn the_readings_on_the_way_to_a_level_are_no_level() {
+        let opts = CalibrationOptions::default();
+        let mut d: Vec<f64> = (0..200).map(|i| 0.196 + 1e-5 * (i % 7) as f64).collect();
+        d.extend((0..150).map(|i| 0.497 + 1e-5 * (i % 5) as f64));
+        d.extend([0.05, 0.12, 0.219, 0.31, 0.44]);
+        assert_eq!(held_levels(d.clone(), &opts), 2);
+        // Every run counts when each holds its share.
+        let loose = CalibrationOptions {
+            level_min_share: 0.0,
+            ..opts
+        };
+        assert_eq!(held_levels(d, &loose), 7);
+        assert_eq!(held_levels(vec![0.3], &opts), 1);
+        assert_eq!(held_levels(Vec::new(), &opts), 0);
+    }
 }
