@@ -233,6 +233,46 @@ fn a_touch_point_beside_the_boss_is_reached_without_touching_it() {
     positioning_touches_nothing_over(&trace, 100);
 }
 
+/// The flange's shaft between its flange and its groove, lying on its
+/// side, cut at 10 mm above its axis: two straight lines, each from the
+/// groove's edge (convex) into the corner at the flange's face (concave,
+/// where the ball ends 0.4 mm from the face). One line runs into the
+/// corner and the other out of it: that one is scanned from its other end
+/// (its start in the corner has no clear route), and from the corner where
+/// the first line's scan ends the probe leaves by a short escape leg
+/// before it goes on to the next line and to the touch points on the
+/// boss's end face. Everything is measured, positioning touches nothing.
+#[test]
+fn lines_into_a_concave_corner_are_scanned_and_left_without_touching() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "corner",
+        "workpiece": s(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 4.0, "stylus_length_mm": 150 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [
+            { "name": "shaft-lines", "type": "section_scan",
+              "plane": { "origin_mm": [0, 0, 10], "normal": [0, 0, 1] },
+              "surfaces": ["face19"], "tolerance_mm": [-0.05, 0.05] },
+            { "name": "boss-end", "type": "touch_points",
+              "points_mm": [[31, 0, 20], [31, 15, -10], [31, -15, -10]],
+              "surfaces": ["face4"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let file = dir.path().join("corner.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let check = cmm(&["check", s(&file)]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let (report, trace) = scan_ideal_ending(&file, dir.path(), 0);
+    let (lines, touches) = (&report["features"][0], &report["features"][1]);
+    assert_eq!(lines["status"], "pass", "{lines}");
+    assert_eq!(touches["status"], "pass", "{touches}");
+    assert_eq!(touches["points"].as_array().unwrap().len(), 3);
+    // Each line is 13 mm long less the ball's radius in the corner: some
+    // 22 points at the 0.5 mm pitch on each.
+    assert!(lines["points"].as_array().unwrap().len() >= 40, "{lines}");
+    positioning_touches_nothing(&trace);
+}
+
 #[test]
 fn abc_lamp_program_measures_every_feature_exactly() {
     let out = tempfile::tempdir().unwrap();

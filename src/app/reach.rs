@@ -99,7 +99,7 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
                     let pts = section_design((&pts, &own), c.closed, on, r, &opts);
                     let checked = match pts.len() {
                         0 | 1 => Err(Unreachable::TooNarrow),
-                        _ => reach.curve(&pts),
+                        _ => reach.curve_either_way(&pts, c.closed).0,
                     };
                     if let Err(u) = checked {
                         out.push((name.clone(), k, u));

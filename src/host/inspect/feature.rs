@@ -98,11 +98,17 @@ pub fn measure_feature(
                     // it). A probe that would strike the part on the way is
                     // noted and the scan runs: the machine's own collision
                     // stop ends it where it strikes.
-                    let warning = match reach.map(|r| r.curve(&design)) {
-                        Some(Err(u @ Unreachable::NoRoute { .. })) => return not_measured(u),
-                        Some(Err(u)) => Some(format!("{u}")),
-                        _ => None,
+                    let (verdict, reversed) =
+                        reach.map_or((Ok(()), false), |r| r.curve_either_way(&design, c.closed));
+                    let warning = match verdict {
+                        Err(u @ Unreachable::NoRoute { .. }) => return not_measured(u),
+                        Err(u) => Some(format!("{u}")),
+                        Ok(()) => None,
                     };
+                    let mut design = design.to_vec();
+                    if reversed {
+                        design.reverse();
+                    }
                     let key = (name.clone(), k);
                     let learned = known
                         .iter()
@@ -119,7 +125,7 @@ pub fn measure_feature(
                         learned,
                         free,
                     };
-                    let mut res = scan_curve(&mut ctx, design.to_vec(), c.closed, settings.mode);
+                    let mut res = scan_curve(&mut ctx, design, c.closed, settings.mode);
                     res.notes.extend(warning);
                     if let Some(l) = &res.learned {
                         learned_out.push((key, l.clone()));

@@ -93,6 +93,27 @@ impl Reach<'_> {
         self.posture(design.last().map_or(self.ball(first), |d| self.ball(d)))
     }
 
+    /// [`Reach::curve`] of a scan that may run either way: an open curve
+    /// whose start has no clear route (it begins in a concave corner, the
+    /// ball a few tenths of a millimetre from the wall it meets) while its
+    /// end has one is scanned from its end. The verdict, and whether the
+    /// curve is to be scanned reversed.
+    pub fn curve_either_way(
+        &self,
+        design: &[DesignPoint],
+        closed: bool,
+    ) -> (Result<(), Unreachable>, bool) {
+        let forward = self.curve(design);
+        if closed || !matches!(forward, Err(Unreachable::NoRoute { .. })) {
+            return (forward, false);
+        }
+        let back: Vec<DesignPoint> = design.iter().rev().copied().collect();
+        match self.curve(&back) {
+            Err(Unreachable::NoRoute { .. }) => (forward, false),
+            other => (other, true),
+        }
+    }
+
     /// Whether a touch point at `d` (part coordinates) can be measured.
     pub fn touch(&self, d: &DesignPoint) -> Result<(), Unreachable> {
         self.start(d)?;

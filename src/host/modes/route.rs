@@ -23,6 +23,8 @@
 use super::{FreeSpace, ModeOptions};
 use crate::math::{Point3, Vec3};
 
+mod escape;
+
 /// Distances of the entry points from the target along the approach
 /// direction, mm, farthest first (0: straight above the target).
 const ENTRY_MM: [f64; 5] = [15.0, 10.0, 5.0, 2.0, 0.0];
@@ -80,7 +82,9 @@ pub fn plan_route(
 /// ([`ModeOptions::plan_grid_mm`]) with a first leg to it from `here`
 /// (clear with the route's margin), so that the checks of the route's
 /// legs are the same for every part of a batch whose probe comes free
-/// within the same grid cell; else from `here` itself.
+/// within the same grid cell; else from `here` itself; else, when `here`
+/// is too near the part for any route to start from it, out of the corner
+/// by a short escape leg first.
 pub fn plan_route_from(
     free: &dyn FreeSpace,
     (here, probe_vector): (Point3, Vec3),
@@ -100,6 +104,7 @@ pub fn plan_route_from(
     via_home
         .flatten()
         .or_else(|| plan_route(free, (here, probe_vector), target, approach, opts))
+        .or_else(|| escape::plan_route_out(free, (here, probe_vector), target, approach, opts))
 }
 
 /// The point of the grid of spacing `grid` (mm) nearest to `p`; `p` itself
