@@ -313,7 +313,7 @@ mod tests {
         // Every run counts when each holds its share.
         let loose = CalibrationOptions {
             level_min_share: 0.0,
-            ..opts
+            ..opts.clone()
         };
         assert_eq!(held_levels(d, &loose), 7);
         assert_eq!(held_levels(vec![0.3], &opts), 1);
