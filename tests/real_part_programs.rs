@@ -273,6 +273,48 @@ fn lines_into_a_concave_corner_are_scanned_and_left_without_touching() {
     positioning_touches_nothing(&trace);
 }
 
+/// The flange lying on its side, its whole outside diameter (88 mm) as
+/// one section: a vertical stylus reaches its upper half (and a little
+/// below the axis, until the shaft meets the flange's rim). `cmm check`
+/// says the shaft would strike; the scan starts at one end of the reachable
+/// arc, measures all of it, and the machine's collision stop ends it where
+/// the shaft meets the rim: the attempt reports the `collision`, the
+/// feature stays incomplete and keeps the arc it measured (at least half
+/// the circumference at the pitch), every point on the true surface.
+#[test]
+fn a_circle_half_out_of_reach_keeps_its_reachable_arc_and_reports_the_strike() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "side-od",
+        "workpiece": s(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, 0, 30] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [
+            { "name": "flange-od", "type": "section_scan",
+              "plane": { "origin_mm": [3, 0, 0], "normal": [1, 0, 0] },
+              "surfaces": ["face1", "face20"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let file = dir.path().join("side.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let check = cmm(&["check", s(&file)]);
+    assert_eq!(check.status.code(), Some(3), "{check:?}");
+    assert!(String::from_utf8_lossy(&check.stdout).contains("shaft would strike"));
+    let (report, _) = scan_ideal_ending(&file, dir.path(), 3);
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "incomplete");
+    let attempt = &f["attempts"][0];
+    assert_eq!(attempt["outcome"], "collision", "{attempt}");
+    assert_eq!(attempt["collision"]["probe_part"], "shaft");
+    assert_eq!(attempt["collision"]["phase"], "scan");
+    let points = f["points"].as_array().unwrap();
+    let half_mm = std::f64::consts::PI * 88.0 / 2.0;
+    assert!(points.len() as f64 * 0.5 >= half_mm, "{}", points.len());
+    for p in points {
+        let err = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+        assert!(err.abs() < 5e-4, "{p}");
+    }
+}
+
 #[test]
 fn abc_lamp_program_measures_every_feature_exactly() {
     let out = tempfile::tempdir().unwrap();

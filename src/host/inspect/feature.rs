@@ -109,6 +109,12 @@ pub fn measure_feature(
                     if reversed {
                         design.reverse();
                     }
+                    // A probe that strikes the part somewhere along the
+                    // curve: the scan starts where it measures the
+                    // longest clear stretch before the collision stop.
+                    if let (Err(Unreachable::Strikes { .. }), Some(r)) = (verdict, reach) {
+                        design = r.clearest_order(&design, c.closed).unwrap_or(design);
+                    }
                     let key = (name.clone(), k);
                     let learned = known
                         .iter()

@@ -103,7 +103,8 @@ pub struct CurveResult {
 }
 
 impl CurveResult {
-    /// Records an attempt; scans (not touch points) set the final points.
+    /// Records an attempt; scans (not touch points) set the final points:
+    /// a completed scan's, or those a scan measured before a collision.
     pub fn record(&mut self, mode: AttemptMode, attempt: Attempt, pose: &Pose) -> Outcome {
         let outcome = attempt.outcome;
         if outcome == Outcome::Blocked {
@@ -122,7 +123,15 @@ impl CurveResult {
         });
         if mode.is_scan() {
             self.complete = outcome == Outcome::Completed;
-            if self.complete {
+            // A scan the collision stop ended keeps what it measured up
+            // to the strike (the feature stays incomplete).
+            if outcome == Outcome::Collision && !attempt.points.is_empty() {
+                self.notes.push(format!(
+                    "{} points measured before the collision stop are kept",
+                    attempt.points.len()
+                ));
+                self.points = attempt.points;
+            } else if self.complete {
                 self.points = attempt.points;
             }
         }

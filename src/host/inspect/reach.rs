@@ -81,16 +81,9 @@ impl Reach<'_> {
             return Ok(());
         };
         self.start(first)?;
-        let mut last: Option<Point3> = None;
-        for d in design {
-            let ball = self.ball(d);
-            if last.is_some_and(|l| (ball - l).norm() < POSTURE_STEP_MM) {
-                continue;
-            }
-            last = Some(ball);
-            self.posture(ball)?;
-        }
-        self.posture(design.last().map_or(self.ball(first), |d| self.ball(d)))
+        (self.posture_samples(design).into_iter())
+            .filter_map(|k| design.get(k))
+            .try_for_each(|d| self.posture(self.ball(d)))
     }
 
     /// [`Reach::curve`] of a scan that may run either way: an open curve
@@ -112,6 +105,64 @@ impl Reach<'_> {
             Err(Unreachable::NoRoute { .. }) => (forward, false),
             other => (other, true),
         }
+    }
+
+    /// Where a scan along `design` whose probe strikes the part somewhere
+    /// on it is best started: the order of the design points (rotated, for
+    /// a closed curve, to the start of its longest stretch where the probe
+    /// stands clear; reversed, for an open one, when it runs clear longer
+    /// from its end), so the scan measures that stretch before the
+    /// machine's collision stop ends it. `None` when the design has no
+    /// clear stretch or the new start has no clear route.
+    pub fn clearest_order(&self, design: &[DesignPoint], closed: bool) -> Option<Vec<DesignPoint>> {
+        let clear = self.clear_marks(design);
+        let order: Vec<DesignPoint> = if closed {
+            let start = longest_circular_run(&clear)?;
+            design[start..]
+                .iter()
+                .chain(&design[..start])
+                .copied()
+                .collect()
+        } else {
+            let ahead = clear.iter().take_while(|c| **c).count();
+            let back = clear.iter().rev().take_while(|c| **c).count();
+            (back > ahead).then(|| design.iter().rev().copied().collect())?
+        };
+        self.start(order.first()?).ok().map(|()| order)
+    }
+
+    /// Whether the probe stands clear at each design point, from the
+    /// checks at [`Reach::posture_samples`]: a point between two checks
+    /// is clear when both are.
+    fn clear_marks(&self, design: &[DesignPoint]) -> Vec<bool> {
+        let verdicts: Vec<(usize, bool)> = (self.posture_samples(design).into_iter())
+            .filter_map(|k| Some((k, self.posture(self.ball(design.get(k)?)).is_ok())))
+            .collect();
+        let mut marks = vec![verdicts.iter().all(|v| v.1); design.len()];
+        for w in verdicts.windows(2) {
+            if let [(a, true), (b, true)] = w {
+                marks[*a..=*b].fill(true);
+            }
+        }
+        marks
+    }
+
+    /// The indices of the design points whose posture is checked: the
+    /// first, each one [`POSTURE_STEP_MM`] along the ball path from the
+    /// one checked before it, and the last.
+    fn posture_samples(&self, design: &[DesignPoint]) -> Vec<usize> {
+        let mut out: Vec<usize> = Vec::new();
+        let mut last: Option<Point3> = None;
+        for (k, d) in design.iter().enumerate() {
+            let ball = self.ball(d);
+            if last.is_none_or(|l| (ball - l).norm() >= POSTURE_STEP_MM) {
+                out.push(k);
+                last = Some(ball);
+            }
+        }
+        let end = design.len().checked_sub(1);
+        out.extend(end.filter(|e| out.last() != Some(e)));
+        out
     }
 
     /// Whether a touch point at `d` (part coordinates) can be measured.
@@ -144,5 +195,42 @@ impl Reach<'_> {
             true => Ok(()),
             false => Err(Unreachable::NoRoute { start }),
         }
+    }
+}
+
+/// The first index of the longest run of `true` in `marks` taken as a
+/// circle (a run may wrap past the end), or `None` when there is none.
+fn longest_circular_run(marks: &[bool]) -> Option<usize> {
+    let n = marks.len();
+    let first_false = marks.iter().position(|m| !m)?;
+    let (mut best, mut run_start, mut run) = (None::<(usize, usize)>, 0, 0);
+    for i in 1..=n {
+        let k = (first_false + i) % n;
+        if marks[k] {
+            if run == 0 {
+                run_start = k;
+            }
+            run += 1;
+            if best.is_none_or(|(_, len)| run > len) {
+                best = Some((run_start, run));
+            }
+        } else {
+            run = 0;
+        }
+    }
+    best.map(|(start, _)| start)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::longest_circular_run;
+
+    #[test]
+    fn the_longest_run_may_wrap_round_the_end() {
+        let m = |s: &str| s.chars().map(|c| c == '1').collect::<Vec<bool>>();
+        assert_eq!(longest_circular_run(&m("1100111")), Some(4));
+        assert_eq!(longest_circular_run(&m("0110")), Some(1));
+        assert_eq!(longest_circular_run(&m("0000")), None);
+        assert_eq!(longest_circular_run(&m("1011101")), Some(2));
     }
 }
