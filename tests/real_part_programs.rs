@@ -557,3 +557,42 @@ fn linkrods_program_measures_a_one_millimetre_bore_with_a_small_ball() {
     }
     positioning_touches_nothing_over(&trace, 300);
 }
+
+/// The outside of the link rods' larger eye (radius 0.75 mm; an open arc
+/// of 3.7 mm where the rod joins it) with a 1 mm ball at 60 mm/s and a
+/// 0.05 mm pitch: the ball path's 1.25 mm radius turns faster than the
+/// deflection loop follows, and the ball leaves the surface a third of
+/// the way round. That is lost contact, not a completed scan with a third
+/// of the points: the supervisor corrects, the autonomous scan measures
+/// the arc, and the feature keeps its points (at least 90 % of the arc at
+/// the pitch, every one on the true surface).
+#[test]
+fn a_scan_that_leaves_a_tight_arc_is_lost_contact_and_the_arc_is_measured() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "eye",
+        "workpiece": s(&repo("workpieces/linkrods.step")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 1.0, "stylus_length_mm": 20 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.1, "pitch_mm": 0.05 },
+        "features": [
+            { "name": "eye-od", "type": "section_scan",
+              "plane": { "origin_mm": [3.875, 3.25, 1], "normal": [0, 0, 1] },
+              "surfaces": ["face7"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let file = dir.path().join("eye.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let check = cmm(&["check", s(&file)]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(text.contains("1 curve(s) (0 closed), 3.7 mm"), "{text}");
+    let (report, _) = scan_ideal_ending(&file, dir.path(), 0);
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "pass", "{f}");
+    assert_eq!(f["attempts"][0]["outcome"], "lost_contact", "{f}");
+    let points = f["points"].as_array().unwrap();
+    assert!(points.len() as f64 >= 0.9 * 3.7 / 0.05, "{}", points.len());
+    for p in points {
+        let e = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+        assert!(e.abs() <= 5e-4, "{p}");
+    }
+}

@@ -92,9 +92,25 @@ fn correcting(
         design = learned.apply(&design);
         res.corrections.push(learned.report());
     }
+    // Whether the design in hand is the points of an autonomous scan of
+    // this part that completed (and are the feature's points until a
+    // design-value scan completes).
+    let mut measured_autonomously = false;
     loop {
         let outcome = design_attempt(ctx, &design, closed, kind, res);
         if outcome == Outcome::Completed || !correctable(outcome) {
+            return;
+        }
+        if measured_autonomously {
+            // The design-value scan cannot follow even the surface as
+            // measured (a curve too tight for its speed and deflection
+            // loop): corrections would repeat the same, so the autonomous
+            // scan's points are the measurement.
+            res.complete = true;
+            res.notes.push(
+                "measured by the autonomous scan: the design-value scan failed on its points too"
+                    .into(),
+            );
             return;
         }
         if flag == 0 {
@@ -111,7 +127,10 @@ fn correcting(
         }
         autonomous += 1;
         match autonomous_design(ctx, &design, closed, res) {
-            Some(new_design) => design = new_design,
+            Some(new_design) => {
+                design = new_design;
+                measured_autonomously = true;
+            }
             None => return,
         }
         flag = 0;

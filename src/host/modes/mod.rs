@@ -185,6 +185,12 @@ pub struct ModeOptions {
     /// The same for active scanning, which searches for the surface along
     /// its normal and normally reports a trajectory error first.
     pub active_lost_contact_cycles: usize,
+    /// An active scan that goes this far along its path without contact
+    /// reports lost contact, mm: the stretch it passed unmeasured (a tight
+    /// curve the deflection loop could not follow, a surface fallen away
+    /// beyond the trajectory tolerance's reach) is not a completed scan,
+    /// however few cycles it took.
+    pub active_lost_contact_mm: f64,
     /// Gain of the path-following velocity `Gf` (dimensionless).
     pub gain_follow: f64,
     /// Gain of the deflection loop `Ge`, 1/s.
@@ -274,6 +280,7 @@ impl Default for ModeOptions {
             over_deflection_mm: 0.8,
             lost_contact_cycles: 40,
             active_lost_contact_cycles: 1000,
+            active_lost_contact_mm: 1.0,
             gain_follow: 1.0,
             gain_deflection: 40.0,
             gain_correction: 40.0,

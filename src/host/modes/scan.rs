@@ -238,6 +238,7 @@ fn active(
     tr.enter(cmm, Phase::Scan);
     let (length, dt, a) = (path.length(), cmm.cycle_s(), opts.tangential_accel_mm_s2);
     let (mut progress, mut speed, mut lost) = (0.0f64, 0.0f64, 0usize);
+    let mut touched_at = 0.0f64;
     let mut cursor = 0;
     let mut here = path.location(0.0);
     let searching = ModeOptions {
@@ -286,6 +287,11 @@ fn active(
             return Err(o);
         }
         contact_check(tr, &mut lost, f64::INFINITY, &searching)?;
+        if tr.deflection() >= opts.contact_mm {
+            touched_at = progress;
+        } else if progress - touched_at > opts.active_lost_contact_mm {
+            return Err(Outcome::LostContact);
+        }
         settled = settled
             || progress >= SETTLE_WITHIN_MM
             || (t.plane_normal)
