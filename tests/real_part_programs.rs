@@ -596,3 +596,39 @@ fn a_scan_that_leaves_a_tight_arc_is_lost_contact_and_the_arc_is_measured() {
         assert!(e.abs() <= 5e-4, "{p}");
     }
 }
+
+/// The flange upright, the bottom of its groove (radius 29 mm, between
+/// the flange and the 31 mm shoulder above it) cut at its middle, with a
+/// 1 mm ball on a vertical 30 mm stylus: the ball centre would stand 1.5
+/// mm inside the shoulder's radius, so the shaft would run down through
+/// the shoulder. `cmm check` says so (a shaft check sampled every 2 mm,
+/// each sample keeping its 0.35 mm, called it clear), and the scan ends
+/// at the shaft's collision.
+#[test]
+fn a_groove_under_a_shoulder_is_a_shaft_strike_for_check_and_scan() {
+    let dir = tempfile::tempdir().unwrap();
+    let prog = serde_json::json!({
+        "format": "cmm-program/1", "name": "under",
+        "workpiece": s(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, -90, 0] },
+        "probe": { "tip_diameter_mm": 1.0, "stylus_length_mm": 30 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 1.0 },
+        "features": [
+            { "name": "groove", "type": "section_scan",
+              "plane": { "origin_mm": [20, 0, 0], "normal": [1, 0, 0] },
+              "surfaces": ["face7", "face21"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let file = dir.path().join("under.json");
+    std::fs::write(&file, prog.to_string()).unwrap();
+    let check = cmm(&["check", s(&file)]);
+    assert_eq!(check.status.code(), Some(3), "{check:?}");
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert!(
+        text.contains("groove [0]: not reachable: the probe's shaft would strike"),
+        "{text}"
+    );
+    let (report, _) = scan_ideal_ending(&file, dir.path(), 3);
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "incomplete");
+    assert_eq!(f["attempts"][0]["outcome"], "collision", "{f}");
+    assert_eq!(f["attempts"][0]["collision"]["probe_part"], "shaft", "{f}");
+}

@@ -332,8 +332,13 @@ impl PartClearance<'_> {
     }
 
     /// Whether every point of `area` keeps `need` from the part (to the
-    /// sampling `step`), cutting it as far as that takes.
+    /// sampling `step`), cutting it as far as that takes. The step is at
+    /// most `need` itself, so a surface crossing the area always comes
+    /// nearer than `need` to a sample (a thin shaft's posture, a small
+    /// ball on a tight margin: a 2 mm step between samples that each keep
+    /// 0.35 mm would let the shaft pass through a shoulder unseen).
     fn area_clear(&self, area: Piece, need: f64, step: f64) -> bool {
+        let step = step.min(need).max(MIN_STEP_MM);
         let check = AreaCheck::new(need, step * std::f64::consts::FRAC_1_SQRT_2, area.axes());
         self.pieces_clear([area], check)
     }
