@@ -26,6 +26,11 @@ pub fn deg_to_rad(deg: f64) -> f64 {
     deg.to_radians()
 }
 
+/// Largest magnitude of a rotation angle a program or an `as_machined`
+/// block may give, degrees: one full turn either way (a larger angle names
+/// the same rotation less exactly, and 1e300 degrees names none).
+pub const MAX_ROTATION_DEG: f64 = 360.0;
+
 /// Rotation matrix `Rz(rz) * Ry(ry) * Rx(rx)` about the fixed axes, angles in
 /// degrees, as used by placements and as-machined transforms (the as-machined format).
 ///

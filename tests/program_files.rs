@@ -122,6 +122,14 @@ fn broken_programs_exit_2_naming_the_place() {
             "$.placement",
         ),
         (
+            Box::new(|v| v["placement"]["rotate_deg"] = json!([0, 0, 400])),
+            "$.placement.rotate_deg",
+        ),
+        (
+            Box::new(|v| v["as_machined"]["transform"] = json!({"rotate_deg": [0, 0, 1e300]})),
+            "$.as_machined.transform.rotate_deg",
+        ),
+        (
             Box::new(|v| v["as_machined"]["form"][1]["radius_mm"] = json!(0)),
             "$.as_machined.form[1].radius_mm",
         ),

@@ -15,13 +15,12 @@ pub fn feature_report(
     let mut report = deviation_report(feature.name(), measured, points);
     if let Some(spec) = feature.fit() {
         report.fit = fit_feature(spec, &report.points);
-        if report.status == Verdict::Pass
-            && report
-                .fit
-                .as_ref()
-                .is_some_and(|f| f.status != Verdict::Pass)
-        {
-            report.status = Verdict::Fail;
+        // A fit out of tolerance fails a feature in tolerance; a fit that
+        // could not be made leaves it incomplete (its points out of
+        // tolerance still fail it).
+        let fit_status = report.fit.as_ref().map(|f| f.status);
+        if report.status == Verdict::Pass {
+            report.status = fit_status.unwrap_or(Verdict::Pass);
         }
     }
     report

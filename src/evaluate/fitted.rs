@@ -26,15 +26,19 @@ pub struct ElementSummary {
 pub struct FitResult {
     /// `circle`, `plane`, `sphere` or `cylinder`.
     pub element: &'static str,
-    /// Fit of the measured points.
-    pub measured: ElementSummary,
-    /// Fit of the nominal points.
-    pub nominal: ElementSummary,
+    /// Fit of the measured points (absent when the fit could not be
+    /// made).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measured: Option<ElementSummary>,
+    /// Fit of the nominal points (absent when the fit could not be made).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominal: Option<ElementSummary>,
     /// Measured minus nominal diameter, mm.
     pub size_deviation_mm: f64,
     /// Distance of the measured centre / axis / plane from the nominal, mm.
     pub position_deviation_mm: f64,
-    /// Pass or fail against the fit tolerances.
+    /// Pass or fail against the fit tolerances; incomplete when the fit
+    /// could not be made (too few points on the surface, say).
     pub status: Verdict,
     /// Why the fit could not be made, if it could not.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -73,23 +77,14 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
         ),
         Err(e) => FitResult {
             element: name,
-            measured: empty(),
-            nominal: empty(),
+            measured: None,
+            nominal: None,
             size_deviation_mm: 0.0,
             position_deviation_mm: 0.0,
-            status: Verdict::Fail,
+            status: Verdict::Incomplete,
             error: Some(e.to_string()),
         },
     })
-}
-
-fn empty() -> ElementSummary {
-    ElementSummary {
-        center: [0.0; 3],
-        direction: [0.0; 3],
-        diameter_mm: 0.0,
-        form_mm: 0.0,
-    }
 }
 
 fn summary(e: &Element, form_mm: f64) -> ElementSummary {
@@ -141,11 +136,52 @@ fn compare(
     };
     FitResult {
         element: name,
-        measured: m,
-        nominal: n,
+        measured: Some(m),
+        nominal: Some(n),
         size_deviation_mm: size,
         position_deviation_mm: pos,
         status,
         error: None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::program::format::{FitElement, FitSpec};
+
+    fn point(at: [f64; 3], edge: bool) -> PointReport {
+        PointReport {
+            measured: at,
+            nominal: at,
+            normal: [0.0, 0.0, 1.0],
+            deviation_mm: 0.0,
+            true_deviation_mm: 0.0,
+            edge,
+        }
+    }
+
+    /// Three touch points of a plane, one of them an edge point: two
+    /// remain for the fit, which cannot be made. The fit is incomplete,
+    /// with no element in it, not a failed plane at the origin.
+    #[test]
+    fn a_fit_left_too_few_points_is_incomplete_and_has_no_element() {
+        let spec = FitSpec {
+            element: FitElement::Plane,
+            size_mm: None,
+            form_mm: Some(0.02),
+            position_mm: None,
+        };
+        let points = [
+            point([6.0, 40.0, 0.0], false),
+            point([6.0, -40.0, 0.0], false),
+            point([6.0, 0.0, 41.0], true),
+        ];
+        let fit = fit_feature(&spec, &points).unwrap();
+        assert_eq!(fit.status, Verdict::Incomplete);
+        assert!(fit.measured.is_none() && fit.nominal.is_none());
+        assert!(fit.error.is_some_and(|e| e.contains("got 2")));
+        let all = points.map(|p| PointReport { edge: false, ..p });
+        assert_eq!(fit_feature(&spec, &all).unwrap().status, Verdict::Pass);
     }
 }

@@ -6,7 +6,7 @@ use super::{Feature, NominalPoint, Pose, ProbeSetup, Program, ProgramError, Scan
 use crate::formats::as_machined::AsMachinedSpec;
 use crate::geometry::{Plane, SectionOptions};
 use crate::machine::MachineModel;
-use crate::math::{rotation_xyz_deg, Point3, Vec3};
+use crate::math::{rotation_xyz_deg, Point3, Vec3, MAX_ROTATION_DEG};
 use crate::workpiece::section_faces;
 use crate::workpiece::Workpiece;
 
@@ -234,6 +234,15 @@ fn placement(cx: &Ctx, spec: &ProgramFile) -> Result<Pose, ProgramError> {
         "$.placement.translate_mm".into(),
     )?;
     let r = cx.finite3(spec.placement.rotate_deg, "$.placement.rotate_deg".into())?;
+    if r.amax() > MAX_ROTATION_DEG {
+        return Err(cx.err(
+            "$.placement.rotate_deg",
+            format!(
+                "{:?}: angles must lie within +-{MAX_ROTATION_DEG} degrees",
+                spec.placement.rotate_deg
+            ),
+        ));
+    }
     Ok(Pose {
         rotation: rotation_xyz_deg(r.into()),
         translation: t,

@@ -3,7 +3,7 @@
 use super::form::Form;
 use super::AsMachinedError;
 use crate::formats::as_machined::{FormTerm, Scale, TransformSpec};
-use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec3};
+use crate::math::{rotation_xyz_deg, Mat3, Point3, Vec3, MAX_ROTATION_DEG};
 use crate::workpiece::Workpiece;
 
 /// A validation error at `path` (relative to the `as_machined` block).
@@ -25,7 +25,17 @@ fn finite3(v: [f64; 3], path: &str) -> Result<Vec3, AsMachinedError> {
 /// The validated transform as `(L, t)` of `T(x) = L x + t`.
 pub(super) fn transform(t: &TransformSpec) -> Result<(Mat3, Vec3), AsMachinedError> {
     let tr = finite3(t.translate_mm, "transform.translate_mm")?;
-    let rot = rotation_xyz_deg(finite3(t.rotate_deg, "transform.rotate_deg")?.into());
+    let deg = finite3(t.rotate_deg, "transform.rotate_deg")?;
+    if deg.amax() > MAX_ROTATION_DEG {
+        return Err(err(
+            "transform.rotate_deg",
+            format!(
+                "{:?}: angles must lie within +-{MAX_ROTATION_DEG} degrees",
+                t.rotate_deg
+            ),
+        ));
+    }
+    let rot = rotation_xyz_deg(deg.into());
     let c = finite3(t.about_mm, "transform.about_mm")?;
     let s = t.scale.map_or([1.0; 3], Scale::factors);
     if !s.iter().all(|k| k.is_finite() && *k > 0.0) {
