@@ -205,3 +205,51 @@ fn sign_follows_the_outward_normal_on_a_cad_part() {
     }
     assert!(checked >= 40, "{checked} in {tries}");
 }
+
+/// A ball coming down from 60 mm above onto the top of CTC 5 and moving
+/// along it: the world splits only the faces the ball comes near (a few
+/// of 209: a face is made when a query comes near its box), and every
+/// answer is the design's global closest point over all faces (the host's
+/// projection, another code path; the part is nominal). Querying near
+/// every face afterwards makes them all: ten times as many leaves.
+#[test]
+fn a_ball_near_one_face_splits_few_faces_and_answers_as_the_whole_part() {
+    let wp =
+        Workpiece::from_path(&repo("workpieces/nist-ctc05.stp")).unwrap_or_else(|e| panic!("{e}"));
+    let am = AsMachined::nominal();
+    let mut search = ContactSearch::new(&wp, &am, &ContactOptions::default());
+    let opts = contact_options(&ProjectionOptions::default());
+    let reach = 2.0;
+    let down = (0..240).map(|k| Point3::new(15.0, 0.0, 542.6 - 0.25 * k as f64));
+    let along = (0..80).map(|k| Point3::new(15.0 - 0.25 * k as f64, 3.0, 483.9));
+    let mut hits = 0;
+    for p in down.chain(along) {
+        let found = search
+            .query((&wp, &am), p, reach, &opts)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let host = wp.closest_point(p).unwrap_or_else(|e| panic!("{e}"));
+        let want = host.projection.distance;
+        match found {
+            Some(c) => {
+                assert!(
+                    (c.distance - want).abs() < 1e-7,
+                    "{p}: {} vs {want}",
+                    c.distance
+                );
+                hits += 1;
+            }
+            None => assert!(want >= reach - 1e-7, "{p}: none, the design is {want} away"),
+        }
+    }
+    assert!(hits > 80, "{hits} contacts");
+    let made = search.leaf_count();
+    for f in &wp.faces {
+        let ((u0, u1), (v0, v1)) = f.surface.domain();
+        let p = f.surface.point(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+        search
+            .query((&wp, &am), p, reach, &opts)
+            .unwrap_or_else(|e| panic!("{e}"));
+    }
+    let all = search.leaf_count();
+    assert!(made > 0 && made * 10 < all, "{made} leaves made of {all}");
+}

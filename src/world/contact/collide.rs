@@ -46,7 +46,8 @@ mod descent;
 #[cfg(test)]
 mod tests;
 
-use super::search::{Cursor, PartIndex};
+use super::index::{LeafSource, PartIndex};
+use super::search::Cursor;
 use super::shapes::{Cylinder, Segment};
 use super::tree::Shape;
 use super::{ContactOptions, TrueContact};
@@ -301,16 +302,16 @@ impl PartCheck {
         opts: &ProjectionOptions,
     ) -> Result<Result<f64, Strike>, ProjectionError> {
         let seg = cyl.segment();
-        let leaves = &ix.leaves.leaves;
+        let leaves = ix;
         let margin = self.next_margin();
         self.margin = margin;
         let near = cyl.radius + margin;
-        self.near_leaves(ix, seg, near);
+        self.near_leaves((ix, part), seg, near);
         let listed = !self.order.is_empty();
         // The listed bounds are the axis's distance; beyond an end cap the
         // cylinder keeps its end gap.
         for o in &mut self.order {
-            if let Some(leaf) = leaves.get(o.1 as usize) {
+            if let Some(leaf) = leaves.leaf(o.1) {
                 o.0 = o.0.max(cyl.radius + cyl.end_gap(&leaf.aabb));
             }
         }
@@ -322,7 +323,7 @@ impl PartCheck {
                 true => margin,
                 false => {
                     let kept = (cyl.radius, self.free_air_ratio);
-                    ix.tree.nearest_within(leaves, seg, kept) - cyl.radius
+                    ix.nearest_within(part, seg, kept) - cyl.radius
                 }
             };
             return Ok(Ok(far));
@@ -331,12 +332,12 @@ impl PartCheck {
         // for a crossed leaf its trimmed box (the part inside the trim).
         let certify_at = cyl.radius + self.opts.certify_mm;
         for o in &mut self.order {
-            let Some(leaf) = leaves.get(o.1 as usize).filter(|_| o.0 < certify_at) else {
+            let Some(leaf) = leaves.leaf(o.1).filter(|_| o.0 < certify_at) else {
                 continue;
             };
             o.0 = leaf.tight_segment_bound(seg.a, seg.b, o.0);
             if o.0 < certify_at && leaf.crossed() {
-                let tight = ix.trimmed_bound(o.1 as usize, part, seg, certify_at);
+                let tight = ix.trimmed_bound(o.1, part, seg, certify_at);
                 o.0 = o.0.max(tight.unwrap_or(0.0));
             }
         }
@@ -385,7 +386,7 @@ impl PartCheck {
                 ended = false;
                 break;
             }
-            let Some(leaf) = leaves.get(id as usize) else {
+            let Some(leaf) = leaves.leaf(id) else {
                 continue;
             };
             let (_, s) = super::shapes::segment_box(seg.a, seg.b, &leaf.aabb);
@@ -428,8 +429,12 @@ impl PartCheck {
     /// larger end move `m` when the axis moves (every point of the axis
     /// moves by at most that), so a listed leaf whose bound then was at
     /// least `radius + m` is left out without looking at it again.
-    fn near_leaves(&mut self, ix: &PartIndex, seg: Segment, radius: f64) {
-        let leaves = &ix.leaves.leaves;
+    fn near_leaves(
+        &mut self,
+        (ix, part): (&PartIndex, (&Workpiece, &AsMachined)),
+        seg: Segment,
+        radius: f64,
+    ) {
         self.order.clear();
         let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
         let o = &self.opts;
@@ -437,7 +442,7 @@ impl PartCheck {
         let fresh = (self.listed_at).filter(|l| l.2 - moved(*l) >= radius && moved(*l) <= slack);
         let Some(listed_at) = fresh else {
             let wide = radius + slack;
-            ix.tree.within_bounds(leaves, seg, wide, &mut self.order);
+            ix.within_bounds(part, seg, wide, &mut self.order);
             self.bounds_looked += self.order.len() as u64;
             self.listed.clear();
             self.listed.extend_from_slice(&self.order);
@@ -451,7 +456,7 @@ impl PartCheck {
             if then >= reach {
                 continue;
             }
-            let Some(l) = leaves.get(id as usize) else {
+            let Some(l) = ix.leaf(id) else {
                 continue;
             };
             self.bounds_looked += 1;

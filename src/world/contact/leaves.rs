@@ -35,6 +35,12 @@ pub struct LeafOptions {
     pub trim_box_mm: f64,
     /// Most halvings of one piece for its trimmed box.
     pub max_trim_box_depth: usize,
+    /// A face is split into leaves the first time a query's look comes
+    /// within this (mm) of the face's box; a face farther away counts
+    /// with its box (the answers are the same either way: this trades the
+    /// time to split faces the probe never comes near against free-air
+    /// bounds from looser boxes).
+    pub split_within_mm: f64,
 }
 
 impl Default for LeafOptions {
@@ -46,6 +52,7 @@ impl Default for LeafOptions {
             max_trim_depth: 16,
             trim_box_mm: 0.15,
             max_trim_box_depth: 12,
+            split_within_mm: 5.0,
         }
     }
 }
@@ -354,9 +361,19 @@ pub(crate) struct Pieces {
 
 impl Pieces {
     /// The pieces of every face of `wp`.
+    #[cfg(test)]
     pub(crate) fn new(wp: &Workpiece, opts: &LeafOptions) -> Pieces {
+        Pieces::of_faces(wp, 0..wp.faces.len(), opts)
+    }
+
+    /// The pieces of the faces `faces` of `wp` (numbered as in `wp`).
+    pub(crate) fn of_faces(
+        wp: &Workpiece,
+        faces: impl Iterator<Item = usize>,
+        opts: &LeafOptions,
+    ) -> Pieces {
         let mut out = Vec::new();
-        for (i, f) in wp.faces.iter().enumerate() {
+        for (i, f) in faces.filter_map(|i| wp.faces.get(i).map(|f| (i, f))) {
             let ctx = FaceContext {
                 face: i,
                 surface: &f.surface,
@@ -370,7 +387,12 @@ impl Pieces {
                 ctx.split(patch, mine, 0, &mut out);
             }
         }
-        let boxes: Vec<Aabb> = (out.iter())
+        Pieces::from_pieces(out, opts)
+    }
+
+    /// The pieces `pieces` with their tree.
+    fn from_pieces(pieces: Vec<Piece>, opts: &LeafOptions) -> Pieces {
+        let boxes: Vec<Aabb> = (pieces.iter())
             .map(|p| Aabb {
                 min: p.nominal_box.0,
                 max: p.nominal_box.1,
@@ -379,9 +401,20 @@ impl Pieces {
         Pieces {
             opts: *opts,
             tree: super::tree::LeafTree::over(&boxes),
-            pieces: out,
+            pieces,
             shapes: ShapeCache::default(),
         }
+    }
+
+    /// Number of pieces.
+    pub(crate) fn len(&self) -> usize {
+        self.pieces.len()
+    }
+
+    /// The first `n` pieces only.
+    pub(super) fn truncated(mut self, n: usize) -> Pieces {
+        self.pieces.truncate(n);
+        Pieces::from_pieces(self.pieces, &self.opts)
     }
 }
 

@@ -8,7 +8,11 @@
 //!   points mapped by `T`, widened by the form's largest `|h|` on the face
 //!   times the largest stretch of `T`. Pieces outside a face's trim are
 //!   left out: the part has material only where its trimmed faces are.
-//! - **Broad phase** ([`tree`]): one box tree over all faces' leaves.
+//! - **Broad phase** ([`tree`], [`index`]): a box tree over the faces'
+//!   boxes, and one over each face's leaves. A face is split into leaves
+//!   the first time a query comes near its box (a program that measures a
+//!   few faces of a part with hundreds splits only those and the faces its
+//!   moves pass near); until then its box stands in for it.
 //! - **Free air**: a query remembers a lower bound `L` of the distance at
 //!   the point `a` it was asked at (the nearest leaf bound, or the least
 //!   distance found). By the triangle inequality the distance at `y` is at
@@ -36,6 +40,7 @@ mod box_tree;
 #[cfg(test)]
 mod chord_tests;
 mod collide;
+mod index;
 mod leaves;
 mod line;
 mod mapped;
@@ -51,9 +56,9 @@ mod trimmed_box;
 mod trimmed_tests;
 
 pub use collide::{CollisionOptions, PartCheck, Strike};
+pub(crate) use index::PartIndex;
 pub use leaves::LeafOptions;
 pub use pieces::PieceCache;
-pub(crate) use search::PartIndex;
 pub use search::{ContactSearch, Cursor};
 pub(crate) use shapes::Cylinder;
 

@@ -12,8 +12,7 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::leaves::Leaf;
-use super::tree::LeafTree;
+use super::index::LeafSource;
 use crate::math::Point3;
 
 /// Added to the shift for the rounding of the bounds, mm: a leaf is looked
@@ -91,17 +90,16 @@ impl NearList {
         self.at.map(|(a, listed)| listed - (y - a).norm())
     }
 
-    /// Lists the leaves of `tree` whose bound at `y` is below `listed` (mm);
-    /// `false` when there is none.
+    /// Lists the leaves whose bound at `y` is below `listed` (mm), which
+    /// `fill` appends with their bounds; `false` when there is none.
     pub(super) fn list(
         &mut self,
-        tree: &LeafTree,
-        leaves: &[Leaf],
         y: Point3,
         listed: f64,
+        fill: impl FnOnce(&mut Vec<(f64, u32)>),
     ) -> bool {
         self.entries.clear();
-        tree.within_bounds(leaves, y, listed, &mut self.entries);
+        fill(&mut self.entries);
         self.entries.sort_unstable_by(by_bound);
         self.at = Some((y, listed));
         !self.entries.is_empty()
@@ -110,8 +108,8 @@ impl NearList {
     /// Whether `leaf` is on the list: its bound at the listing point, made
     /// as the listing made it (the same bits), is looked up in the sorted
     /// entries.
-    pub(super) fn holds(&self, leaves: &[Leaf], leaf: u32) -> bool {
-        let (Some((a, _)), Some(l)) = (self.at, leaves.get(leaf as usize)) else {
+    pub(super) fn holds<L: LeafSource + ?Sized>(&self, leaves: &L, leaf: u32) -> bool {
+        let (Some((a, _)), Some(l)) = (self.at, leaves.leaf(leaf)) else {
             return false;
         };
         let key = (l.lower_bound(a), leaf);
@@ -120,7 +118,13 @@ impl NearList {
 
     /// Starts a query at `y` for the leaves whose bound is below `cap`
     /// (mm), leaving out `skip`.
-    pub(super) fn start(&mut self, leaves: &[Leaf], y: Point3, cap: f64, skip: Option<u32>) {
+    pub(super) fn start<L: LeafSource + ?Sized>(
+        &mut self,
+        leaves: &L,
+        y: Point3,
+        cap: f64,
+        skip: Option<u32>,
+    ) {
         self.y = y;
         self.shift = self.at.map_or(0.0, |(a, _)| (y - a).norm()) + BOUND_ROUNDING_MM;
         self.cap = cap;
@@ -136,7 +140,7 @@ impl NearList {
     }
 
     /// Every listed leaf's bound below the cap into `sorted`, in order.
-    fn sort_all(&mut self, leaves: &[Leaf]) {
+    fn sort_all<L: LeafSource + ?Sized>(&mut self, leaves: &L) {
         let mut sorted = std::mem::take(&mut self.sorted);
         sorted.extend(
             (self.entries.iter())
@@ -149,7 +153,7 @@ impl NearList {
     /// The listed leaf with the least bound at the query point below the
     /// cap and its bound, not taken yet (least leaf number among equal
     /// bounds); `None` when none is left.
-    pub(super) fn pop(&mut self, leaves: &[Leaf]) -> Option<(f64, u32)> {
+    pub(super) fn pop<L: LeafSource + ?Sized>(&mut self, leaves: &L) -> Option<(f64, u32)> {
         if let Some(&e) = self.sorted.get(self.taken) {
             self.taken += 1;
             return Some(e);
@@ -171,16 +175,17 @@ impl NearList {
 
     /// The bound at the query point of `id` when it is below the cap and
     /// `id` is not the leaf left out.
-    fn bound_below_cap(&self, leaves: &[Leaf], id: u32) -> Option<f64> {
-        let leaf = leaves.get(id as usize).filter(|_| self.skip != Some(id))?;
+    fn bound_below_cap<L: LeafSource + ?Sized>(&self, leaves: &L, id: u32) -> Option<f64> {
+        let leaf = leaves.leaf(id).filter(|_| self.skip != Some(id))?;
         Some(leaf.lower_bound(self.y)).filter(|&b| b < self.cap)
     }
 }
 
 #[cfg(test)]
 mod tests {
-    use super::super::leaves::{LeafOptions, Leaves, Pieces};
+    use super::super::leaves::{Leaf, LeafOptions, Leaves, Pieces};
     use super::super::refit_tests::{flange, machined};
+    use super::super::tree::LeafTree;
     use super::*;
     use crate::math::Vec3;
     use rand::{RngExt, SeedableRng};
@@ -218,14 +223,14 @@ mod tests {
             let leaf = &leaves[(k * 37) % leaves.len()];
             let a = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5;
             let radius = 8.0;
-            list.list(&tree, &leaves, a, radius);
+            list.list(a, radius, |out| tree.within_bounds(&leaves, a, radius, out));
             if list.entries.len() <= SORTED_MAX {
                 continue;
             }
             let y = a + Vec3::new(0.01, -0.02, 0.015);
             let want = sorted(&leaves, y, radius - 0.03, None);
-            list.start(&leaves, y, radius - 0.03, None);
-            assert_eq!(list.pop(&leaves), want.first().copied(), "query {k}");
+            list.start(&leaves[..], y, radius - 0.03, None);
+            assert_eq!(list.pop(&leaves[..]), want.first().copied(), "query {k}");
             (lists, looked, listed) = (lists + 1, looked + list.next, listed + want.len());
         }
         assert!(lists > 10, "{lists} long lists");
@@ -249,10 +254,10 @@ mod tests {
             let leaf = &leaves[(k * 37) % leaves.len()];
             let a = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5 + unit();
             let listed = 1.0 + (k % 4) as f64;
-            list.list(&tree, &leaves, a, listed);
+            list.list(a, listed, |out| tree.within_bounds(&leaves, a, listed, out));
             for (id, l) in leaves.iter().enumerate() {
                 assert_eq!(
-                    list.holds(&leaves, id as u32),
+                    list.holds(&leaves[..], id as u32),
                     l.lower_bound(a) < listed,
                     "leaf {id}"
                 );
@@ -262,9 +267,9 @@ mod tests {
                 let cap = list.margin_at(y).unwrap_or(0.0);
                 let skip = list.entries.get(j).map(|e| e.1).filter(|_| j % 2 == 1);
                 let want = sorted(&leaves, y, cap, skip);
-                list.start(&leaves, y, cap, skip);
+                list.start(&leaves[..], y, cap, skip);
                 let mut got = Vec::new();
-                while let Some(e) = list.pop(&leaves) {
+                while let Some(e) = list.pop(&leaves[..]) {
                     got.push(e);
                     // Stop early now and then: what came before is right.
                     if got.len() == 3 && j == 2 {

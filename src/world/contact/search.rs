@@ -1,11 +1,8 @@
 //! The per-cycle search state: the free-air bound, the list of leaves near
 //! the ball, the leaves' warm feet, and the near search with its sign rule.
-use std::sync::{Arc, OnceLock};
-
-use super::box_tree::BoxTree;
-use super::leaves::{Leaf, Leaves, Pieces};
+use super::index::{LeafSource, PartIndex};
+use super::leaves::Leaf;
 use super::near::NearList;
-use super::tree::LeafTree;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::projection::{local_minimum, local_minimum_cached, Foot};
 use crate::geometry::{Jet2, ProjectionError, ProjectionOptions};
@@ -37,45 +34,6 @@ struct Candidate {
     face: usize,
     foot: Foot,
     edge: bool,
-}
-
-/// The part's leaves and their tree, shared by every search on the part.
-#[derive(Debug, Clone)]
-pub(crate) struct PartIndex {
-    pub(crate) leaves: Leaves,
-    pub(crate) tree: LeafTree,
-    /// The nominal pieces the leaves are made of (one leaf a piece).
-    pub(crate) pieces: Arc<Pieces>,
-    /// Per leaf, its trimmed boxes on this part once a check asked for them
-    /// ([`Self::trimmed_bound`]).
-    pub(crate) trimmed: Vec<OnceLock<Option<BoxTree>>>,
-}
-
-impl PartIndex {
-    /// The true points of leaf `id`'s sample grid: its piece's nominal
-    /// ones mapped by the part's transform (none for a leaf of no piece).
-    fn true_samples(&self, id: u32, (wp, am): (&Workpiece, &AsMachined)) -> [Point3; 9] {
-        let piece = self.pieces.pieces.get(id as usize);
-        let surface = piece.and_then(|p| wp.faces.get(p.face)).map(|f| &f.surface);
-        match (piece, surface) {
-            (Some(p), Some(s)) => p.nominal_samples(s).map(|q| am.transform_point(q)),
-            _ => [Point3::origin(); 9],
-        }
-    }
-
-    /// The leaves and tree of the part `wp` as machined by `am`.
-    pub(crate) fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> PartIndex {
-        let pieces = am.pieces.pieces(wp, &opts.leaves);
-        let leaves = Leaves::of(&pieces, am);
-        let tree = pieces.tree.refit(&leaves.leaves);
-        let trimmed = (0..leaves.leaves.len()).map(|_| OnceLock::new()).collect();
-        PartIndex {
-            leaves,
-            tree,
-            pieces,
-            trimmed,
-        }
-    }
 }
 
 /// The state of one stream of point queries on a [`PartIndex`]: the
@@ -110,14 +68,15 @@ impl ContactSearch {
     /// The search for the part `wp` as machined by `am`.
     pub fn new(wp: &Workpiece, am: &AsMachined, opts: &ContactOptions) -> ContactSearch {
         ContactSearch {
-            index: PartIndex::new(wp, am, opts),
+            index: PartIndex::new(wp, am, &opts.leaves),
             cursor: Cursor::new(opts),
         }
     }
 
-    /// Number of leaves over all faces.
+    /// Number of leaves made so far (a face's are made when a query
+    /// first comes near it).
     pub fn leaf_count(&self) -> usize {
-        self.index.leaves.leaves.len()
+        self.index.leaves_made()
     }
 
     /// The part's leaves and tree.
@@ -229,9 +188,10 @@ impl Cursor {
         let fresh = self.near.margin_at(y).is_some_and(|m| m >= needed);
         if !fresh {
             let listed = needed + 2.0 * self.opts.slack_mm;
-            if !self.near.list(&ix.tree, &ix.leaves.leaves, y, listed) {
+            let fill = |out: &mut Vec<(f64, u32)>| ix.within_bounds((wp, am), y, listed, out);
+            if !self.near.list(y, listed, fill) {
                 let kept = (reach, self.opts.free_air_ratio);
-                let floor = ix.tree.nearest_within(&ix.leaves.leaves, y, kept);
+                let floor = ix.nearest_within((wp, am), y, kept);
                 self.anchor = Some((y, floor));
                 return Ok(None);
             }
@@ -259,14 +219,14 @@ impl Cursor {
         self.stamp += 1;
         self.found.clear();
         self.off_trim.clear();
-        let leaves = &ix.leaves.leaves;
+        let leaves = ix;
         // The last answer's leaf first: the ball mostly stays over it, and
         // its distance then clears the neighbours whose bounds reach under
         // the ball (nearest bound first after it, as the loop ends at the
         // first bound beyond the best).
         let first = (self.last)
             .filter(|&l| self.near.holds(leaves, l))
-            .and_then(|l| leaves.get(l as usize).map(|leaf| (leaf.lower_bound(y), l)))
+            .and_then(|l| leaves.leaf(l).map(|leaf| (leaf.lower_bound(y), l)))
             .filter(|&(b, _)| b < reach + tie);
         self.near
             .start(leaves, y, reach + tie, first.map(|(_, l)| l));
@@ -279,7 +239,7 @@ impl Cursor {
                 floor = floor.min(b);
                 break;
             }
-            let Some(leaf) = leaves.get(id as usize) else {
+            let Some(leaf) = leaves.leaf(id) else {
                 continue;
             };
             // The oriented box clears most of the neighbours of the leaf
@@ -336,11 +296,11 @@ impl Cursor {
     ) {
         let tie = self.opts.edge_tie_mm;
         for &id in &self.off_trim {
-            let Some(leaf) = ix.leaves.leaves.get(id as usize) else {
+            let Some(leaf) = ix.leaf(id) else {
                 continue;
             };
             let face = leaf.face;
-            for (seg, chord) in ix.leaves.trim_chords(&ix.pieces, id as usize, am) {
+            for (seg, chord) in ix.trim_chords(id, am) {
                 if chord.lower_bound(y) >= best.min(reach) + tie {
                     continue;
                 }

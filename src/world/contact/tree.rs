@@ -38,6 +38,16 @@ impl Shape for Point3 {
     }
 }
 
+/// `offset + ratio (best - offset)` when `best` exceeds `offset`, else
+/// `best`: the bound that keeps `ratio` of `best`'s excess over `offset`.
+pub(crate) fn kept(best: f64, (offset, ratio): (f64, f64)) -> f64 {
+    if best > offset {
+        offset + ratio * (best - offset)
+    } else {
+        best
+    }
+}
+
 /// Most leaves under one node of the tree.
 pub(super) const BUCKET: usize = 4;
 
@@ -82,6 +92,11 @@ impl LeafTree {
     /// the tree visits leaves in); splits made for nearly the same boxes
     /// keep it as quick.
     pub(crate) fn refit(&self, leaves: &[Leaf]) -> LeafTree {
+        self.refit_with(|l| leaves.get(l as usize).map_or(Aabb::empty(), |l| l.aabb))
+    }
+
+    /// [`Self::refit`] with item `i`'s box `box_of(i)`.
+    pub(crate) fn refit_with(&self, box_of: impl Fn(u32) -> Aabb) -> LeafTree {
         let mut tree = self.clone();
         // Children come after their parent: from the back, every child's
         // box is made before its parent's.
@@ -91,9 +106,7 @@ impl LeafTree {
             };
             let aabb = if node.leaf {
                 let ids = tree.order.get(node.a as usize..node.b as usize);
-                (ids.unwrap_or_default().iter())
-                    .filter_map(|&l| leaves.get(l as usize))
-                    .fold(Aabb::empty(), |a, l| a.union(&l.aabb))
+                (ids.unwrap_or_default().iter()).fold(Aabb::empty(), |a, &l| a.union(&box_of(l)))
             } else {
                 let child = |c: u32| tree.nodes.get(c as usize).map_or(Aabb::empty(), |n| n.aabb);
                 child(node.a).union(&child(node.b))
@@ -165,20 +178,36 @@ impl LeafTree {
     /// falls, so a skipped node's leaves keep that of the final one). Far
     /// from the part, where many leaves lie at about the same distance,
     /// this skips most of them.
+    #[cfg(test)]
     pub(crate) fn nearest_within<S: Shape>(
         &self,
         leaves: &[Leaf],
         p: S,
         (offset, ratio): (f64, f64),
     ) -> f64 {
-        let kept = |best: f64| {
-            if best > offset {
-                offset + ratio * (best - offset)
-            } else {
-                best
-            }
+        let best = self.nearest_from(leaves, p, (offset, ratio), f64::INFINITY);
+        kept(best, (offset, ratio))
+    }
+
+    /// The least of `best` (mm) and the lower bounds of the leaves that
+    /// [`Self::nearest_within`] looks at, starting from `best`: a node
+    /// whose box keeps farther than `kept` of the least bound so far is
+    /// skipped, so `kept` of the result is what `nearest_within` of all
+    /// the leaves looked at together with `best`'s would give.
+    pub(crate) fn nearest_from<S: Shape>(
+        &self,
+        leaves: &[Leaf],
+        p: S,
+        (offset, ratio): (f64, f64),
+        mut best: f64,
+    ) -> f64 {
+        let kept = |best: f64| kept(best, (offset, ratio));
+        let first = kept(best);
+        let mut cut2 = if first.is_finite() {
+            first * first
+        } else {
+            f64::INFINITY
         };
-        let (mut best, mut cut2) = (f64::INFINITY, f64::INFINITY);
         let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
         if let Some(root) = self.nodes.first() {
             stack.push((p.box_dist2(&root.aabb), 0));
@@ -205,7 +234,7 @@ impl LeafTree {
             };
             stack.extend([far, near].into_iter().filter(|c| c.0 < cut2));
         }
-        kept(best)
+        best
     }
 
     /// Appends to `out` every leaf whose lower bound from `p` is below
@@ -263,6 +292,98 @@ impl LeafTree {
                 }
             }
         }
+    }
+
+    /// Calls `visit(item)` for every item whose box (`boxes[item]`, the
+    /// boxes the tree was built or refitted over) comes nearer than
+    /// `radius` to `p`, in tree order.
+    pub(crate) fn items_within<S: Shape>(
+        &self,
+        boxes: &[Aabb],
+        p: S,
+        radius: f64,
+        mut visit: impl FnMut(u32),
+    ) {
+        let r2 = radius * radius;
+        let mut stack: Vec<u32> = Vec::with_capacity(64);
+        if !self.nodes.is_empty() {
+            stack.push(0);
+        }
+        while let Some(i) = stack.pop() {
+            let Some(node) = self.nodes.get(i as usize) else {
+                continue;
+            };
+            if p.box_beyond(&node.aabb, r2) {
+                continue;
+            }
+            if !node.leaf {
+                stack.extend([node.b, node.a]);
+                continue;
+            }
+            let ids = self.order.get(node.a as usize..node.b as usize);
+            for &id in ids.unwrap_or_default() {
+                if boxes.get(id as usize).is_some_and(|b| !p.box_beyond(b, r2)) {
+                    visit(id);
+                }
+            }
+        }
+    }
+
+    /// The least bound `best` (mm) once `visit(item, d, best)` (which
+    /// returns the least bound with the item looked at, at most `best`)
+    /// has been called for each item whose box distance `d` from `p`
+    /// comes below [`kept`] of the least bound so far (nearer node first,
+    /// as [`Self::nearest_from`]): the items skipped have boxes at least
+    /// `kept` of the final least bound away.
+    pub(crate) fn nearest_items<S: Shape>(
+        &self,
+        boxes: &[Aabb],
+        p: S,
+        keep: (f64, f64),
+        mut best: f64,
+        mut visit: impl FnMut(u32, f64, f64) -> f64,
+    ) -> f64 {
+        let cut2_of = |best: f64| {
+            let cut = kept(best, keep);
+            if cut.is_finite() {
+                cut * cut
+            } else {
+                f64::INFINITY
+            }
+        };
+        let mut cut2 = cut2_of(best);
+        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
+        if let Some(root) = self.nodes.first() {
+            stack.push((p.box_dist2(&root.aabb), 0));
+        }
+        while let Some((d2, i)) = stack.pop() {
+            let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < cut2) else {
+                continue;
+            };
+            if node.leaf {
+                let ids = self.order.get(node.a as usize..node.b as usize);
+                for &id in ids.unwrap_or_default() {
+                    let Some(b) = boxes.get(id as usize) else {
+                        continue;
+                    };
+                    let d2 = p.box_dist2(b);
+                    if d2 < cut2 {
+                        best = visit(id, d2.sqrt(), best);
+                        cut2 = cut2_of(best);
+                    }
+                }
+                continue;
+            }
+            let da = self.node_dist2(node.a, p);
+            let db = self.node_dist2(node.b, p);
+            let (near, far) = if da <= db {
+                ((da, node.a), (db, node.b))
+            } else {
+                ((db, node.b), (da, node.a))
+            };
+            stack.extend([far, near].into_iter().filter(|c| c.0 < cut2));
+        }
+        best
     }
 
     fn node_dist2<S: Shape>(&self, i: u32, p: S) -> f64 {

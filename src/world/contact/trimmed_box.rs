@@ -17,8 +17,8 @@
 //! it for every crossed piece costs more on parts with many trimmed faces
 //! than it saves.
 use super::box_tree::BoxTree;
+use super::index::PartIndex;
 use super::leaves::{centre, halves, rect_of, Aabb, FaceContext, Pieces};
-use super::search::PartIndex;
 use super::shapes::Segment;
 use crate::geometry::nurbs::bezier::BezierPatch;
 use crate::math::{Point3, Vec2, Vec3};
@@ -28,7 +28,7 @@ use crate::world::as_machined::AsMachined;
 impl Aabb {
     /// The box of the images of this box's corners under `map` (for an
     /// affine map, a box holding the image of the whole box).
-    fn mapped(&self, map: impl Fn(Point3) -> Point3) -> Aabb {
+    pub(super) fn mapped(&self, map: impl Fn(Point3) -> Point3) -> Aabb {
         let (lo, hi) = (self.min, self.max);
         Aabb::of((0..8).map(|k| {
             let pick = |bit: usize, a: f64, b: f64| if k & bit == 0 { a } else { b };
@@ -46,7 +46,7 @@ impl Aabb {
     }
 
     /// This box widened by `d` on every side.
-    fn grown(&self, d: f64) -> Aabb {
+    pub(super) fn grown(&self, d: f64) -> Aabb {
         let g = Vec3::repeat(d);
         Aabb {
             min: self.min - g,
@@ -132,15 +132,17 @@ impl PartIndex {
     /// and put in a tree, once per part.
     pub(crate) fn trimmed_bound(
         &self,
-        id: usize,
+        id: u32,
         (wp, am): (&Workpiece, &AsMachined),
         seg: Segment,
         need: f64,
     ) -> Option<f64> {
-        let slot = self.trimmed.get(id)?;
+        let (fi, local) = self.face_of(id)?;
+        let (pieces, _) = self.piece_of(id)?;
+        let slot = fi.trimmed.get(local)?;
         let mapped = slot.get_or_init(|| {
-            let boxes = self.pieces.trimmed_boxes(id, wp)?;
-            let face = self.leaves.leaves.get(id)?.face;
+            let boxes = pieces.trimmed_boxes(local, wp)?;
+            let face = fi.leaves.leaves.get(local)?.face;
             let whole = boxes.iter().fold(Aabb::empty(), |u, b| u.union(b));
             let inflate = am.max_form_height_over(face, whole.min, whole.max) * am.stretch_factor();
             let map = |b: &Aabb| b.mapped(|p| am.transform_point(p)).grown(inflate);

@@ -4,9 +4,9 @@
 //! turned, stretched and bumped, every true point of a crossed leaf inside
 //! its face's trim has a trimmed bound of zero, and true points of the
 //! untrimmed surface over the holes are bounded away by millimetres.
+use super::index::PartIndex;
 use super::leaves::Leaf;
 use super::refit_tests::{flange, machined};
-use super::search::PartIndex;
 use super::shapes::Segment;
 use super::ContactOptions;
 use crate::geometry::Jet2;
@@ -18,10 +18,10 @@ use crate::world::as_machined::AsMachined;
 fn trimmed_boxes_hold_the_trimmed_true_surface_and_leave_out_the_holes() {
     let wp = flange();
     let am = machined(&wp);
-    let ix = PartIndex::new(&wp, &am, &ContactOptions::default());
+    let ix = PartIndex::new(&wp, &am, &ContactOptions::default().leaves);
     let n = 24;
     let (mut inside, mut crossed, mut far_over_holes) = (0, 0, 0);
-    for (id, leaf) in ix.leaves.leaves.iter().enumerate() {
+    for (id, leaf) in ix.all_leaves((&wp, &am)) {
         if !leaf.crossed() {
             assert_eq!(
                 ix.trimmed_bound(id, (&wp, &am), point(Vec3::zeros()), 0.0),
@@ -93,10 +93,10 @@ fn point(p: Vec3) -> Segment {
 fn oriented_boxes_bound_the_true_surface_and_tighten_tilted_leaves() {
     let wp = flange();
     let am = machined(&wp);
-    let ix = PartIndex::new(&wp, &am, &ContactOptions::default());
+    let ix = PartIndex::new(&wp, &am, &ContactOptions::default().leaves);
     let n = 16;
     let (mut checked, mut tighter) = (0, 0);
-    for leaf in ix.leaves.leaves.iter().step_by(7) {
+    for (_, leaf) in ix.all_leaves((&wp, &am)).into_iter().step_by(7) {
         let true_points: Vec<_> = true_grid((&wp, &am), leaf, n).map(|(_, q)| q).collect();
         let centre = leaf.aabb.min + (leaf.aabb.max - leaf.aabb.min) * 0.5;
         let size = (leaf.aabb.max - leaf.aabb.min).norm();

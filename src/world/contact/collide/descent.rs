@@ -7,8 +7,8 @@ use crate::geometry::{ProjectionError, ProjectionOptions};
 use crate::math::Point3;
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
+use crate::world::contact::index::PartIndex;
 use crate::world::contact::line::{least_on_segment, LineLimits, Look};
-use crate::world::contact::search::PartIndex;
 use crate::world::contact::shapes::Cylinder;
 use crate::world::contact::TrueContact;
 

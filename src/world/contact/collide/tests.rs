@@ -70,7 +70,7 @@ fn a_shaft_close_beside_the_part_looks_at_the_leaves_near_it() {
     };
     let wp = linkrods();
     let am = AsMachined::nominal();
-    let ix = PartIndex::new(&wp, &am, &ContactOptions::default());
+    let ix = PartIndex::new(&wp, &am, &ContactOptions::default().leaves);
     let part = (&wp, &am, &ix);
     // Places where the shaft runs free of the part all along.
     let free: Vec<_> = (feet(&wp, &am).into_iter())
