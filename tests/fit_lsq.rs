@@ -2,7 +2,7 @@
 //! known exactly (noise-free shapes, or offsets balanced by symmetry).
 mod fit_support;
 
-use cmm::fit::{fit, Element, ElementKind, FitError, FitOptions, FitReport, Method};
+use cmm::fit::{fit, fit_near, Element, ElementKind, FitError, FitOptions, FitReport, Method};
 use cmm::math::{Point3, Vec3};
 use fit_support::*;
 
@@ -451,4 +451,41 @@ fn circle_30_degree_arc_with_residuals() {
     };
     close_pt("center", &c.center, &pose.origin(), TOL);
     close("radius", c.radius, rad, TOL);
+}
+
+/// Eight points on two circles of four (radius 18, 16 mm apart along x,
+/// at 0/90/180/270 degrees) lie on the radius-18 cylinder along x and also
+/// on narrower tilted ones; started from the nominal cylinder the fit
+/// gives the one the design meant, the axis along x and radius 18 exactly.
+#[test]
+fn cylinder_near_the_nominal_on_points_that_fit_two_cylinders() {
+    let pts: Vec<Point3> = [8.0, 24.0]
+        .iter()
+        .flat_map(|&x| (0..4).map(move |k| (x, turn(k, 4))))
+        .map(|(x, a)| Point3::new(x, 18.0 * a.cos(), 18.0 * a.sin()))
+        .collect();
+    let nominal = Element::Cylinder(cmm::fit::Cylinder {
+        axis_point: Point3::new(16.0, 0.0, 0.0),
+        axis_direction: Vec3::x(),
+        radius: 18.0,
+    });
+    let opts = FitOptions::default();
+    let r = match fit_near(ElementKind::Cylinder, &pts, &opts, &nominal) {
+        Ok(r) => r,
+        Err(e) => panic!("cylinder fit failed: {e}"),
+    };
+    let Element::Cylinder(c) = r.element else {
+        panic!("not a cylinder: {:?}", r.element);
+    };
+    assert!((c.radius - 18.0).abs() < TOL, "radius {}", c.radius);
+    assert!(
+        c.axis_direction.cross(&Vec3::x()).norm() < TOL,
+        "{}",
+        c.axis_direction
+    );
+    assert!(
+        c.axis_point.y.hypot(c.axis_point.z) < TOL,
+        "{}",
+        c.axis_point
+    );
 }

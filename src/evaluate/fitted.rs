@@ -4,8 +4,8 @@
 use serde::Serialize;
 
 use super::model::{PointReport, Verdict};
-use crate::fit::{fit, Element, ElementKind, FitOptions, Method};
-use crate::math::{Point3, Vec3};
+use crate::fit::{fit, fit_near, Cylinder, Element, ElementKind, FitOptions, Method};
+use crate::math::{Mat3, Point3, Vec3};
 use crate::program::{FitElement, FitSpec};
 
 /// The essentials of a fitted element, part coordinates.
@@ -65,8 +65,15 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
     }
     let (k, name) = kind(spec.element);
     let opts = FitOptions::default();
-    let both = fit(k, Method::Lsq, &measured, &opts)
-        .and_then(|m| Ok((m, fit(k, Method::Lsq, &nominal, &opts)?)));
+    // The nominal element starts from the design's normals too and the
+    // measured one from the nominal element: points that fit two elements
+    // give the one the design meant.
+    let normals: Vec<Vec3> = points.iter().map(|p| Vec3::from(p.normal)).collect();
+    let nominal_fit = match design_axis(&normals) {
+        Some(axis) if k == ElementKind::Cylinder => fit_near(k, &nominal, &opts, &axis),
+        _ => fit(k, Method::Lsq, &nominal, &opts),
+    };
+    let both = nominal_fit.and_then(|n| Ok((fit_near(k, &measured, &opts, &n.element)?, n)));
     Some(match both {
         Ok((m, n)) => compare(
             spec,
@@ -85,6 +92,27 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
             error: Some(e.to_string()),
         },
     })
+}
+
+/// A cylinder whose axis is the direction most nearly square to every
+/// normal of `normals` (the least eigenvector of the sum of `n n^T`): a
+/// cylinder's surface normals are all square to its axis. Only its axis
+/// direction means anything. `None` for no normals.
+fn design_axis(normals: &[Vec3]) -> Option<Element> {
+    if normals.is_empty() {
+        return None;
+    }
+    let m = normals
+        .iter()
+        .fold(Mat3::zeros(), |m, n| m + n * n.transpose());
+    let eig = m.symmetric_eigen();
+    let k = eig.eigenvalues.imin();
+    let axis = eig.eigenvectors.column(k).into_owned();
+    Some(Element::Cylinder(Cylinder {
+        axis_point: Point3::origin(),
+        axis_direction: axis.try_normalize(1e-12)?,
+        radius: 0.0,
+    }))
 }
 
 fn summary(e: &Element, form_mm: f64) -> ElementSummary {

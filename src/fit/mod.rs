@@ -121,6 +121,32 @@ pub struct FitReport {
     pub point_count: usize,
 }
 
+/// The least-squares element of `kind` fitted to `points`, started from
+/// the nominal element `near` as well as from the data: where the points
+/// fit more than one element about equally well (within
+/// [`FitOptions::nominal_preference_mm`] of RMS residual), the one near the
+/// nominal.
+pub fn fit_near(
+    kind: ElementKind,
+    points: &[Point3],
+    opts: &FitOptions,
+    near: &Element,
+) -> Result<FitReport, FitError> {
+    let f = lsq::fit_near(kind, points, opts, near)?;
+    let residuals = f
+        .stats
+        .unwrap_or_else(|| residual_stats(&f.element, points));
+    Ok(FitReport {
+        kind,
+        method: Method::Lsq,
+        form_mm: form_error(&f.element, &residuals),
+        element: f.element,
+        residuals,
+        iterations: f.iterations,
+        point_count: points.len(),
+    })
+}
+
 /// Fits an element of `kind` to `points` by `method`.
 pub fn fit(
     kind: ElementKind,

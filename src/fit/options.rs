@@ -27,6 +27,13 @@ pub struct FitOptions {
     /// Most points used to choose among starting values (cylinder, cone);
     /// the chosen start is then refined on all points.
     pub start_sample: usize,
+    /// A fit started from the nominal element ([`super::fit_near`]) is
+    /// kept unless the fit from the data's own starts leaves an RMS
+    /// residual smaller by more than this, mm: points that fit two
+    /// elements equally well (eight points on two circles of four lie on
+    /// the bore's cylinder and on a narrower tilted one) give the one the
+    /// design meant.
+    pub nominal_preference_mm: f64,
 }
 
 impl Default for FitOptions {
@@ -38,6 +45,7 @@ impl Default for FitOptions {
             max_zone_iterations: 500,
             degenerate_ratio: 1e-6,
             start_sample: 4000,
+            nominal_preference_mm: 1e-3,
         }
     }
 }

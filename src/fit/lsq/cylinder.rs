@@ -152,6 +152,23 @@ pub(crate) fn lsq(
     ))
 }
 
+/// [`lsq`], and the least-squares cylinder started on the axis direction
+/// `axis` (the nominal one) when that comes within
+/// [`FitOptions::nominal_preference_mm`] of its RMS residual.
+pub(crate) fn lsq_near(
+    points: &[Point3],
+    opts: &FitOptions,
+    axis: &Vec3,
+) -> Result<(Centred, Solved<CylinderModel>), FitError> {
+    let (c, free) = lsq(points, opts)?;
+    let near = start_on_axis(&c.points, axis)
+        .and_then(|s| least_squares(s, &c.points, c.extent, opts, NAME).ok());
+    match near {
+        Some(n) if n.rms <= free.rms + opts.nominal_preference_mm => Ok((c, n)),
+        _ => Ok((c, free)),
+    }
+}
+
 /// The cylinder of a model in the frame of `c`.
 pub(crate) fn to_element(c: &Centred, m: &CylinderModel) -> Cylinder {
     Cylinder {

@@ -56,6 +56,26 @@ pub(crate) fn fit(kind: ElementKind, points: &[Point3], opts: &FitOptions) -> Fi
     }
 }
 
+/// [`fit`], started from the nominal element `near` where the points
+/// may fit more than one element (a cylinder); the others as [`fit`].
+pub(crate) fn fit_near(
+    kind: ElementKind,
+    points: &[Point3],
+    opts: &FitOptions,
+    near: &Element,
+) -> Fitted {
+    match (kind, near) {
+        (ElementKind::Cylinder, Element::Cylinder(n)) => {
+            let (c, s) = cylinder::lsq_near(points, opts, &n.axis_direction)?;
+            Ok(solved(
+                Element::Cylinder(cylinder::to_element(&c, &s.model)),
+                &s,
+            ))
+        }
+        _ => fit(kind, points, opts),
+    }
+}
+
 fn line_3d(points: &[Point3], opts: &FitOptions) -> Fitted {
     let (c, dir, passes) = line::lsq_3d(points, opts)?;
     Ok(bare(Element::Line(line::to_element_3d(&c, &dir)), passes))
