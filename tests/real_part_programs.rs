@@ -632,3 +632,40 @@ fn a_groove_under_a_shoulder_is_a_shaft_strike_for_check_and_scan() {
     assert_eq!(f["attempts"][0]["outcome"], "collision", "{f}");
     assert_eq!(f["attempts"][0]["collision"]["probe_part"], "shaft", "{f}");
 }
+
+/// The link rods' smaller bore (0.44 mm across, axis at (7.75, 3.125))
+/// with a 0.3 mm ball and a 0.03 mm tight margin: the ball centre has
+/// 0.07 mm of room round the axis, less than a sixteenth of the 5 mm
+/// standoff, so the approach starts at a shorter one inside the bore (not
+/// at a sixteenth, beyond the far wall, from where `cmm check` found no
+/// route). The bore is measured: every point on the true surface, no
+/// positioning move touching the part.
+#[test]
+fn a_bore_barely_wider_than_the_ball_is_approached_from_inside_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({
+        "format": "cmm-program/1", "name": "linkrods-small-bore",
+        "workpiece": s(&repo("workpieces/linkrods.step")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 0.3, "stylus_length_mm": 10 },
+        "defaults": { "speed_mm_s": 5, "deflection_mm": 0.05, "pitch_mm": 0.02 },
+        "clearance": { "tight_margin_mm": 0.03, "margin_mm": 0.1 },
+        "features": [ { "name": "small-bore", "type": "section_scan",
+            "plane": { "origin_mm": [7.75, 3.125, 0.5], "normal": [0, 0, 1] },
+            "surfaces": ["face12"], "tolerance_mm": [-0.05, 0.05],
+            "fit": { "element": "circle" } } ] });
+    let prog = common::write_program(dir.path(), "small-bore.json", &program);
+    let check = cmm(&["check", s(&prog)]);
+    assert_eq!(check.status.code(), Some(0), "{check:?}");
+    let (report, trace) = scan_ideal_ending(&prog, dir.path(), 0);
+    let f = &report["features"][0];
+    let points = f["points"].as_array().unwrap();
+    assert!(points.len() > 30, "{} points", points.len());
+    for p in points {
+        let e = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+        assert!(e.abs() <= 5e-4, "{e} mm");
+    }
+    let d = f["fit"]["measured"]["diameter_mm"].as_f64().unwrap();
+    assert!((d - 0.44).abs() < 0.01, "diameter {d}");
+    positioning_touches_nothing_over(&trace, 100);
+}

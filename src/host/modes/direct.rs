@@ -63,11 +63,13 @@ const STANDOFF_HALVINGS: usize = 4;
 /// approach line from there to the touch does not enter the part, else
 /// the largest of its halves (down to a sixteenth) that is. An approach
 /// into a hole narrower than the ball plus the standoff thus starts inside
-/// the hole, not in its far wall or beyond it. With no free space to ask,
-/// the configured standoff; with none clear (a hole narrower than the
-/// ball and the tight margin), the shortest: the approach then starts in
-/// the hole, where the route planning says no, rather than beyond its far
-/// wall, from where the approach would drive through the part.
+/// the hole, not in its far wall or beyond it. In a hole too small for a
+/// sixteenth, the halves go on down to [`ModeOptions::min_standoff_mm`].
+/// With no free space to ask, the configured standoff; with none clear (a
+/// hole narrower than the ball and the tight margin), a sixteenth: the
+/// approach then starts in the hole, where the route planning says no,
+/// rather than beyond its far wall, from where the approach would drive
+/// through the part.
 pub fn approach_standoff(
     free: Option<&dyn FreeSpace>,
     touching: Point3,
@@ -78,30 +80,47 @@ pub fn approach_standoff(
         return opts.standoff_mm;
     };
     let at = |s: f64| touching + normal * s;
-    let shortest = opts.standoff_mm / f64::from(1u32 << STANDOFF_HALVINGS);
-    let standoffs = (0..=STANDOFF_HALVINGS).map(|k| opts.standoff_mm / f64::from(1u32 << k));
+    let ratio = opts.standoff_mm / opts.min_standoff_mm.max(f64::MIN_POSITIVE);
+    let most = (ratio
+        .log2()
+        .floor()
+        .clamp(0.0, MAX_STANDOFF_HALVINGS as f64)) as usize;
+    let halvings = [STANDOFF_HALVINGS, most.max(STANDOFF_HALVINGS)];
+    (halvings.iter())
+        .find_map(|&h| clear_standoff(free, &at, opts.standoff_mm, h))
+        .unwrap_or(opts.standoff_mm / f64::from(1u32 << STANDOFF_HALVINGS))
+}
+
+/// Most halvings of the standoff (a twenty-thousandth of it).
+const MAX_STANDOFF_HALVINGS: usize = 14;
+
+/// [`approach_standoff`] among `standoff` and its halves down to
+/// `halvings` halvings; `None` when none is clear.
+fn clear_standoff(
+    free: &dyn FreeSpace,
+    at: &dyn Fn(f64) -> Point3,
+    standoff: f64,
+    halvings: usize,
+) -> Option<f64> {
+    let shortest = standoff / f64::from(1u32 << halvings);
+    let standoffs = (0..=halvings).map(|k| standoff / f64::from(1u32 << k));
     // The approach line is checked to a quarter of the shortest standoff
     // short of the touch (where the ball is that much clear of the part).
     let near_end = at(APPROACH_END_SHARE * shortest);
     if free.approach_clear(near_end, near_end) {
-        return standoffs
-            .clone()
-            .find(|&s| free.start_clear(at(s)) && free.approach_clear(at(s), near_end))
-            .unwrap_or(shortest);
+        return (standoffs.clone())
+            .find(|&s| free.start_clear(at(s)) && free.approach_clear(at(s), near_end));
     }
     // The touch lies inside the design (the true part stands out of it,
     // the ball backing off it): the design says nothing of the line's
     // end, only that it must be clear down to the nearest clear standoff.
-    let Some(nearest) = (standoffs.clone())
+    let nearest = (standoffs.clone())
         .filter(|&s| free.start_clear(at(s)))
-        .last()
-    else {
-        return shortest;
-    };
+        .last()?;
     standoffs
         .take_while(|&s| s >= nearest)
         .find(|&s| free.segment_clear_with(at(s), at(nearest), true))
-        .unwrap_or(nearest)
+        .or(Some(nearest))
 }
 
 /// Where the check of an approach line ends, as a share of the shortest

@@ -169,6 +169,10 @@ pub struct ModeOptions {
     pub approach_speed_mm_s: f64,
     /// Clearance of approach start points from the surface, mm.
     pub standoff_mm: f64,
+    /// The shortest standoff an approach into a hole too small for the
+    /// halves of [`Self::standoff_mm`] down to a sixteenth is started at,
+    /// mm (a 0.3 mm ball in a 0.44 mm bore has 0.14 mm of room).
+    pub min_standoff_mm: f64,
     /// Deflection at which a touch point triggers, mm.
     pub trigger_mm: f64,
     /// Below this deflection the stylus counts as out of contact, mm.
@@ -274,6 +278,7 @@ impl Default for ModeOptions {
             rapid_accel_mm_s2: 1500.0,
             approach_speed_mm_s: 10.0,
             standoff_mm: 5.0,
+            min_standoff_mm: 0.01,
             trigger_mm: 0.3,
             contact_mm: 0.02,
             free_mm: 5e-4,
