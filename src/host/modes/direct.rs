@@ -194,8 +194,9 @@ mod tests {
             "{s}"
         );
         assert_eq!(s, opts.standoff_mm / 4.0);
-        // A bore too narrow for any standoff (radius 0.1, the tube's wall
-        // to 2): the shortest, inside the bore, not beyond its far wall.
+        // A bore too narrow for a sixteenth of the standoff (radius 0.1,
+        // the tube's wall to 2): the largest of the further halves that
+        // starts inside the bore, not in or beyond its far wall.
         struct Narrow;
         impl FreeSpace for Narrow {
             fn segment_clear(&self, from: Point3, to: Point3) -> bool {
@@ -207,7 +208,8 @@ mod tests {
         }
         let touching = Point3::new(-0.1, 0.0, 0.0);
         let s = approach_standoff(Some(&Narrow), touching, Vec3::x(), &opts);
-        assert_eq!(s, opts.standoff_mm / 16.0);
+        assert_eq!(s, opts.standoff_mm / 32.0);
+        assert!((touching.x + s).abs() < 0.1, "{s}");
         // Outside the tube the whole standoff is clear.
         let outside = Point3::new(2.0, 0.0, 0.0);
         assert_eq!(
