@@ -2,7 +2,10 @@
 //! statistics, the tolerance verdict and the fitted element.
 use super::fitted::fit_feature;
 use super::model::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
+use crate::formats::serde_name;
 use crate::host::inspect::feature::MeasuredFeature;
+use crate::host::inspect::record::AttemptReport;
+use crate::host::modes::Outcome;
 use crate::program::Feature;
 
 /// The feature's report from its measurement and its evaluated points
@@ -46,25 +49,102 @@ fn deviation_report(
         (true, true) => Verdict::Pass,
         (true, false) => Verdict::Fail,
     };
+    let attempts: Vec<AttemptReport> = results
+        .iter()
+        .flat_map(|r| r.attempts.iter().cloned())
+        .collect();
+    let mut notes: Vec<String> = results
+        .iter()
+        .flat_map(|r| r.notes.iter().cloned())
+        .collect();
+    if status == Verdict::Incomplete && notes.is_empty() {
+        notes.push(why_incomplete(&attempts, points.len()));
+    }
     FeatureReport {
         name: name.to_string(),
         kind,
         status,
-        attempts: results
-            .iter()
-            .flat_map(|r| r.attempts.iter().cloned())
-            .collect(),
+        attempts,
         corrections: results
             .iter()
             .flat_map(|r| r.corrections.iter().cloned())
             .collect(),
         deviation_mm: Stats::of((points.iter().filter(|p| p.on_surface())).map(|p| p.deviation_mm)),
         tolerance_mm: Tolerance { lower, upper },
-        notes: results
-            .iter()
-            .flat_map(|r| r.notes.iter().cloned())
-            .collect(),
+        notes,
         points,
         fit: None,
+    }
+}
+
+/// Why a feature whose measuring left no note is incomplete: the last
+/// attempt that did not complete (and what struck, for a collision), or
+/// that no point was measured.
+fn why_incomplete(attempts: &[AttemptReport], points: usize) -> String {
+    let failed = attempts
+        .iter()
+        .rev()
+        .find(|a| a.outcome != Outcome::Completed);
+    match (failed, points) {
+        (Some(a), _) => {
+            let struck = (a.collision.as_ref())
+                .map(|c| {
+                    format!(
+                        " (the {} struck the part while the probe was in phase {})",
+                        c.probe_part, c.phase
+                    )
+                })
+                .unwrap_or_default();
+            format!(
+                "not measured: the last attempt that did not complete, {}, ended in {}{struck}",
+                serde_name(&a.mode),
+                serde_name(&a.outcome)
+            )
+        }
+        (None, 0) if attempts.is_empty() => "not measured: nothing to measure".to_string(),
+        (None, 0) => "not measured: the attempts completed without measuring a point".to_string(),
+        (None, _) => "not every curve of the feature was measured".to_string(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::inspect::record::{AttemptMode, CollisionReport};
+
+    fn attempt(mode: AttemptMode, outcome: Outcome) -> AttemptReport {
+        AttemptReport {
+            mode,
+            outcome,
+            machine_time_s: 1.0,
+            points: 0,
+            max_trajectory_error_mm: 0.0,
+            collision: None,
+        }
+    }
+
+    /// An incomplete feature with no note from its measuring says what
+    /// ended it: the last attempt that did not complete (what struck, in
+    /// which phase), or that the attempts measured no point.
+    #[test]
+    fn an_incomplete_feature_says_why() {
+        let mut struck = attempt(AttemptMode::Points, Outcome::Collision);
+        struck.collision = Some(CollisionReport {
+            probe_part: "shaft",
+            at_mm: [0.0; 3],
+            speed_mm_s: 10.0,
+            phase: "touch",
+        });
+        let done = attempt(AttemptMode::Active, Outcome::Completed);
+        let note = why_incomplete(&[struck, done.clone()], 0);
+        assert!(note.contains("points, ended in collision"), "{note}");
+        assert!(
+            note.contains("shaft struck the part") && note.contains("touch"),
+            "{note}"
+        );
+        let note = why_incomplete(&[done.clone(), done], 0);
+        assert!(note.contains("without measuring a point"), "{note}");
+        let lost = attempt(AttemptMode::Autonomous, Outcome::LostContact);
+        assert!(why_incomplete(&[lost], 3).contains("autonomous, ended in lost_contact"));
     }
 }
