@@ -669,3 +669,36 @@ fn a_bore_barely_wider_than_the_ball_is_approached_from_inside_it() {
     assert!((d - 0.44).abs() < 0.01, "diameter {d}");
     positioning_touches_nothing_over(&trace, 100);
 }
+
+/// A blind hole of CTC 05 (radius 4.4 mm, 25 mm below the top of its
+/// boss) with a 10 mm stylus: the probe body would stand in the part with
+/// the ball at the scan's start, so `cmm check` and `cmm scan` say there
+/// is no route to it and name the body, and nothing is driven into the
+/// part.
+#[test]
+fn a_hole_deeper_than_the_stylus_names_the_body_in_the_way() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({
+        "format": "cmm-program/1", "name": "short-stylus",
+        "workpiece": s(&repo("workpieces/nist-ctc05.stp")),
+        "placement": { "translate_mm": [400, 400, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 10 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "features": [ { "name": "deep-hole", "type": "section_scan",
+            "plane": { "origin_mm": [203.2, 0, 25], "normal": [0, 0, 1] },
+            "surfaces": ["face196", "face197"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let prog = common::write_program(dir.path(), "short-stylus.json", &program);
+    let check = cmm(&["check", s(&prog)]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(3), "{check:?}");
+    assert!(
+        text.contains("no route") && text.contains("the probe's body would strike the part there"),
+        "{text}"
+    );
+    let (report, _) = scan_ideal_ending(&prog, dir.path(), 3);
+    let f = &report["features"][0];
+    let notes = f["notes"].to_string();
+    assert!(notes.contains("body would strike"), "{notes}");
+    let attempts = f["attempts"].as_array().unwrap();
+    assert!(attempts.iter().all(|a| a["outcome"] != "collision"), "{attempts:?}");
+}

@@ -32,6 +32,10 @@ pub enum Unreachable {
     NoRoute {
         /// Ball centre at the start, part coordinates, mm.
         start: Point3,
+        /// The part of the probe that would strike the part with the ball
+        /// centre at the start, when one would (a stylus too short for a
+        /// deep hole: the body stands in the part there).
+        blocked_by: Option<ProbePart>,
     },
     /// No point of the section can be touched: the stretch is narrower
     /// than the ball, or walls beside it stand in the ball's way.
@@ -49,11 +53,17 @@ impl fmt::Display for Unreachable {
                 ball.y,
                 ball.z
             ),
-            Unreachable::NoRoute { start } => write!(
-                f,
-                "no route from the clearance height to the start ({:.3}, {:.3}, {:.3}) is clear of the part",
-                start.x, start.y, start.z
-            ),
+            Unreachable::NoRoute { start, blocked_by } => {
+                write!(
+                    f,
+                    "no route from the clearance height to the start ({:.3}, {:.3}, {:.3}) is clear of the part",
+                    start.x, start.y, start.z
+                )?;
+                match blocked_by {
+                    Some(p) => write!(f, " (the probe's {} would strike the part there)", p.name()),
+                    None => Ok(()),
+                }
+            }
             Unreachable::TooNarrow => write!(f, "narrower than the ball"),
         }
     }
@@ -193,7 +203,10 @@ impl Reach<'_> {
         let start = self.pose.to_part(at);
         match route_from_above(self.free, (at, self.probe.probe_vector), n, self.modes) {
             true => Ok(()),
-            false => Err(Unreachable::NoRoute { start }),
+            false => Err(Unreachable::NoRoute {
+                start,
+                blocked_by: self.free.posture(at),
+            }),
         }
     }
 }
