@@ -700,5 +700,8 @@ fn a_hole_deeper_than_the_stylus_names_the_body_in_the_way() {
     let notes = f["notes"].to_string();
     assert!(notes.contains("body would strike"), "{notes}");
     let attempts = f["attempts"].as_array().unwrap();
-    assert!(attempts.iter().all(|a| a["outcome"] != "collision"), "{attempts:?}");
+    assert!(
+        attempts.iter().all(|a| a["outcome"] != "collision"),
+        "{attempts:?}"
+    );
 }

@@ -408,6 +408,17 @@ fn an_alignment_that_leaves_a_turn_free_says_so() {
         note.contains("turn about the axis (1.000, 0.000, 0.000)"),
         "{note}"
     );
+    // With the probe's and machine's errors the fit keeps the placement's
+    // turn about the axis (it was fitted to the noise: 0.97 rad).
+    let (_, report) = run_default(&flange_alignment(), false);
+    let r = &report["part_to_machine"]["rotation"];
+    let at = |i: usize, j: usize| r[i][j].as_f64().unwrap();
+    // The placement turns by -90 degrees about y: R0 = [[0,0,-1],[0,1,0],[1,0,0]];
+    // the fitted turn about the part's x axis is that of R0^T R.
+    let q21 = -at(0, 1);
+    let q12 = at(1, 2);
+    let turn = 0.5 * (q21 - q12);
+    assert!(turn.abs() < 1e-9, "turn about the axis {turn} rad");
     // CTC 05's plate top, its block's 45 degree faces and front: every
     // motion is resisted, and no note is made.
     let program = json!({ "format": "cmm-program/1", "name": "aligned",

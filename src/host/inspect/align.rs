@@ -63,7 +63,8 @@ pub fn align(
             }
         }
     }
-    let (pose, iterations) = best_fit(wp, nominal, &measured, opts);
+    let free = FreeMotions::of(points);
+    let (pose, iterations) = best_fit(wp, nominal, (&measured, &free), opts);
     let residuals: Vec<f64> = measured
         .iter()
         .filter_map(|&m| residual(wp, &pose, m))
@@ -86,40 +87,80 @@ pub fn align(
 /// a motion of the part that no alignment point's surface resists.
 const UNDETERMINED_RATIO: f64 = 1e-6;
 
+/// The rigid motions the alignment points cannot fix, from the design
+/// alone: unit vectors `(l w, t')` of a turn `w` about the points'
+/// centroid `c` (scaled by their spread `l`) and a shift `t'`, each moving
+/// every point along its surface.
+struct FreeMotions {
+    motions: Vec<[f64; 6]>,
+    centroid: Vec3,
+    spread: f64,
+}
+
+impl FreeMotions {
+    fn of(points: &[NominalPoint]) -> FreeMotions {
+        let n = points.len().max(1) as f64;
+        let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
+        let spread = (points.iter())
+            .map(|p| (p.point.coords - c).norm_squared())
+            .sum::<f64>();
+        let l = (spread / n).sqrt().max(1e-9);
+        let jac = DMatrix::from_fn(points.len(), 6, |i, j| {
+            let (x, nn) = (points[i].point.coords - c, points[i].normal);
+            if j < 3 {
+                x.cross(&nn)[j] / l
+            } else {
+                nn[j - 3]
+            }
+        });
+        let svd = jac.svd(false, true);
+        let top = svd.singular_values.iter().copied().reduce(f64::max);
+        let motions = match (svd.v_t.as_ref(), top) {
+            (Some(vt), Some(top)) => (0..6)
+                .filter(|&k| {
+                    svd.singular_values
+                        .get(k)
+                        .is_none_or(|&s| s < UNDETERMINED_RATIO * top)
+                })
+                .filter(|&k| k < vt.nrows())
+                .map(|k| std::array::from_fn(|j| vt[(k, j)]))
+                .collect(),
+            _ => Vec::new(),
+        };
+        FreeMotions {
+            motions,
+            centroid: c,
+            spread: l,
+        }
+    }
+
+    /// The step `(w, t)` (a turn `w` about the origin and a shift `t`,
+    /// part frame) without its part along the free motions: those keep
+    /// the placement's value, not one fitted to the measuring's noise.
+    fn fixed_part(&self, w: Vec3, t: Vec3) -> (Vec3, Vec3) {
+        if self.motions.is_empty() {
+            return (w, t);
+        }
+        let (c, l) = (self.centroid, self.spread);
+        let shift = t + w.cross(&c);
+        let mut p = [w.x * l, w.y * l, w.z * l, shift.x, shift.y, shift.z];
+        for f in &self.motions {
+            let along: f64 = p.iter().zip(f).map(|(a, b)| a * b).sum();
+            p.iter_mut().zip(f).for_each(|(a, b)| *a -= along * b);
+        }
+        let w = Vec3::new(p[0], p[1], p[2]) / l;
+        (w, Vec3::new(p[3], p[4], p[5]) - w.cross(&c))
+    }
+}
+
 /// What the alignment points cannot fix, from the design alone: each
 /// rigid motion that moves every point along its surface (all points on
 /// faces round about one axis leave the turn about it), as a note; the
 /// fit then keeps the placement's value of it.
 pub fn undetermined(points: &[NominalPoint]) -> Vec<String> {
-    let n = points.len().max(1) as f64;
-    let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
-    let spread = (points.iter())
-        .map(|p| (p.point.coords - c).norm_squared())
-        .sum::<f64>();
-    let l = (spread / n).sqrt().max(1e-9);
-    let jac = DMatrix::from_fn(points.len(), 6, |i, j| {
-        let (x, nn) = (points[i].point.coords - c, points[i].normal);
-        if j < 3 {
-            x.cross(&nn)[j] / l
-        } else {
-            nn[j - 3]
-        }
-    });
-    let svd = jac.svd(false, true);
-    let (Some(vt), Some(top)) = (
-        svd.v_t.as_ref(),
-        svd.singular_values.iter().copied().reduce(f64::max),
-    ) else {
-        return Vec::new();
-    };
-    let free = |k: usize| {
-        svd.singular_values
-            .get(k)
-            .is_some_and(|&s| s < UNDETERMINED_RATIO * top)
-    };
-    (0..svd.singular_values.len().min(vt.nrows()))
-        .filter(|&k| free(k))
-        .map(|k| motion_note(vt.row(k).iter().copied().collect(), c, l))
+    let free = FreeMotions::of(points);
+    (free.motions.iter())
+        .map(|v| motion_note(v.to_vec(), free.centroid, free.spread))
         .collect()
 }
 
@@ -161,7 +202,7 @@ fn residual(wp: &Workpiece, pose: &Pose, m: Point3) -> Option<f64> {
 fn best_fit(
     wp: &Workpiece,
     start: &Pose,
-    measured: &[Point3],
+    (measured, free): (&[Point3], &FreeMotions),
     opts: &AlignOptions,
 ) -> (Pose, usize) {
     // Inverse pose x = a m + b (machine to part).
@@ -188,8 +229,11 @@ fn best_fit(
         let Ok(step) = jac.svd(true, true).solve(&r, 1e-12) else {
             return (pose_of(a, b), it);
         };
-        let rot = Rotation3::new(Vec3::new(step[0], step[1], step[2])).into_inner();
-        let delta = Vec3::new(step[3], step[4], step[5]);
+        let (w, delta) = free.fixed_part(
+            Vec3::new(step[0], step[1], step[2]),
+            Vec3::new(step[3], step[4], step[5]),
+        );
+        let rot = Rotation3::new(w).into_inner();
         a = rot * a;
         b = rot * b + delta;
         let moved = rows
