@@ -74,7 +74,7 @@ fn bench(c: &mut Criterion) {
             let mut k = 0;
             b.iter(|| {
                 k = (k + 1) % queries.len();
-                black_box(face.index.project(&face.surface, queries[k].0).ok())
+                black_box(face.index().project(&face.surface, queries[k].0).ok())
             })
         });
     }

@@ -61,13 +61,13 @@ fn box_distance_never_exceeds_the_exact_distance() {
         for k in 0..600 {
             let p = point_near(&wp, &mut r, 60.0);
             for face in &wp.faces {
-                let exact = face.index.project(&face.surface, p).unwrap().distance;
-                let bound = face.index.box_distance(p);
+                let exact = face.index().project(&face.surface, p).unwrap().distance;
+                let bound = face.index().box_distance(p);
                 assert!(
                     bound <= exact * (1.0 + 1e-12) + 1e-12,
                     "{stem} case {k}: bound {bound} > distance {exact} at {p}"
                 );
-                assert!(bound >= face.index.lower_bound(p), "{stem} case {k}");
+                assert!(bound >= face.index().lower_bound(p), "{stem} case {k}");
                 tight += usize::from(bound >= 0.9 * exact);
             }
         }
@@ -89,12 +89,12 @@ fn box_distance_from_a_hint_is_the_same_bound() {
             let (a, b) = (point_near(&wp, &mut r, 40.0), point_near(&wp, &mut r, 40.0));
             for k in 0..=200 {
                 let p = a + (b - a) * (k as f64 / 200.0);
-                let (near, next) = face.index.box_distance_near(p, hint);
-                assert_eq!(near, face.index.box_distance(p), "{stem} sample {k}");
+                let (near, next) = face.index().box_distance_near(p, hint);
+                assert_eq!(near, face.index().box_distance(p), "{stem} sample {k}");
                 hint = next;
                 let junk = Some(uniform(&mut r, 0.0, 1e4) as usize);
                 assert_eq!(
-                    face.index.box_distance_near(p, junk).0,
+                    face.index().box_distance_near(p, junk).0,
                     near,
                     "{stem} junk hint"
                 );

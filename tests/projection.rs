@@ -157,7 +157,7 @@ fn warm_projection_follows_a_path_like_the_cold_one() {
     let s = &wp.faces[0].surface;
     let opts = ProjectionOptions::default();
     let mut hint = wp.faces[0]
-        .index
+        .index()
         .project(s, s.point(0.1, 0.5) + Vec3::new(0.0, -1.5, 0.0))
         .unwrap()
         .uv;
@@ -165,7 +165,7 @@ fn warm_projection_follows_a_path_like_the_cold_one() {
         let t = 0.1 + 0.8 * k as f64 / 1500.0;
         let p = s.point(t, 0.5 + 0.1 * (6.0 * t).sin()) + s.normal(t, 0.5) * 1.2;
         let warm = project_from(s, p, hint, &opts).unwrap();
-        let cold = wp.faces[0].index.project(s, p).unwrap();
+        let cold = wp.faces[0].index().project(s, p).unwrap();
         assert!((warm.distance - cold.distance).abs() < 1e-10, "step {k}");
         hint = warm.uv;
     }
@@ -183,7 +183,7 @@ fn warm_path_on_the_sphere_matches_the_analytic_foot() {
     let mut r = rng(5);
     let mut dir = Vec3::new(1.0, 0.4, 0.2).normalize();
     let start = wp.faces[0]
-        .index
+        .index()
         .project(s, Point3::from(dir * 14.0))
         .unwrap();
     let mut warm = WarmStart::new(start.uv);
@@ -204,7 +204,7 @@ fn warm_path_on_the_sphere_matches_the_analytic_foot() {
         let p = Point3::from(dir * rho);
         let mut pr = project_warm(s, p, &mut warm, &ProjectionOptions::default()).unwrap();
         if pr.uv.x <= 0.0 || pr.uv.x >= 1.0 {
-            pr = wp.faces[0].index.project(s, p).unwrap();
+            pr = wp.faces[0].index().project(s, p).unwrap();
             warm = WarmStart::new(pr.uv);
         }
         assert!(

@@ -90,7 +90,7 @@ fn check(wp: &Workpiece, p: Point3, want: f64, what: &str) {
         pr.signed_distance
     );
     let face = &wp.faces[0];
-    let own = face.index.project(&face.surface, p).unwrap();
+    let own = face.index().project(&face.surface, p).unwrap();
     assert_eq!(own.status, SearchStatus::Confirmed, "{what} (index) at {p}");
     assert!(
         (own.distance - want.abs()).abs() < 1e-9,

@@ -132,7 +132,7 @@ pub fn evaluate_point(wp: &Workpiece, p: Point3) -> Result<EvaluatedPoint, Proje
 pub fn closest_point(wp: &Workpiece, p: Point3) -> Result<FaceProjection, ProjectionError> {
     check_query(p)?;
     let mut order: Vec<(f64, usize)> = (wp.faces.iter().enumerate())
-        .map(|(i, f)| (f.index.lower_bound(p), i))
+        .map(|(i, f)| (f.lower_bound(p), i))
         .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
     let mut best: Option<(usize, Projection)> = None;
@@ -143,7 +143,9 @@ pub fn closest_point(wp: &Workpiece, p: Point3) -> Result<FaceProjection, Projec
             break;
         };
         let (surface, trim) = (&face.surface, face.trim.as_ref());
-        let searched = face.index.search_checked(surface, trim, p, bound2, None)?;
+        let searched = face
+            .index()
+            .search_checked(surface, trim, p, bound2, None)?;
         status = status.and(searched.status);
         if let Some((_, foot)) = searched.found {
             bound2 = foot.dist2;

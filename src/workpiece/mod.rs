@@ -59,8 +59,15 @@ pub struct Face {
     pub name: String,
     /// The geometry.
     pub surface: NurbsSurface,
-    /// Cold-projection hierarchy of `surface`.
-    pub index: ProjectionIndex,
+    /// Cold-projection hierarchy of `surface`, built on first use
+    /// ([`Face::index`]): a program that measures a few faces of a part
+    /// with hundreds builds those and the ones its moves pass near.
+    index: std::sync::OnceLock<ProjectionIndex>,
+    /// The projection tolerances the hierarchy is built with.
+    options: ProjectionOptions,
+    /// The box of the surface's control points (the surface lies in
+    /// their hull), corners.
+    bounds: (Point3, Point3),
     /// The face's trim region, when the surface is trimmed.
     pub trim: Option<Trim>,
 }
@@ -201,9 +208,8 @@ impl Workpiece {
         self.face_tree.get_or_init(|| {
             let boxes: Vec<faces_near::FaceBox> = (self.faces.iter())
                 .map(|f| {
-                    f.index.root_box().map_or([f64::NAN; 6], |(lo, hi)| {
-                        [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z]
-                    })
+                    let (lo, hi) = f.bounds();
+                    [lo.x, lo.y, lo.z, hi.x, hi.y, hi.z]
                 })
                 .collect();
             faces_near::FaceTree::new(&boxes)
@@ -245,15 +251,45 @@ pub fn is_cad_path(path: &Path) -> bool {
 }
 
 impl Face {
-    /// Wraps a surface and builds its hierarchy.
+    /// Wraps a surface (its hierarchy is built on first use).
     pub fn new(name: String, surface: NurbsSurface, options: &ProjectionOptions) -> Face {
-        let index = ProjectionIndex::new(&surface, options);
+        let points = surface.homogeneous_points().iter();
+        let cartesian = points.map(|p| Point3::new(p.x / p.w, p.y / p.w, p.z / p.w));
+        let bounds = cartesian.fold(
+            (
+                Point3::from([f64::INFINITY; 3]),
+                Point3::from([f64::NEG_INFINITY; 3]),
+            ),
+            |(lo, hi), q| (lo.inf(&q), hi.sup(&q)),
+        );
         Face {
             name,
             surface,
-            index,
+            index: std::sync::OnceLock::new(),
+            options: *options,
+            bounds,
             trim: None,
         }
+    }
+
+    /// The cold-projection hierarchy of the surface, built on first use.
+    pub fn index(&self) -> &ProjectionIndex {
+        self.index
+            .get_or_init(|| ProjectionIndex::new(&self.surface, &self.options))
+    }
+
+    /// The corners of a box that holds the whole surface (that of its
+    /// control points), without building the hierarchy.
+    pub fn bounds(&self) -> (Point3, Point3) {
+        self.bounds
+    }
+
+    /// A lower bound of the distance from `p` to the surface (its
+    /// control points' box), mm, without building the hierarchy.
+    pub fn lower_bound(&self, p: Point3) -> f64 {
+        let (lo, hi) = self.bounds;
+        let gap = (lo - p).sup(&(p - hi)).sup(&crate::math::Vec3::zeros());
+        gap.norm()
     }
 
     /// The same face restricted to a trim region.
@@ -282,9 +318,9 @@ impl Face {
     ) -> Result<Option<(Option<usize>, Foot)>, ProjectionError> {
         let (surface, trim) = (&self.surface, self.trim.as_ref());
         if tight {
-            (self.index).search_depth_first(surface, trim, (p, best_dist2), skip, memo)
+            (self.index()).search_depth_first(surface, trim, (p, best_dist2), skip, memo)
         } else {
-            self.index.search(surface, trim, p, best_dist2, skip)
+            self.index().search(surface, trim, p, best_dist2, skip)
         }
     }
 
@@ -296,7 +332,7 @@ impl Face {
         leaf: usize,
         best_dist2: f64,
     ) -> Result<Option<Foot>, ProjectionError> {
-        self.index
+        self.index()
             .search_leaf(&self.surface, self.trim.as_ref(), leaf, p, best_dist2)
     }
 }

@@ -120,7 +120,7 @@ impl Workpiece {
             return Ok(None);
         }
         let memo = &mut h.far.of_face(h.face);
-        h.leaf = face.index.confirm(&face.surface, p, &mut h.foot, memo)?;
+        h.leaf = face.index().confirm(&face.surface, p, &mut h.foot, memo)?;
         // The untrimmed surface's closest point, inside the trim, is the
         // face's; outside it the face's lies elsewhere (on its boundary).
         if face.trim.as_ref().is_some_and(|t| !t.contains(h.foot.uv)) {
@@ -170,7 +170,7 @@ impl Workpiece {
         // The leaves' boxes bound the face's distance without a Newton
         // iteration, often far beyond `within` (the other side of a thin
         // part), which spares the searches of the nearby queries too.
-        let boxes = f.index.box_distance(p);
+        let boxes = f.index().box_distance(p);
         if boxes > within {
             far.note_face(i, p, boxes);
             return Ok(None);
@@ -197,7 +197,7 @@ impl Workpiece {
             let Some(f) = self.faces.get(i) else {
                 continue;
             };
-            if let (d, Some(leaf)) = f.index.box_nearest_leaf(p) {
+            if let (d, Some(leaf)) = f.index().box_nearest_leaf(p) {
                 if best.is_none_or(|b| d < b.0) {
                     best = Some((d, i, leaf));
                 }
@@ -221,7 +221,7 @@ impl Workpiece {
     ) -> Result<Option<(FaceProjection, Option<FootHint>)>, ProjectionError> {
         let mut order: Vec<(f64, usize)> = faces
             .into_iter()
-            .filter_map(|i| self.faces.get(i).map(|f| (f.index.lower_bound(p), i)))
+            .filter_map(|i| self.faces.get(i).map(|f| (f.lower_bound(p), i)))
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let hint = hint.filter(|h| order.iter().any(|o| o.1 == h.face));

@@ -148,7 +148,7 @@ impl Workpiece {
         mut seed: impl FnMut(usize, Vec2) -> Result<(), ProjectionError>,
     ) -> Result<(), ProjectionError> {
         let mut order: Vec<(f64, usize)> = (self.faces.iter().enumerate())
-            .map(|(i, f)| (f.index.lower_bound(y), i))
+            .map(|(i, f)| (f.lower_bound(y), i))
             .collect();
         order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
         let mut found: Vec<(usize, f64, Vec2)> = Vec::new();

@@ -58,7 +58,7 @@ fn the_grid_lists_exactly_the_leaves_within_the_bound() {
             let off = uniform(&mut r, -3.0, 3.0);
             let (i, p) = point_off(&wp, &mut r, off);
             let radius = [0.01, 0.1, 1.0, 5.0, 40.0][k % 5];
-            let index = &wp.faces[i].index;
+            let index = &wp.faces[i].index();
             let got = listed(index, p, radius * radius);
             let want: Vec<usize> = (0..index.leaves.len())
                 .filter(|&l| index.leaves[l].aabb.dist2(p) < radius * radius)
@@ -129,15 +129,21 @@ fn check_certificates(wp: &Workpiece, seed: u64, cases: usize, counts: &mut Cert
             lo: Vec2::new(u0, v0),
             hi: Vec2::new(u1, v1),
         };
-        let leaf = &f.index.leaves[(uniform(&mut r, 0.0, f.index.leaves.len() as f64) as usize)
-            .min(f.index.leaves.len() - 1)];
+        let leaf = &f.index().leaves[(uniform(&mut r, 0.0, f.index().leaves.len() as f64)
+            as usize)
+            .min(f.index().leaves.len() - 1)];
         let t = Vec2::new(uniform(&mut r, 0.0, 1.0), uniform(&mut r, 0.0, 1.0));
         let start = leaf.bounds.lo + (leaf.bounds.hi - leaf.bounds.lo).component_mul(&t);
         let Ok(foot) = newton::minimise(&f.surface, p, start, &domain, &wp.options) else {
             continue;
         };
         let d = foot.dist2.sqrt();
-        for holder in f.index.leaves.iter().filter(|l| l.bounds.contains(foot.uv)) {
+        for holder in f
+            .index()
+            .leaves
+            .iter()
+            .filter(|l| l.bounds.contains(foot.uv))
+        {
             let certified = holder.convexity().excludes_closer(d);
             if d < NEAR_MM {
                 counts.near += 1;
@@ -180,7 +186,7 @@ fn a_certified_rational_leaf_has_no_closer_point() {
     ];
     for (file, seed) in files {
         let wp = load(&file);
-        let rational = wp.faces.iter().flat_map(|f| &f.index.leaves).any(|l| {
+        let rational = wp.faces.iter().flat_map(|f| &f.index().leaves).any(|l| {
             let w0 = l.patch.pw[0].w;
             l.patch.pw.iter().any(|c| c.w != w0)
         });

@@ -138,7 +138,9 @@ impl PartClearance<'_> {
             let Some(face) = self.workpiece.faces.get(i) else {
                 return false;
             };
-            let leaf = face.index.leaf_near(&shape, check.need, check.leaf_hint(i));
+            let leaf = face
+                .index()
+                .leaf_near(&shape, check.need, check.leaf_hint(i));
             check.note_leaf(i, leaf);
             leaf.is_some()
         });
@@ -185,7 +187,7 @@ impl PartClearance<'_> {
         let Some(f) = self.workpiece.faces.get(i) else {
             return f64::INFINITY;
         };
-        let (d, nearest) = f.index.box_distance_near(q, check.leaf_hint(i));
+        let (d, nearest) = f.index().box_distance_near(q, check.leaf_hint(i));
         check.note_leaf(i, nearest);
         d
     }
