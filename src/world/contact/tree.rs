@@ -266,32 +266,15 @@ impl LeafTree {
         mut visit: impl FnMut(f64, u32),
     ) {
         let r2 = radius * radius;
-        let mut stack: Vec<u32> = Vec::with_capacity(64);
-        if !self.nodes.is_empty() {
-            stack.push(0);
-        }
-        while let Some(i) = stack.pop() {
-            let Some(node) = self.nodes.get(i as usize) else {
-                continue;
+        self.walk_within(p, r2, |id| {
+            let Some(l) = leaves.get(id as usize) else {
+                return;
             };
-            if p.box_beyond(&node.aabb, r2) {
-                continue;
+            match p.leaf_bound_within(l, r2) {
+                Some(bound) if bound < radius => visit(bound, id),
+                _ => {}
             }
-            if !node.leaf {
-                stack.extend([node.b, node.a]);
-                continue;
-            }
-            let ids = self.order.get(node.a as usize..node.b as usize);
-            for &id in ids.unwrap_or_default() {
-                let Some(l) = leaves.get(id as usize) else {
-                    continue;
-                };
-                match p.leaf_bound_within(l, r2) {
-                    Some(bound) if bound < radius => visit(bound, id),
-                    _ => {}
-                }
-            }
-        }
+        });
     }
 
     /// Calls `visit(item)` for every item whose box (`boxes[item]`, the
@@ -305,6 +288,16 @@ impl LeafTree {
         mut visit: impl FnMut(u32),
     ) {
         let r2 = radius * radius;
+        self.walk_within(p, r2, |id| {
+            if boxes.get(id as usize).is_some_and(|b| !p.box_beyond(b, r2)) {
+                visit(id);
+            }
+        });
+    }
+
+    /// Calls `at(item)` for every item under a node whose box comes nearer
+    /// than `sqrt(r2)` to `p`, in tree order.
+    fn walk_within<S: Shape>(&self, p: S, r2: f64, mut at: impl FnMut(u32)) {
         let mut stack: Vec<u32> = Vec::with_capacity(64);
         if !self.nodes.is_empty() {
             stack.push(0);
@@ -321,11 +314,7 @@ impl LeafTree {
                 continue;
             }
             let ids = self.order.get(node.a as usize..node.b as usize);
-            for &id in ids.unwrap_or_default() {
-                if boxes.get(id as usize).is_some_and(|b| !p.box_beyond(b, r2)) {
-                    visit(id);
-                }
-            }
+            ids.unwrap_or_default().iter().for_each(|&id| at(id));
         }
     }
 
