@@ -48,6 +48,16 @@ pub(crate) fn kept(best: f64, (offset, ratio): (f64, f64)) -> f64 {
     }
 }
 
+/// The square of [`kept`] of `best` (infinite for an infinite one).
+fn cut2_of(best: f64, keep: (f64, f64)) -> f64 {
+    let cut = kept(best, keep);
+    if cut.is_finite() {
+        cut * cut
+    } else {
+        f64::INFINITY
+    }
+}
+
 /// Most leaves under one node of the tree.
 pub(super) const BUCKET: usize = 4;
 
@@ -198,43 +208,14 @@ impl LeafTree {
         &self,
         leaves: &[Leaf],
         p: S,
-        (offset, ratio): (f64, f64),
-        mut best: f64,
+        keep: (f64, f64),
+        best: f64,
     ) -> f64 {
-        let kept = |best: f64| kept(best, (offset, ratio));
-        let first = kept(best);
-        let mut cut2 = if first.is_finite() {
-            first * first
-        } else {
-            f64::INFINITY
-        };
-        let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
-        if let Some(root) = self.nodes.first() {
-            stack.push((p.box_dist2(&root.aabb), 0));
-        }
-        while let Some((d2, i)) = stack.pop() {
-            let Some(node) = self.nodes.get(i as usize).filter(|_| d2 < cut2) else {
-                continue;
-            };
-            if node.leaf {
-                for l in self.leaves_of(node, leaves) {
-                    best = best.min(p.leaf_bound(l));
-                }
-                let cut = kept(best);
-                cut2 = cut * cut;
-                continue;
-            }
-            let da = self.node_dist2(node.a, p);
-            let db = self.node_dist2(node.b, p);
-            // The nearer child is popped first.
-            let (near, far) = if da <= db {
-                ((da, node.a), (db, node.b))
-            } else {
-                ((db, node.b), (da, node.a))
-            };
-            stack.extend([far, near].into_iter().filter(|c| c.0 < cut2));
-        }
-        best
+        self.nearest_walk(p, keep, best, |ids, best| {
+            (ids.iter())
+                .filter_map(|&l| leaves.get(l as usize))
+                .fold(best, |b, l| b.min(p.leaf_bound(l)))
+        })
     }
 
     /// Appends to `out` every leaf whose lower bound from `p` is below
@@ -329,18 +310,35 @@ impl LeafTree {
         boxes: &[Aabb],
         p: S,
         keep: (f64, f64),
-        mut best: f64,
+        best: f64,
         mut visit: impl FnMut(u32, f64, f64) -> f64,
     ) -> f64 {
-        let cut2_of = |best: f64| {
-            let cut = kept(best, keep);
-            if cut.is_finite() {
-                cut * cut
-            } else {
-                f64::INFINITY
+        self.nearest_walk(p, keep, best, |ids, mut best| {
+            for &id in ids {
+                let Some(b) = boxes.get(id as usize) else {
+                    continue;
+                };
+                let d2 = p.box_dist2(b);
+                if d2 < cut2_of(best, keep) {
+                    best = visit(id, d2.sqrt(), best);
+                }
             }
-        };
-        let mut cut2 = cut2_of(best);
+            best
+        })
+    }
+
+    /// The least bound after `bucket(items, best)` (the least bound with
+    /// those items looked at) for the items of every tree leaf whose node
+    /// comes nearer to `p` than [`kept`] of the least bound so far, nearer
+    /// node first.
+    fn nearest_walk<S: Shape>(
+        &self,
+        p: S,
+        keep: (f64, f64),
+        mut best: f64,
+        mut bucket: impl FnMut(&[u32], f64) -> f64,
+    ) -> f64 {
+        let mut cut2 = cut2_of(best, keep);
         let mut stack: Vec<(f64, u32)> = Vec::with_capacity(64);
         if let Some(root) = self.nodes.first() {
             stack.push((p.box_dist2(&root.aabb), 0));
@@ -351,20 +349,13 @@ impl LeafTree {
             };
             if node.leaf {
                 let ids = self.order.get(node.a as usize..node.b as usize);
-                for &id in ids.unwrap_or_default() {
-                    let Some(b) = boxes.get(id as usize) else {
-                        continue;
-                    };
-                    let d2 = p.box_dist2(b);
-                    if d2 < cut2 {
-                        best = visit(id, d2.sqrt(), best);
-                        cut2 = cut2_of(best);
-                    }
-                }
+                best = bucket(ids.unwrap_or_default(), best);
+                cut2 = cut2_of(best, keep);
                 continue;
             }
             let da = self.node_dist2(node.a, p);
             let db = self.node_dist2(node.b, p);
+            // The nearer child is popped first.
             let (near, far) = if da <= db {
                 ((da, node.a), (db, node.b))
             } else {
@@ -379,12 +370,5 @@ impl LeafTree {
         self.nodes
             .get(i as usize)
             .map_or(f64::INFINITY, |n| p.box_dist2(&n.aabb))
-    }
-
-    fn leaves_of<'l>(&'l self, node: &Node, leaves: &'l [Leaf]) -> impl Iterator<Item = &'l Leaf> {
-        let ids = self.order.get(node.a as usize..node.b as usize);
-        ids.unwrap_or_default()
-            .iter()
-            .filter_map(|&i| leaves.get(i as usize))
     }
 }
