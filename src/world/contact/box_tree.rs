@@ -25,6 +25,11 @@ impl BoxTree {
         t
     }
 
+    /// The box holding every box (empty for none).
+    pub(crate) fn bounds(&self) -> Aabb {
+        self.nodes.first().map_or_else(Aabb::empty, |n| n.aabb)
+    }
+
     /// Builds the node over `boxes[lo..hi]`; returns its index.
     fn build(&mut self, lo: usize, hi: usize) -> u32 {
         let at = self.nodes.len() as u32;

@@ -11,12 +11,11 @@
 //! them, and a bound from a box is at most the bound of any leaf in it.
 use std::sync::{Arc, OnceLock};
 
-use super::box_tree::BoxTree;
 use super::leaves::{Aabb, Chord, Leaf, Leaves, Pieces};
 use super::pieces::LazyPieces;
 use super::tree::{kept, LeafTree, Shape};
 use super::LeafOptions;
-use crate::math::{Point3, Vec2};
+use crate::math::{Mat3, Point3, Vec2, Vec3};
 use crate::workpiece::Workpiece;
 use crate::world::as_machined::AsMachined;
 
@@ -25,9 +24,6 @@ use crate::world::as_machined::AsMachined;
 pub(crate) struct FaceIndex {
     pub(crate) leaves: Leaves,
     pub(crate) tree: LeafTree,
-    /// Per leaf, its trimmed boxes on this part once a check asked for them
-    /// ([`PartIndex::trimmed_bound`]).
-    pub(crate) trimmed: Vec<OnceLock<Option<BoxTree>>>,
 }
 
 /// The part's leaves, face by face, shared by every search on the part.
@@ -41,6 +37,47 @@ pub(crate) struct PartIndex {
     faces: Vec<OnceLock<FaceIndex>>,
     /// [`LeafOptions::split_within_mm`].
     split_within: f64,
+    /// The part's transform undone: the inverse of its linear part, its
+    /// translation and a lower bound of the factor by which it shortens
+    /// lengths (`None` for a transform with no inverse).
+    pub(crate) undo: Option<Undo>,
+}
+
+/// Relative error allowed for the SVD's least singular value (a few
+/// hundred rounding errors of a 3 x 3 decomposition).
+const SHRINK_ROUNDING: f64 = 1e-12;
+
+/// The inverse of a part's transform `T(x) = L x + t`.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Undo {
+    /// `L^-1`.
+    pub(crate) inverse: Mat3,
+    /// `t`, mm.
+    pub(crate) offset: Vec3,
+    /// A lower bound of the least singular value of `L`: `T` keeps
+    /// points at least this times their distance apart.
+    pub(crate) shrink: f64,
+}
+
+impl Undo {
+    /// The inverse of `am`'s transform, when it has one.
+    fn of(am: &AsMachined) -> Option<Undo> {
+        let linear = am.linear_part();
+        let inverse = linear.try_inverse()?;
+        // The SVD's least singular value, a few rounding errors lowered.
+        let least = linear.singular_values().min();
+        let shrink = least * (1.0 - SHRINK_ROUNDING);
+        (shrink.is_finite() && shrink > 0.0).then_some(Undo {
+            inverse,
+            offset: am.translation(),
+            shrink,
+        })
+    }
+
+    /// The nominal point `T^-1(x)`.
+    pub(crate) fn point(&self, x: Point3) -> Point3 {
+        Point3::from(self.inverse * (x.coords - self.offset))
+    }
 }
 
 /// Something leaves are looked up in by number.
@@ -86,6 +123,7 @@ impl PartIndex {
             boxes,
             pieces,
             split_within: opts.split_within_mm,
+            undo: Undo::of(am),
         }
     }
 
@@ -108,12 +146,7 @@ impl PartIndex {
         Some(slot.get_or_init(|| {
             let leaves = Leaves::of(pieces, am);
             let tree = pieces.tree.refit(&leaves.leaves);
-            let trimmed = (0..leaves.leaves.len()).map(|_| OnceLock::new()).collect();
-            FaceIndex {
-                leaves,
-                tree,
-                trimmed,
-            }
+            FaceIndex { leaves, tree }
         }))
     }
 
@@ -200,12 +233,6 @@ impl PartIndex {
             (Some(p), Some(s)) => p.nominal_samples(s).map(|q| am.transform_point(q)),
             _ => [Point3::origin(); 9],
         }
-    }
-
-    /// Leaf `id`'s face's leaves and its number among them.
-    pub(crate) fn face_of(&self, id: u32) -> Option<(&FaceIndex, usize)> {
-        let (face, local) = self.pieces.split_id(id);
-        Some((self.face_made(face)?, local as usize))
     }
 
     /// Every leaf of the part with its number, every face made.

@@ -318,9 +318,9 @@ pub(crate) struct Piece {
     /// The Bezier patch of a piece the trim crosses, for its trimmed box.
     pub(super) crossed: Option<BezierPatch>,
     /// Boxes holding the nominal surface over the part of a crossed
-    /// piece inside the trim, made when first asked for
+    /// piece inside the trim, in their tree, made when first asked for
     /// ([`Pieces::trimmed_boxes`]).
-    pub(super) trimmed: std::sync::OnceLock<Vec<Aabb>>,
+    pub(super) trimmed: std::sync::OnceLock<super::box_tree::BoxTree>,
 }
 
 impl Piece {

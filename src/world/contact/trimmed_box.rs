@@ -12,7 +12,8 @@
 //! whole, the halves outside left out, the halves the trim crosses halved
 //! until [`super::LeafOptions::trim_box_mm`] across; the leaf's trimmed
 //! bound is the least distance to those boxes. They are made once per design
-//! (shared by a batch's variants) and mapped once per part, for the leaves
+//! (shared by a batch's variants, each of which takes the segment back to
+//! the design's frame rather than mapping the boxes), for the leaves
 //! a check meets with a bound below its certifying distance only: making
 //! it for every crossed piece costs more on parts with many trimmed faces
 //! than it saves.
@@ -56,11 +57,11 @@ impl Aabb {
 }
 
 impl Pieces {
-    /// Boxes holding the nominal surface over the part of piece `id`
-    /// inside its face's trim (`None` for a piece the trim does not cross:
-    /// its own box is that), made on first use; `wp` is the design the
-    /// pieces were made of.
-    pub(crate) fn trimmed_boxes(&self, id: usize, wp: &Workpiece) -> Option<&[Aabb]> {
+    /// The tree of boxes holding the nominal surface over the part of
+    /// piece `id` inside its face's trim (`None` for a piece the trim does
+    /// not cross: its own box is that), made on first use; `wp` is the
+    /// design the pieces were made of.
+    pub(crate) fn trimmed_boxes(&self, id: usize, wp: &Workpiece) -> Option<&BoxTree> {
         let piece = self.pieces.get(id)?;
         let patch = piece.crossed.as_ref()?;
         let face = wp.faces.get(piece.face)?;
@@ -71,7 +72,7 @@ impl Pieces {
                 trim: face.trim.as_ref(),
                 opts: self.opts,
             };
-            ctx.trimmed_part_boxes(patch.clone(), piece.segs.clone())
+            BoxTree::new(ctx.trimmed_part_boxes(patch.clone(), piece.segs.clone()))
         });
         Some(made)
     }
@@ -122,14 +123,19 @@ impl FaceContext<'_> {
 
 impl PartIndex {
     /// A lower bound of the distance from `seg` to the true surface over
-    /// the part of leaf `id` inside its face's trim, from its trimmed boxes
-    /// (`None` for a leaf the trim does not cross): the least distance to
-    /// them when that is at least `need` (mm), else zero (the boxes are
-    /// looked at only until one comes nearer than `need`: a check that
-    /// needs more then descends from the leaf anyway). The boxes are
-    /// mapped by the part's affine transform (the box of its corners'
-    /// images holds the image), widened by the form's bound over the leaf
-    /// and put in a tree, once per part.
+    /// the part of leaf `id` inside its face's trim (`None` for a leaf the
+    /// trim does not cross): the least distance to its trimmed boxes when
+    /// that is at least `need` (mm), else zero (the boxes are looked at
+    /// only until one comes nearer than `need`: a check that needs more
+    /// then descends from the leaf anyway).
+    ///
+    /// The boxes are the design's, shared by every part made of it: the
+    /// segment is taken back to the design's frame by the inverse of the
+    /// part's transform `T`. A true point is `T(p + h n)` with `p` on the
+    /// nominal surface in the boxes and `|h|` at most the form's bound
+    /// `H` over them, so a segment `d` from the boxes in the design's
+    /// frame keeps at least `s (d - H)` from the true surface (`s` the
+    /// least factor by which `T` shortens lengths).
     pub(crate) fn trimmed_bound(
         &self,
         id: u32,
@@ -137,17 +143,19 @@ impl PartIndex {
         seg: Segment,
         need: f64,
     ) -> Option<f64> {
-        let (fi, local) = self.face_of(id)?;
-        let (pieces, _) = self.piece_of(id)?;
-        let slot = fi.trimmed.get(local)?;
-        let mapped = slot.get_or_init(|| {
-            let boxes = pieces.trimmed_boxes(local, wp)?;
-            let face = fi.leaves.leaves.get(local)?.face;
-            let whole = boxes.iter().fold(Aabb::empty(), |u, b| u.union(b));
-            let inflate = am.max_form_height_over(face, whole.min, whole.max) * am.stretch_factor();
-            let map = |b: &Aabb| b.mapped(|p| am.transform_point(p)).grown(inflate);
-            Some(BoxTree::new(boxes.iter().map(map).collect()))
-        });
-        Some(mapped.as_ref()?.least_distance(seg, need))
+        let (pieces, local) = self.piece_of(id)?;
+        let tree = pieces.trimmed_boxes(local, wp)?;
+        let Some(undo) = self.undo else {
+            return Some(0.0);
+        };
+        let face = pieces.pieces.get(local)?.face;
+        let whole = tree.bounds();
+        let form = am.max_form_height_over(face, whole.min, whole.max);
+        let nominal = Segment {
+            a: undo.point(seg.a),
+            b: undo.point(seg.b),
+        };
+        let d = tree.least_distance(nominal, need / undo.shrink + form);
+        Some((undo.shrink * (d - form)).max(0.0))
     }
 }
