@@ -667,7 +667,32 @@ fn a_bore_barely_wider_than_the_ball_is_approached_from_inside_it() {
     }
     let d = f["fit"]["measured"]["diameter_mm"].as_f64().unwrap();
     assert!((d - 0.44).abs() < 0.01, "diameter {d}");
+    // The loop is closed all round at the pitch: the arc the scan goes
+    // before its point settles in the plane is measured at the end.
+    let covered = angular_coverage(points, (7.75, 3.125), 0.02 / 0.22);
+    assert!(covered >= 0.9, "coverage {covered}");
     positioning_touches_nothing_over(&trace, 100);
+}
+
+/// The share of the full turn round the axis through `centre` (part x, y;
+/// the axis along z) that the points cover, each gap between neighbours
+/// wider than 1.5 pitches (`pitch_rad`, the pitch's angle) counting as
+/// uncovered beyond that.
+fn angular_coverage(points: &[serde_json::Value], centre: (f64, f64), pitch_rad: f64) -> f64 {
+    let mut angles: Vec<f64> = points
+        .iter()
+        .map(|p| {
+            let m = &p["measured"];
+            let (x, y) = (m[0].as_f64().unwrap(), m[1].as_f64().unwrap());
+            (y - centre.1).atan2(x - centre.0)
+        })
+        .collect();
+    angles.sort_by(f64::total_cmp);
+    let turn = std::f64::consts::TAU;
+    let wrap = angles.first().unwrap() + turn - angles.last().unwrap();
+    let gaps = angles.windows(2).map(|w| w[1] - w[0]).chain([wrap]);
+    let missing: f64 = gaps.map(|g| (g - 1.5 * pitch_rad).max(0.0)).sum();
+    1.0 - missing / turn
 }
 
 /// A blind hole of CTC 05 (radius 4.4 mm, 25 mm below the top of its

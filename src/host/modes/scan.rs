@@ -247,7 +247,7 @@ fn active(
     };
     let stall_cycles = (opts.stall_s / dt).ceil() as usize;
     let mut mark = (0.0f64, 0usize);
-    let mut settled = t.plane_normal.is_none();
+    let mut settled_at = t.plane_normal.is_none().then_some(0.0f64);
     for cycle in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
@@ -259,7 +259,7 @@ fn active(
         } else if cycle - mark.1 > stall_cycles {
             return Err(Outcome::TrajectoryError);
         }
-        let remaining = length - progress;
+        let remaining = length + overrun(path, settled_at, progress) - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
         }
@@ -271,7 +271,12 @@ fn active(
             return Err(Outcome::TrajectoryError);
         }
         let brake = (2.0 * a * remaining.max(0.0)).sqrt();
-        let want = planned_speed(speeds, progress, a, &mut cursor)
+        let s_plan = if progress > length {
+            progress - length
+        } else {
+            progress
+        };
+        let want = planned_speed(speeds, s_plan, a, &mut cursor)
             .max(CREEP_MM_S)
             .min(brake.max(0.5));
         speed += (want - speed).clamp(-a * dt, a * dt);
@@ -292,16 +297,30 @@ fn active(
         } else if progress - touched_at > opts.active_lost_contact_mm {
             return Err(Outcome::LostContact);
         }
-        settled = settled
-            || progress >= SETTLE_WITHIN_MM
+        let settles = progress >= SETTLE_WITHIN_MM
             || (t.plane_normal)
                 .and_then(|m| plane_offset(tr, (p, n_path), m, t.deflection_mm))
                 .is_some_and(|e| e.abs() <= SETTLED_MM);
-        if settled {
+        if settled_at.is_none() && settles {
+            settled_at = Some(progress);
+        }
+        if settled_at.is_some() {
             tr.sample(t.pitch_mm);
         }
     }
     Err(Outcome::Aborted)
+}
+
+/// How far a scan of `path` goes on past its end (mm): a closed path
+/// once round from where recording began (`settled_at`, the progress at
+/// which the point settled in the plane; while it has not, as far as it
+/// has come), so the recorded points close the loop; an open one not at
+/// all.
+fn overrun(path: &BallPath, settled_at: Option<f64>, progress: f64) -> f64 {
+    match path.is_closed() {
+        true => settled_at.unwrap_or(progress).max(0.0),
+        false => 0.0,
+    }
 }
 
 /// A plane section's scan records points once the measured point has come
