@@ -61,6 +61,33 @@ fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: V
         && (on_boundary(wp, nominal) || edge_distance_mm(wp, nominal) <= EDGE_NEAR_MM)
 }
 
+/// Whether the ball stood on an edge of the design: the ball centre's
+/// nominal foot (over the feature's faces) lies on a face's edge and the
+/// ball centre stands off it turned by more than 10 degrees from the
+/// face's normal there, as it does only over an edge (a ball touching a
+/// face has its centre along the face's normal). This needs the ball
+/// centre alone, which the scales and the probe vector give to
+/// micrometres, not the deflection's direction, which lags while the ball
+/// rolls round a corner: a point measured there can carry a measured
+/// normal within a few degrees of one face's while the ball is still well
+/// round the edge, tens of micrometres off either face. Looked at only
+/// for a point whose own foot lies within `reach` of its face's edge (a
+/// ball on an edge measures a point at most its radius from the edge).
+fn ball_on_edge(
+    (wp, faces): (&Workpiece, FeatureFaces),
+    (nominal, ball, reach): (&FaceProjection, Point3, f64),
+    hints: &mut Hints,
+) -> bool {
+    if edge_distance_mm(wp, nominal) > reach {
+        return false;
+    }
+    let Some(foot) = feature_foot(wp, ball, faces, hints) else {
+        return false;
+    };
+    let off = (ball - foot.projection.point).try_normalize(0.0);
+    on_boundary(wp, &foot) && off.is_some_and(|u| u.dot(&foot.projection.normal) < EDGE_COS)
+}
+
 /// An upper bound of the distance (mm) from the foot to its face's edge
 /// (the trim, else the surface's boundary): the distance in the parameters
 /// times the larger of the surface's first derivatives there (exact to
@@ -115,7 +142,7 @@ pub fn point_reports(
     let chunks: Vec<Vec<PointReport>> = points
         .par_chunks(CHUNK_POINTS)
         .map(|chunk| {
-            let mut hints = Hints::default();
+            let mut hints = (Hints::default(), Hints::default());
             (chunk.iter())
                 .filter_map(|m| point_report(workpiece, pose, faces, m, &mut hints))
                 .collect()
@@ -177,12 +204,15 @@ fn point_report(
     pose: &Pose,
     faces: FeatureFaces,
     m: &Measured,
-    hints: &mut Hints,
+    (hints, ball_hints): &mut (Hints, Hints),
 ) -> Option<PointReport> {
     let p = pose.to_part(m.point);
     let nominal = feature_foot(wp, p, faces, hints)?;
+    let reach = 2.0 * (m.ball - m.point).norm() + EDGE_NEAR_MM;
+    let ball = (&nominal, pose.to_part(m.ball), reach);
     let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
-        || beyond_edge(wp, &nominal, p);
+        || beyond_edge(wp, &nominal, p)
+        || ball_on_edge((wp, faces), ball, ball_hints);
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),
