@@ -58,15 +58,15 @@ const EDGE_NEAR_MM: f64 = 0.1;
 
 fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: Vec3) -> bool {
     measured_normal.dot(&nominal.projection.normal) < EDGE_COS
-        && (on_boundary(wp, nominal) || edge_distance_mm(wp, nominal) <= EDGE_NEAR_MM)
+        && (on_boundary(wp, nominal) || within_edge_mm(wp, nominal, EDGE_NEAR_MM))
 }
 
 /// Whether the ball stood on an edge of the design: the ball centre's
-/// nominal foot (over the feature's faces) lies on a face's edge and the
-/// ball centre stands off it turned by more than 10 degrees from the
-/// face's normal there, as it does only over an edge (a ball touching a
-/// face has its centre along the face's normal). This needs the ball
-/// centre alone, which the scales and the probe vector give to
+/// nominal foot on the face of the point's own foot lies on the face's
+/// edge and the ball centre stands off it turned by more than 10 degrees
+/// from the face's normal there, as it does only over an edge (a ball
+/// touching a face has its centre along the face's normal). This needs
+/// the ball centre alone, which the scales and the probe vector give to
 /// micrometres, not the deflection's direction, which lags while the ball
 /// rolls round a corner: a point measured there can carry a measured
 /// normal within a few degrees of one face's while the ball is still well
@@ -74,31 +74,32 @@ fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: V
 /// for a point whose own foot lies within `reach` of its face's edge (a
 /// ball on an edge measures a point at most its radius from the edge).
 fn ball_on_edge(
-    (wp, faces): (&Workpiece, FeatureFaces),
+    wp: &Workpiece,
     (nominal, ball, reach): (&FaceProjection, Point3, f64),
-    hints: &mut Hints,
+    hint: &mut Option<FootHint>,
 ) -> bool {
-    if edge_distance_mm(wp, nominal) > reach {
+    if !within_edge_mm(wp, nominal, reach) {
         return false;
     }
-    let Some(foot) = feature_foot(wp, ball, faces, hints) else {
+    let face = [nominal.face];
+    let Ok(foot) = wp.closest_point_tracked(ball, face.iter().copied(), hint) else {
         return false;
     };
     let off = (ball - foot.projection.point).try_normalize(0.0);
-    on_boundary(wp, &foot) && off.is_some_and(|u| u.dot(&foot.projection.normal) < EDGE_COS)
+    off.is_some_and(|u| u.dot(&foot.projection.normal) < EDGE_COS) && on_boundary(wp, &foot)
 }
 
-/// An upper bound of the distance (mm) from the foot to its face's edge
-/// (the trim, else the surface's boundary): the distance in the parameters
+/// Whether the foot lies within `d` (mm) of its face's edge (the trim,
+/// else the surface's boundary), the distance in the parameters taken
 /// times the larger of the surface's first derivatives there (exact to
 /// first order on a face whose parameters stretch alike both ways).
-fn edge_distance_mm(wp: &Workpiece, nominal: &FaceProjection) -> f64 {
+fn within_edge_mm(wp: &Workpiece, nominal: &FaceProjection, d: f64) -> bool {
     let Some(face) = wp.faces.get(nominal.face) else {
-        return f64::INFINITY;
+        return true;
     };
     let uv = nominal.projection.uv;
-    let d = face.surface.derivs(uv.x, uv.y, 1);
-    let (su, sv) = (d.su().norm(), d.sv().norm());
+    let derivs = face.surface.derivs(uv.x, uv.y, 1);
+    let (su, sv) = (derivs.su().norm(), derivs.sv().norm());
     let ((u0, u1), (v0, v1)) = face.surface.domain();
     let sides = [
         (uv.x - u0) * su,
@@ -106,8 +107,9 @@ fn edge_distance_mm(wp: &Workpiece, nominal: &FaceProjection) -> f64 {
         (uv.y - v0) * sv,
         (v1 - uv.y) * sv,
     ];
-    let trim = (face.trim.as_ref()).map_or(f64::INFINITY, |t| t.distance(uv) * su.max(sv));
-    sides.iter().fold(trim, |m, &x| m.min(x.abs()))
+    let stretch = su.max(sv);
+    sides.iter().any(|x| x.abs() <= d)
+        || (face.trim.as_ref()).is_some_and(|t| stretch <= 0.0 || t.comes_within(uv, d / stretch))
 }
 
 fn beyond_edge(wp: &Workpiece, nominal: &FaceProjection, p: Point3) -> bool {
@@ -142,7 +144,7 @@ pub fn point_reports(
     let chunks: Vec<Vec<PointReport>> = points
         .par_chunks(CHUNK_POINTS)
         .map(|chunk| {
-            let mut hints = (Hints::default(), Hints::default());
+            let mut hints = (Hints::default(), None);
             (chunk.iter())
                 .filter_map(|m| point_report(workpiece, pose, faces, m, &mut hints))
                 .collect()
@@ -204,7 +206,7 @@ fn point_report(
     pose: &Pose,
     faces: FeatureFaces,
     m: &Measured,
-    (hints, ball_hints): &mut (Hints, Hints),
+    (hints, ball_hint): &mut (Hints, Option<FootHint>),
 ) -> Option<PointReport> {
     let p = pose.to_part(m.point);
     let nominal = feature_foot(wp, p, faces, hints)?;
@@ -212,7 +214,7 @@ fn point_report(
     let ball = (&nominal, pose.to_part(m.ball), reach);
     let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
         || beyond_edge(wp, &nominal, p)
-        || ball_on_edge((wp, faces), ball, ball_hints);
+        || ball_on_edge(wp, ball, ball_hint);
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),

@@ -186,12 +186,27 @@ impl Trim {
     /// The distance in `(u, v)` from `uv` to the nearest loop edge.
     pub fn distance(&self, uv: Vec2) -> f64 {
         self.segments()
-            .map(|(a, b)| {
-                let e = b - a;
-                let t = ((uv - a).dot(&e) / e.norm_squared().max(1e-300)).clamp(0.0, 1.0);
-                (uv - (a + e * t)).norm()
-            })
+            .map(|e| segment_distance(uv, e))
             .fold(f64::INFINITY, f64::min)
+    }
+
+    /// Whether a loop edge comes within `d` of `uv` (in `(u, v)`): the
+    /// edges of the `v` bands `d` reaches (all edges of a small trim),
+    /// each first by its box grown by `d`.
+    pub fn comes_within(&self, uv: Vec2, d: f64) -> bool {
+        let near = |&(a, b): &(Vec2, Vec2)| {
+            let (lo, hi) = (a.inf(&b), a.sup(&b));
+            let boxed =
+                uv.x >= lo.x - d && uv.x <= hi.x + d && uv.y >= lo.y - d && uv.y <= hi.y + d;
+            boxed && segment_distance(uv, (a, b)) <= d
+        };
+        let edges: usize = self.loops.iter().map(Vec::len).sum();
+        if edges < BANDED_EDGES {
+            return self.segments().any(|e| near(&e));
+        }
+        let bands = self.bands.get_or_init(|| Bands::new(self));
+        let (k0, k1) = (bands.band(uv.y - d), bands.band(uv.y + d));
+        (bands.bands.get(k0..=k1).into_iter().flatten()).any(|band| band.iter().any(near))
     }
 
     /// Whether the parameter rectangle `[lo, hi]` can touch the face.
@@ -205,6 +220,13 @@ impl Trim {
             .iter()
             .flat_map(|l| (0..l.len()).map(move |k| (l[k], l[(k + 1) % l.len()])))
     }
+}
+
+/// The distance in `(u, v)` from `uv` to the edge `a..b`.
+fn segment_distance(uv: Vec2, (a, b): (Vec2, Vec2)) -> f64 {
+    let e = b - a;
+    let t = ((uv - a).dot(&e) / e.norm_squared().max(1e-300)).clamp(0.0, 1.0);
+    (uv - (a + e * t)).norm()
 }
 
 /// Number of loop edges crossed by the ray from `p` towards +u.
@@ -257,6 +279,44 @@ mod tests {
             let p = Vec2::new(rng.random::<f64>(), rng.random::<f64>()) * 2.4 - Vec2::repeat(0.7);
             let want = inside_convex(&outer, p) && !inside_convex(&hole, p);
             assert_eq!(trim.contains(p), want, "{p:?}");
+        }
+    }
+
+    /// Distance from `p` to the closed polyline `poly`, by sampling each
+    /// edge at 2000 points (an upper bound within 1e-3 of the truth for
+    /// the polygons here).
+    fn sampled_distance(poly: &[[f64; 2]], p: Vec2) -> f64 {
+        let mut best = f64::INFINITY;
+        for k in 0..poly.len() {
+            let (a, b) = (poly[k], poly[(k + 1) % poly.len()]);
+            for i in 0..=2000 {
+                let t = i as f64 / 2000.0;
+                let q = Vec2::new(a[0] + (b[0] - a[0]) * t, a[1] + (b[1] - a[1]) * t);
+                best = best.min((q - p).norm());
+            }
+        }
+        best
+    }
+
+    #[test]
+    fn comes_within_agrees_with_sampled_distances() {
+        // Banded (300 + 120 edges) and one by one (8 edges).
+        let (outer, hole) = (polygon(300, 1.0, [0.5, 0.5]), polygon(120, 0.3, [0.7, 0.4]));
+        let banded = Trim::new(&outer, std::slice::from_ref(&hole));
+        let small = polygon(8, 0.8, [0.4, 0.6]);
+        let plain = Trim::new(&small, &[]);
+        let mut rng = rand::rngs::Xoshiro256PlusPlus::seed_from_u64(9);
+        for _ in 0..300 {
+            let p = Vec2::new(rng.random::<f64>(), rng.random::<f64>()) * 2.4 - Vec2::repeat(0.7);
+            let d = rng.random::<f64>() * 0.2;
+            let want = sampled_distance(&outer, p).min(sampled_distance(&hole, p));
+            if (want - d).abs() > 2e-3 {
+                assert_eq!(banded.comes_within(p, d), want <= d, "{p:?} {d} {want}");
+            }
+            let want = sampled_distance(&small, p);
+            if (want - d).abs() > 2e-3 {
+                assert_eq!(plain.comes_within(p, d), want <= d, "{p:?} {d} {want}");
+            }
         }
     }
 }
