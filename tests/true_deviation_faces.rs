@@ -89,6 +89,7 @@ fn points_on_the_true_surface_past_the_feature_s_faces_have_no_measurement_error
     let to_machine: Vec<Measured> = (measured.iter())
         .map(|m| Measured {
             point: pose.to_machine(m.point),
+            ball: pose.to_machine(m.ball),
             ..*m
         })
         .collect();
