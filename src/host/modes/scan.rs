@@ -297,12 +297,12 @@ fn active(
         } else if progress - touched_at > opts.active_lost_contact_mm {
             return Err(Outcome::LostContact);
         }
-        let settles = progress >= SETTLE_WITHIN_MM
-            || (t.plane_normal)
-                .and_then(|m| plane_offset(tr, (p, n_path), m, t.deflection_mm))
-                .is_some_and(|e| e.abs() <= SETTLED_MM);
-        if settled_at.is_none() && settles {
-            settled_at = Some(progress);
+        if settled_at.is_none() {
+            let settles = progress >= SETTLE_WITHIN_MM
+                || (t.plane_normal)
+                    .and_then(|m| plane_offset(tr, (p, n_path), m, t.deflection_mm))
+                    .is_some_and(|e| e.abs() <= SETTLED_MM);
+            settled_at = settles.then_some(progress);
         }
         if settled_at.is_some() {
             tr.sample(t.pitch_mm);
