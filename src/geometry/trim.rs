@@ -223,7 +223,7 @@ impl Trim {
 }
 
 /// The distance in `(u, v)` from `uv` to the edge `a..b`.
-fn segment_distance(uv: Vec2, (a, b): (Vec2, Vec2)) -> f64 {
+pub(crate) fn segment_distance(uv: Vec2, (a, b): (Vec2, Vec2)) -> f64 {
     let e = b - a;
     let t = ((uv - a).dot(&e) / e.norm_squared().max(1e-300)).clamp(0.0, 1.0);
     (uv - (a + e * t)).norm()

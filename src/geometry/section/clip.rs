@@ -2,6 +2,7 @@
 //! stretches along the face's edges (which the neighbouring face may share)
 //! and stretches across it.
 use super::{SectionCurve, SectionOptions, SectionPoint};
+use crate::geometry::trim::segment_distance;
 use crate::geometry::{NurbsSurface, Plane, Trim};
 use crate::math::Vec2;
 
@@ -255,7 +256,7 @@ fn along_trim_edge(face: &Face, q: Vec2, reach: f64) -> Option<Vec2> {
     let crossed = |e: Vec2| grad.dot(&e).abs() >= EDGE_ROOT_MIN_SINE * grad.norm() * e.norm();
     let (_, dir) = (face.trim?.segments())
         .filter(|&(a, b)| crossed(b - a))
-        .map(|(a, b)| (segment_distance(q, a, b), b - a))
+        .map(|(a, b)| (segment_distance(q, (a, b)), b - a))
         .min_by(|x, y| x.0.total_cmp(&y.0))?;
     let dir = dir.try_normalize(0.0)?;
     let mut uv = q;
@@ -272,12 +273,6 @@ fn along_trim_edge(face: &Face, q: Vec2, reach: f64) -> Option<Vec2> {
         }
     }
     None
-}
-
-fn segment_distance(p: Vec2, a: Vec2, b: Vec2) -> f64 {
-    let e = b - a;
-    let t = ((p - a).dot(&e) / e.norm_squared().max(1e-300)).clamp(0.0, 1.0);
-    (p - (a + e * t)).norm()
 }
 
 /// A few gradient-Newton steps in parameter space back onto the plane
