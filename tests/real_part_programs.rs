@@ -165,6 +165,29 @@ fn io1_flange_program_measures_every_feature_exactly() {
         ],
     );
     positioning_touches_nothing(&trace);
+    retracts_touch_nothing(&trace);
+}
+
+/// Every cycle of the trace in the phase `retract` reads no deflection:
+/// a touch's stop on the surface and its lift off it belong to the touch
+/// (and a scan's to the scan), the retract is the move away in free air.
+fn retracts_touch_nothing(trace: &str) {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
+    let mut retracting = 0;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        if f[phase] != "retract" {
+            continue;
+        }
+        retracting += 1;
+        for k in [dx, dy, dz] {
+            assert_eq!(f[k].parse::<f64>().unwrap(), 0.0, "{line}");
+        }
+    }
+    assert!(retracting > 100, "{retracting} retract cycles");
 }
 
 /// The flange's groove (2 mm wide between two shoulders, the section

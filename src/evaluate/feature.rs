@@ -40,8 +40,10 @@ fn deviation_report(
         kind,
         ..
     } = measured;
-    // A feature that measured no point has not been measured.
-    let complete = results.iter().all(|r| r.complete) && !points.is_empty();
+    // A feature that measured no point off the design's edges has not
+    // been measured: it has no deviation to judge.
+    let on_surface = points.iter().filter(|p| p.on_surface()).count();
+    let complete = results.iter().all(|r| r.complete) && on_surface > 0;
     let in_tol = (points.iter().filter(|p| p.on_surface()))
         .all(|p| p.deviation_mm >= lower && p.deviation_mm <= upper);
     let status = match (complete, in_tol) {
@@ -57,6 +59,13 @@ fn deviation_report(
         .iter()
         .flat_map(|r| r.notes.iter().cloned())
         .collect();
+    if status == Verdict::Incomplete && on_surface == 0 && !points.is_empty() {
+        notes.push(format!(
+            "not evaluated: each of the {} measured points lies on an edge of the design \
+             (the ball rolled over it), so none has a deviation",
+            points.len()
+        ));
+    }
     if status == Verdict::Incomplete && notes.is_empty() {
         notes.push(why_incomplete(&attempts, points.len()));
     }
@@ -110,7 +119,8 @@ fn why_incomplete(attempts: &[AttemptReport], points: usize) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::host::inspect::record::{AttemptMode, CollisionReport};
+    use crate::host::inspect::record::{AttemptMode, CollisionReport, FeatureKind};
+    use crate::host::inspect::CurveResult;
 
     fn attempt(mode: AttemptMode, outcome: Outcome) -> AttemptReport {
         AttemptReport {
@@ -146,5 +156,45 @@ mod tests {
         assert!(note.contains("without measuring a point"), "{note}");
         let lost = attempt(AttemptMode::Autonomous, Outcome::LostContact);
         assert!(why_incomplete(&[lost], 3).contains("autonomous, ended in lost_contact"));
+    }
+
+    /// Touch points that all landed on edges of the design leave nothing
+    /// to judge: the feature is incomplete and says so, whatever its
+    /// tolerance; one point off the edges makes it pass.
+    #[test]
+    fn a_feature_with_only_edge_points_is_incomplete() {
+        let point = |edge: bool| PointReport {
+            measured: [0.0; 3],
+            nominal: [0.0; 3],
+            normal: [0.0, 0.0, 1.0],
+            deviation_mm: 0.001,
+            true_deviation_mm: 0.001,
+            edge,
+        };
+        let measured = || MeasuredFeature {
+            results: vec![CurveResult {
+                attempts: vec![attempt(AttemptMode::Points, Outcome::Completed)],
+                corrections: Vec::new(),
+                points: Vec::new(),
+                complete: true,
+                notes: Vec::new(),
+                learned: None,
+            }],
+            faces: vec![0],
+            tolerance: (-0.01, 0.01),
+            kind: FeatureKind::TouchPoints,
+        };
+        let all_edge = deviation_report("top", measured(), vec![point(true); 3]);
+        assert_eq!(all_edge.status, Verdict::Incomplete);
+        assert!(
+            all_edge
+                .notes
+                .iter()
+                .any(|n| n.contains("each of the 3 measured points lies on an edge")),
+            "{:?}",
+            all_edge.notes
+        );
+        let one_off = deviation_report("top", measured(), vec![point(true), point(false)]);
+        assert_eq!(one_off.status, Verdict::Pass);
     }
 }

@@ -259,6 +259,16 @@ pub struct EscapeOptions {
     /// The move out gives up after this distance, mm (the probe then stays
     /// where it is and the next move reports the collision again).
     pub max_mm: f64,
+    /// Once out, the probe goes back along the path of the measuring move
+    /// to where it left free air (a scan that ran in under an overhang has
+    /// no route out where it struck): the path's points are kept this far
+    /// apart, mm.
+    pub trail_step_mm: f64,
+    /// The ball goes back this far (mm) off the surface it followed, on
+    /// top of the deflection it had there.
+    pub retrace_clear_mm: f64,
+    /// Speed of the way back, mm/s.
+    pub retrace_speed_mm_s: f64,
 }
 
 impl Default for EscapeOptions {
@@ -267,6 +277,9 @@ impl Default for EscapeOptions {
             speed_mm_s: 10.0,
             clear_mm: 2.0,
             max_mm: 30.0,
+            trail_step_mm: 2.0,
+            retrace_clear_mm: 0.5,
+            retrace_speed_mm_s: 30.0,
         }
     }
 }

@@ -15,6 +15,8 @@ use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
 use crate::seam::{Cmm, MachineStatus, ProbePart, Readings};
 
+mod trail;
+
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
 /// points taken at a pitch.
 pub struct Tracker<'f> {
@@ -48,6 +50,14 @@ pub struct Tracker<'f> {
     /// Below this deflection the stylus is free, mm
     /// ([`ModeOptions::free_mm`]).
     free_mm: f64,
+    /// The modes' options the retrace after a collision moves with.
+    modes: ModeOptions,
+    /// The ball's path since the measuring move left free air
+    /// ([`trail`]).
+    trail: Vec<Point3>,
+    /// A retract asked for while the ball still touched the surface it
+    /// measured: the phase turns to retract once the stylus is free.
+    lift_off: bool,
 }
 
 impl<'f> Tracker<'f> {
@@ -69,6 +79,9 @@ impl<'f> Tracker<'f> {
             free: None,
             escape: EscapeOptions::default(),
             free_mm: ModeOptions::default().free_mm,
+            modes: ModeOptions::default(),
+            trail: Vec::new(),
+            lift_off: false,
         }
     }
 
@@ -77,6 +90,7 @@ impl<'f> Tracker<'f> {
         Tracker {
             escape: opts.escape,
             free_mm: opts.free_mm,
+            modes: *opts,
             ..self
         }
     }
@@ -94,14 +108,41 @@ impl<'f> Tracker<'f> {
 
     /// Enters `phase`: tells the machine's observer and remembers it.
     pub fn enter(&mut self, cmm: &mut dyn Machine, phase: Phase) {
+        self.lift_off = false;
+        match phase {
+            Phase::Approach | Phase::Touch if self.phase != phase => self.start_trail(true),
+            Phase::Idle | Phase::Position => self.start_trail(false),
+            _ => {}
+        }
         self.phase = phase;
         cmm.note_phase(phase);
+    }
+
+    /// Ends a measuring move: the phase turns to retract once the stylus
+    /// is free. The ball's stop on the surface (the axes brake after a
+    /// touch's trigger, pressing the stylus on by a few hundredths) and its
+    /// lift off it belong to the measuring move; the retract is the move
+    /// away in free air.
+    pub fn retract_from_surface(&mut self, cmm: &mut dyn Machine) {
+        // A tracker that starts on the surface (idle) took over from the
+        // measuring move that put the ball there.
+        let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
+        if measuring && self.deflection() >= self.free_mm {
+            self.lift_off = true;
+        } else {
+            self.enter(cmm, Phase::Retract);
+        }
     }
 
     /// Records a collision of `probe_part` at `at` (machine, mm) in the
     /// current phase and returns its outcome.
     pub fn struck(&mut self, probe_part: ProbePart, at: Point3, speed_mm_s: f64) -> Outcome {
         let phase = self.phase;
+        // The first strike is the one reported (a retrace that runs into
+        // the part again stops there).
+        if self.collision.is_some() {
+            return Outcome::Collision;
+        }
         self.collision = Some(Collision {
             probe_part,
             at,
@@ -144,6 +185,12 @@ impl<'f> Tracker<'f> {
         let before = self.now.scales;
         self.now = cmm.step(v);
         self.command = v;
+        if !self.trail.is_empty() {
+            self.extend_trail();
+        }
+        if self.lift_off && self.deflection() < self.free_mm {
+            self.enter(cmm, Phase::Retract);
+        }
         match self.now.status {
             MachineStatus::Ok => None,
             MachineStatus::AxisLimit { .. } => Some(Outcome::AxisLimit),
@@ -156,6 +203,8 @@ impl<'f> Tracker<'f> {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
                 let moving = (self.now.scales - before) / cmm.cycle_s();
                 self.escape(cmm, moving);
+                let modes = self.modes;
+                self.retrace(cmm, &modes);
                 Some(outcome)
             }
         }
@@ -169,7 +218,9 @@ impl<'f> Tracker<'f> {
     /// whatever the machine reports on the way, until it reports the probe
     /// clear with the stylus free, [`EscapeOptions::clear_mm`] further and
     /// (with free space to ask) the tight clearance margin from the design
-    /// data, then to rest. Gives up after [`EscapeOptions::max_mm`], and
+    /// data, then to rest; during a measuring move, only
+    /// [`EscapeOptions::retrace_clear_mm`] further, and then back along the
+    /// move's path to where it left free air ([`trail`]). Gives up after [`EscapeOptions::max_mm`], and
     /// stops where the stylus, once free, touches the part again (backing
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
@@ -199,8 +250,13 @@ impl<'f> Tracker<'f> {
                 MachineStatus::AxisLimit { .. } => break,
                 MachineStatus::Ok if self.deflection() < self.free_mm => {
                     let since = *clear_since.get_or_insert(here);
-                    let far = (here - since).norm() >= self.escape.clear_mm;
-                    if far && self.roomy(here) {
+                    let gone = (here - since).norm();
+                    // With a trail to go back along, just off the surface
+                    // (across a small hole the far wall is near).
+                    if self.has_trail() && gone >= self.escape.retrace_clear_mm {
+                        break;
+                    }
+                    if gone >= self.escape.clear_mm && self.roomy(here) {
                         break;
                     }
                 }
@@ -474,7 +530,7 @@ pub(super) fn free_stylus(
     let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
         return Ok(None);
     };
-    tr.enter(cmm, Phase::Retract);
+    tr.retract_from_surface(cmm);
     for _ in 0..opts.max_cycles {
         if tr.deflection() < opts.free_mm {
             let here = tr.ball_undeflected();
@@ -654,14 +710,12 @@ fn inside_travel(mount: Point3, opts: &ModeOptions) -> Point3 {
 /// deflection above the contact threshold is a collision of the ball.
 /// Approaches (contact expected) are not watched.
 struct Guard {
-    watching: bool,
     free: bool,
 }
 
 impl Guard {
     fn new(tr: &Tracker, opts: &ModeOptions) -> Guard {
         Guard {
-            watching: matches!(tr.phase, Phase::Position | Phase::Retract),
             free: tr.deflection() < opts.contact_mm,
         }
     }
@@ -673,7 +727,9 @@ impl Guard {
         opts: &ModeOptions,
     ) -> Result<(), Outcome> {
         let touching = tr.deflection() >= opts.contact_mm;
-        if self.watching && self.free && touching {
+        // Watched from the cycle a lift-off turns into a retract.
+        let watching = matches!(tr.phase, Phase::Position | Phase::Retract);
+        if watching && self.free && touching {
             let at = tr.measured().map_or(tr.ball_undeflected(), |m| m.point);
             let moving = tr.command;
             let outcome = tr.struck(ProbePart::Ball, at, moving.norm());

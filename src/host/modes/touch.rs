@@ -23,7 +23,7 @@ pub fn touch_point(
         .and_then(|_| approach(cmm, &mut tr, (start, normal), standoff + search_mm, opts))
         .and_then(|_| {
             tr.points.extend(tr.measured());
-            tr.enter(cmm, Phase::Retract);
+            tr.retract_from_surface(cmm);
             travel(cmm, &mut tr, &[start], opts.rapid_speed_mm_s, 0.0, opts)
         });
     finish(tr, outcome)

@@ -1,0 +1,74 @@
+//! The way back out of a measuring move after a collision: the ball's path
+//! since the move left free air, kept every [`super::EscapeOptions::trail_step_mm`],
+//! each point lifted off the surface the ball then touched.
+//!
+//! A scan that runs in under an overhang (the probe body under a lamp's
+//! shade, the shaft under a flange) until the probe strikes it may end
+//! where no route from the design data leads out: straight up runs into
+//! the overhang, and short escape legs stay under it. The path the probe
+//! came in along was clear all the way until the strike (the machine
+//! reported no collision on it), so after backing out of the strike the
+//! probe goes back along it, the ball lifted off the surface it followed
+//! by its deflection there plus [`super::EscapeOptions::retrace_clear_mm`],
+//! to where the measuring move began in free air: the point the route to
+//! the feature led to, from which later routes start.
+use super::{travel, Tracker};
+use crate::host::modes::ModeOptions;
+use crate::host::observe::{Machine, Phase};
+use crate::math::Point3;
+
+impl Tracker<'_> {
+    /// Starts the trail at the ball's position now (a measuring move
+    /// leaves free air here), or forgets it (`false`: a move that does not
+    /// measure, which backs out the way it came).
+    pub(super) fn start_trail(&mut self, measuring: bool) {
+        self.trail.clear();
+        if measuring {
+            self.trail.push(self.ball_undeflected());
+        }
+    }
+
+    /// Whether a trail leads back to where the measuring move left free
+    /// air.
+    pub(super) fn has_trail(&self) -> bool {
+        !self.trail.is_empty()
+    }
+
+    /// Adds the ball's position to the trail when it has moved
+    /// [`super::EscapeOptions::trail_step_mm`] from the last point kept,
+    /// lifted off the surface along the stylus's deflection.
+    #[inline(always)]
+    pub(super) fn extend_trail(&mut self) {
+        let Some(&last) = self.trail.last() else {
+            return;
+        };
+        let here = self.ball_undeflected();
+        if (here - last).norm_squared() < self.escape.trail_step_mm.powi(2) {
+            return;
+        }
+        let d = self.now.deflection;
+        let lift = match d.try_normalize(1e-9) {
+            Some(u) if d.norm() >= self.free_mm => u * (d.norm() + self.escape.retrace_clear_mm),
+            _ => crate::math::Vec3::zeros(),
+        };
+        self.trail.push(here + lift);
+    }
+
+    /// Moves the probe back along the trail to its start (see the module
+    /// docs), in phase retract; stops where the machine reports anything
+    /// but a free move. The trail is used once.
+    pub(super) fn retrace(&mut self, cmm: &mut dyn Machine, opts: &ModeOptions) {
+        let trail = std::mem::take(&mut self.trail);
+        let here = self.ball_undeflected();
+        let back: Vec<Point3> = trail.iter().rev().copied().collect();
+        let Some(&start) = trail.first() else {
+            return;
+        };
+        if (here - start).norm() < 1e-6 {
+            return;
+        }
+        self.enter(cmm, Phase::Retract);
+        let speed = self.escape.retrace_speed_mm_s;
+        let _ = travel(cmm, self, &back, speed, 0.0, opts);
+    }
+}
