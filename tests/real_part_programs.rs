@@ -64,22 +64,28 @@ fn positioning_touches_nothing(trace: &str) {
 /// [`positioning_touches_nothing`] over more than `cycles` positioning
 /// cycles.
 fn positioning_touches_nothing_over(trace: &str, cycles: usize) {
+    phase_touches_nothing(trace, "position", cycles);
+}
+
+/// Every cycle of the trace in `phase` (more than `cycles` of them) reads
+/// no deflection.
+fn phase_touches_nothing(trace: &str, wanted: &str, cycles: usize) {
     let mut lines = trace.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
-    let mut positioning = 0;
+    let mut seen = 0;
     for line in lines {
         let f: Vec<&str> = line.split(',').collect();
-        if f[phase] != "position" {
+        if f[phase] != wanted {
             continue;
         }
-        positioning += 1;
+        seen += 1;
         for k in [dx, dy, dz] {
             assert_eq!(f[k].parse::<f64>().unwrap(), 0.0, "{line}");
         }
     }
-    assert!(positioning > cycles, "{positioning} positioning cycles");
+    assert!(seen > cycles, "{seen} {wanted} cycles");
 }
 
 /// With `--ideal` every point's deviation is its true deviation (0.5 um),
@@ -172,22 +178,7 @@ fn io1_flange_program_measures_every_feature_exactly() {
 /// a touch's stop on the surface and its lift off it belong to the touch
 /// (and a scan's to the scan), the retract is the move away in free air.
 fn retracts_touch_nothing(trace: &str) {
-    let mut lines = trace.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
-    let mut retracting = 0;
-    for line in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        if f[phase] != "retract" {
-            continue;
-        }
-        retracting += 1;
-        for k in [dx, dy, dz] {
-            assert_eq!(f[k].parse::<f64>().unwrap(), 0.0, "{line}");
-        }
-    }
-    assert!(retracting > 100, "{retracting} retract cycles");
+    phase_touches_nothing(trace, "retract", 100);
 }
 
 /// The flange's groove (2 mm wide between two shoulders, the section

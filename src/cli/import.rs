@@ -15,7 +15,9 @@ pub struct ImportArgs {
     #[arg(long)]
     pub out: PathBuf,
     /// Also print the product tree (assembly occurrences, their placements
-    /// and face counts) on stdout.
+    /// and face counts) and every face (its name for a program's
+    /// `surfaces`, the CAD entity and surface type, box, area, and a point
+    /// near its middle with the outward normal) on stdout.
     #[arg(long)]
     pub list: bool,
 }
@@ -24,12 +26,15 @@ pub struct ImportArgs {
 /// face that was skipped or left untrimmed and a per-type summary on stderr.
 pub fn run(args: &ImportArgs) -> Result<Status, CliError> {
     let import = crate::cad::import(&args.file)?;
-    crate::workpiece::Workpiece::from_file(&import.workpiece, &args.file)?;
+    let wp = crate::workpiece::Workpiece::from_file(&import.workpiece, &args.file)?;
     let mut text = serde_json::to_string_pretty(&import.workpiece).unwrap_or_default();
     text.push('\n');
     crate::output::write_atomic(&args.out, text.as_bytes())?;
     if args.list {
-        for line in tree_lines(&import) {
+        for line in tree_lines(&import)
+            .into_iter()
+            .chain(face_lines(&import, &wp))
+        {
             println!("{line}");
         }
     }
@@ -72,6 +77,29 @@ pub fn summary_line(import: &Import) -> String {
         count(DiagnosticKind::Skipped),
         count(DiagnosticKind::Untrimmed)
     )
+}
+
+/// One line a face, in workpiece order: `name #entity TYPE: box (x, y, z)
+/// .. (x, y, z), area A mm2, at (x, y, z) normal (i, j, k)` (part
+/// coordinates, mm; see [`crate::workpiece::FaceSummary`]).
+pub fn face_lines(import: &Import, wp: &crate::workpiece::Workpiece) -> Vec<String> {
+    let p = |v: &[f64]| format!("({:.3}, {:.3}, {:.3})", v[0], v[1], v[2]);
+    (wp.faces.iter().zip(&import.faces))
+        .map(|(face, record)| {
+            let head = format!("{} #{} {}", face.name, record.entity, record.surface_type);
+            match face.summary(crate::workpiece::SUMMARY_GRID) {
+                Some(s) => format!(
+                    "{head}: box {} .. {}, area {:.3} mm2, at {} normal {}",
+                    p(s.lo.coords.as_slice()),
+                    p(s.hi.coords.as_slice()),
+                    s.area_mm2,
+                    p(s.at.coords.as_slice()),
+                    p(s.normal.as_slice()),
+                ),
+                None => format!("{head}: narrower than the sampling grid"),
+            }
+        })
+        .collect()
 }
 
 /// The product tree, one node a line, indented two spaces per level:

@@ -7,8 +7,10 @@ pub use crate::formats::workpiece as format;
 mod faces_near;
 mod near;
 mod section;
+mod summary;
 #[cfg(test)]
 pub(crate) use near::walk as walk_support;
+pub use summary::{FaceSummary, SUMMARY_GRID};
 mod validate;
 
 use std::path::{Path, PathBuf};
