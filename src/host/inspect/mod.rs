@@ -102,6 +102,10 @@ pub struct CurveResult {
     pub learned: Option<Learned>,
 }
 
+/// How the note on the points a stopped scan keeps ends (it goes when a
+/// later scan completes and replaces them).
+const KEPT_NOTE_END: &str = "stop are kept";
+
 impl CurveResult {
     /// Records an attempt; scans (not touch points) set the final points:
     /// a completed scan's, or those a scan measured before a collision.
@@ -123,18 +127,92 @@ impl CurveResult {
         });
         if mode.is_scan() {
             self.complete = outcome == Outcome::Completed;
-            // A scan the collision stop ended keeps what it measured up
-            // to the strike (the feature stays incomplete).
-            if outcome == Outcome::Collision && !attempt.points.is_empty() {
+            // A scan that stopped before its end (the collision stop, a
+            // trajectory error, lost contact, over-deflection) keeps what
+            // it measured up to the stop until a later scan replaces it
+            // (the feature stays incomplete unless one completes).
+            let stopped = matches!(
+                outcome,
+                Outcome::Collision
+                    | Outcome::TrajectoryError
+                    | Outcome::LostContact
+                    | Outcome::OverDeflection
+            );
+            if stopped && !attempt.points.is_empty() {
+                self.notes.retain(|n| !n.ends_with(KEPT_NOTE_END));
                 self.notes.push(format!(
-                    "{} points measured before the collision stop are kept",
-                    attempt.points.len()
+                    "{} points measured before the {} {KEPT_NOTE_END}",
+                    attempt.points.len(),
+                    crate::formats::serde_name(&outcome).replace('_', " ")
                 ));
                 self.points = attempt.points;
             } else if self.complete {
+                self.notes.retain(|n| !n.ends_with(KEPT_NOTE_END));
                 self.points = attempt.points;
             }
         }
         outcome
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::host::modes::{Attempt, Measured};
+    use crate::math::{Mat3, Point3, Vec3};
+
+    fn attempt(outcome: Outcome, n: usize) -> Attempt {
+        let m = Measured {
+            point: Point3::origin(),
+            normal: Vec3::z(),
+            ball: Point3::origin(),
+            scales: Point3::origin(),
+            reading: Vec3::zeros(),
+            motion: Vec3::zeros(),
+        };
+        Attempt {
+            outcome,
+            points: vec![m; n],
+            machine_time_s: 1.0,
+            max_trajectory_error_mm: 0.0,
+            collision: None,
+        }
+    }
+
+    /// A scan that stops before its end keeps its points, with a note,
+    /// until a later scan replaces them: a later stop's, or a completed
+    /// scan's (whose points leave no note).
+    #[test]
+    fn a_stopped_scan_keeps_its_points_until_a_later_scan_replaces_them() {
+        let pose = Pose {
+            rotation: Mat3::identity(),
+            translation: Vec3::zeros(),
+        };
+        let mut res = CurveResult::default();
+        res.record(
+            AttemptMode::Active,
+            attempt(Outcome::TrajectoryError, 513),
+            &pose,
+        );
+        assert!(!res.complete);
+        assert_eq!(res.points.len(), 513);
+        assert_eq!(
+            res.notes,
+            ["513 points measured before the trajectory error stop are kept"]
+        );
+        res.record(
+            AttemptMode::Passive,
+            attempt(Outcome::LostContact, 40),
+            &pose,
+        );
+        assert_eq!(res.points.len(), 40);
+        assert_eq!(
+            res.notes,
+            ["40 points measured before the lost contact stop are kept"]
+        );
+        res.record(AttemptMode::Active, attempt(Outcome::Completed, 700), &pose);
+        assert!(res.complete);
+        assert_eq!(res.points.len(), 700);
+        assert!(res.notes.is_empty(), "{:?}", res.notes);
     }
 }
