@@ -85,11 +85,16 @@ pub fn run_batch(
             .filter_map(|(i, r)| r.as_ref().ok().map(|(_, l)| (parts[*i].program, l.clone())))
             .collect();
         let rest: Vec<usize> = (0..parts.len()).filter(|i| !first.contains(i)).collect();
+        // The first parts counted the programs' loading.
+        let later = RunOptions {
+            count_load: false,
+            ..base.clone()
+        };
         let phase2: Vec<(usize, PartResult)> = rest
             .par_iter()
             .map(|&i| {
                 (i, {
-                    let r = run_part(programs, &parts[i], base, known, &learned_first);
+                    let r = run_part(programs, &parts[i], &later, known, &learned_first);
                     done();
                     r
                 })

@@ -59,6 +59,11 @@ pub struct RunOptions {
     /// error terms (the host's compensation map); `false` shows what the
     /// compensation is worth (the world's errors stay).
     pub compensation: bool,
+    /// Count the loading of the program and its design data in the
+    /// report's `wall_time_s`: the part that loaded it (a batch's first
+    /// part of each program; its later parts share the load and count
+    /// their own run only, so a batch's times add up to its run).
+    pub count_load: bool,
 }
 
 impl Default for RunOptions {
@@ -73,6 +78,7 @@ impl Default for RunOptions {
             direct_moves: true,
             clearance: ClearanceOptions::default(),
             compensation: true,
+            count_load: true,
         }
     }
 }
@@ -172,7 +178,8 @@ pub(super) fn run_variant(
             None => overall(&features),
         },
         machine_time_s: m.machine_time_s,
-        wall_time_s: part.load_s + started.elapsed().as_secs_f64(),
+        wall_time_s: if opts.count_load { part.load_s } else { 0.0 }
+            + started.elapsed().as_secs_f64(),
         part_to_machine: part_to_machine(aligned),
         alignment: m.alignment,
         ideal: opts.ideal,
