@@ -373,3 +373,36 @@ fn trace_shows_scanning_speeds_and_no_axis_beyond_its_limits() {
         "autonomous scanning at {median} mm/s"
     );
 }
+
+/// A batch's parts share the loading of their program: only the first part
+/// counts it in its `wall_time_s`, so the parts' times add up to no more
+/// than the whole run, timed around the command (the STEP part loads in
+/// about as long as a part runs).
+#[test]
+fn a_batchs_wall_times_add_up_to_its_run() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("b");
+    let started = std::time::Instant::now();
+    let o = cmm(&[
+        "scan",
+        &prog("io1-flange.json"),
+        "--variants",
+        "4",
+        "--jobs",
+        "1",
+        "--quiet",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let run = started.elapsed().as_secs_f64();
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let batch: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("batch.json")).unwrap()).unwrap();
+    let parts = batch["parts"].as_array().unwrap();
+    assert_eq!(parts.len(), 4);
+    let sum: f64 = parts
+        .iter()
+        .map(|p| p["wall_time_s"].as_f64().unwrap())
+        .sum();
+    assert!(sum <= run, "parts {sum} s, run {run} s");
+}
