@@ -206,10 +206,15 @@ fn an_alignment_that_cannot_be_measured_leaves_the_run_incomplete() {
     assert_eq!(run.status.code(), Some(3), "{run:?}");
     let report = read_report(&out);
     assert_eq!(report["status"], "incomplete");
+    let alignment = &report["alignment"];
+    assert!(alignment["failed"].is_string(), "{alignment}");
+    // It says which point could not be measured, how many were before it,
+    // and the time they took.
+    assert_eq!(alignment["failed_point"], 4, "{alignment}");
+    assert_eq!(alignment["points"], 4, "{alignment}");
     assert!(
-        report["alignment"]["failed"].is_string(),
-        "{}",
-        report["alignment"]
+        alignment["machine_time_s"].as_f64().unwrap() > 1.0,
+        "{alignment}"
     );
 }
 

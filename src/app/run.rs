@@ -13,13 +13,13 @@ use crate::evaluate::truth::{fill_true_deviations_on, Frames, Truth};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::compensated::Compensated;
 use crate::host::compensation::ErrorMap;
-use crate::host::inspect::align::{align, AlignOptions};
+use crate::host::inspect::align::{align, AlignOptions, AlignmentFailure};
 use crate::host::inspect::clearance::memo::Remembering;
 use crate::host::inspect::clearance::ClearanceOptions;
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
 use crate::host::inspect::LearnedSet;
-use crate::host::modes::{FreeSpace, HostProbe, ModeOptions, Outcome};
+use crate::host::modes::{FreeSpace, HostProbe, ModeOptions};
 use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
@@ -269,7 +269,10 @@ fn measure_program<'p>(
     let (aligned, alignment) = match aligned_program((part, opts), &mut traced, host_probe, &modes)
     {
         Ok(a) => a,
-        Err(outcome) => (Cow::Borrowed(program), Some(failed_alignment(outcome))),
+        Err(failure) => (
+            Cow::Borrowed(program),
+            Some(failure.report(&program.placement)),
+        ),
     };
     let margins = super::reach::program_margins(&aligned, opts.clearance);
     let clearance = super::reach::part_clearance(&aligned, host_probe, margins);
@@ -379,7 +382,7 @@ fn aligned_program<'p>(
     cmm: &mut dyn Machine,
     probe: HostProbe,
     modes: &ModeOptions,
-) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), Outcome> {
+) -> Result<(Cow<'p, Program>, Option<AlignmentReport>), AlignmentFailure> {
     let program = &part.program;
     let Some(points) = &program.alignment else {
         return Ok((Cow::Borrowed(program), None));
@@ -405,20 +408,6 @@ fn aligned_program<'p>(
         }),
         Some(report),
     ))
-}
-
-/// A failed alignment: reported with how its touch points ended, and the
-/// nominal placement kept (the run is then incomplete).
-fn failed_alignment(outcome: Outcome) -> AlignmentReport {
-    AlignmentReport {
-        points: 0,
-        rms_mm: f64::NAN,
-        max_mm: f64::NAN,
-        iterations: 0,
-        machine_time_s: 0.0,
-        failed: Some(outcome),
-        notes: Vec::new(),
-    }
 }
 
 fn part_to_machine(program: &Program) -> PartToMachine {

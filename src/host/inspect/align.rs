@@ -4,8 +4,8 @@
 //! distances, closest points re-found every iteration).
 use nalgebra::{DMatrix, DVector, Rotation3};
 
-use super::record::AlignmentReport;
-use crate::host::modes::{touch_point, FreeSpace, HostProbe, ModeOptions, Outcome};
+use super::record::{AlignmentReport, CollisionReport};
+use crate::host::modes::{touch_point, Collision, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::math::{Mat3, Point3, Vec3};
 use crate::program::{NominalPoint, Pose};
@@ -32,9 +32,42 @@ impl Default for AlignOptions {
     }
 }
 
+/// An alignment whose touch point could not be measured.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AlignmentFailure {
+    /// How the touch ended.
+    pub outcome: Outcome,
+    /// Which alignment point it was (0-based).
+    pub point: usize,
+    /// Machine time of the alignment up to and with the failed touch, s.
+    pub machine_time_s: f64,
+    /// Where the probe struck the part, for a collision.
+    pub collision: Option<Collision>,
+}
+
+impl AlignmentFailure {
+    /// The alignment's report: the points measured before the failed
+    /// one, its time, how it ended and where the probe struck (`pose`
+    /// takes machine coordinates to the part's).
+    pub fn report(&self, pose: &Pose) -> AlignmentReport {
+        AlignmentReport {
+            points: self.point,
+            rms_mm: f64::NAN,
+            max_mm: f64::NAN,
+            iterations: 0,
+            machine_time_s: self.machine_time_s,
+            failed: Some(self.outcome),
+            failed_point: Some(self.point),
+            collision: self.collision.map(|c| CollisionReport::new(&c, pose)),
+            notes: Vec::new(),
+        }
+    }
+}
+
 /// Touches the alignment points (routing round the part that `free`
-/// describes, when given) and returns the fitted pose and a summary;
-/// `None` when a touch failed (the nominal placement is kept).
+/// describes, when given) and returns the fitted pose and a summary; how
+/// the touch that could not be measured ended otherwise (the nominal
+/// placement is then kept).
 pub fn align(
     cmm: &mut dyn Machine,
     (probe, free): (HostProbe, Option<&dyn FreeSpace>),
@@ -43,10 +76,10 @@ pub fn align(
     points: &[NominalPoint],
     modes: &ModeOptions,
     opts: &AlignOptions,
-) -> Result<(Pose, AlignmentReport), Outcome> {
+) -> Result<(Pose, AlignmentReport), AlignmentFailure> {
     let t0 = cmm.readings().time_s;
     let mut measured = Vec::with_capacity(points.len());
-    for p in points {
+    for (k, p) in points.iter().enumerate() {
         let (m, n) = (
             nominal.to_machine(p.point),
             nominal.dir_to_machine(p.normal),
@@ -55,10 +88,15 @@ pub fn align(
         match (a.outcome, a.points.first()) {
             (Outcome::Completed, Some(hit)) => measured.push(hit.point),
             (o, _) => {
-                return Err(if o == Outcome::Completed {
-                    Outcome::Aborted
-                } else {
-                    o
+                return Err(AlignmentFailure {
+                    outcome: if o == Outcome::Completed {
+                        Outcome::Aborted
+                    } else {
+                        o
+                    },
+                    point: k,
+                    machine_time_s: cmm.readings().time_s - t0,
+                    collision: a.collision,
                 })
             }
         }
@@ -77,6 +115,8 @@ pub fn align(
         iterations,
         machine_time_s: cmm.readings().time_s - t0,
         failed: None,
+        failed_point: None,
+        collision: None,
         notes: undetermined(points),
     };
     Ok((pose, report))

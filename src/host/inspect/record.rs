@@ -120,6 +120,14 @@ pub struct AlignmentReport {
     /// incomplete); absent when it succeeded.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub failed: Option<crate::host::modes::Outcome>,
+    /// Which alignment point could not be measured (0-based), when it
+    /// failed; `points` were measured before it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub failed_point: Option<usize>,
+    /// Where the probe struck the part, when the alignment ended in a
+    /// collision (as an attempt's `collision`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionReport>,
     /// What the alignment points leave undetermined (a turn about an axis
     /// every point's surface is round about), one note each.
     #[serde(skip_serializing_if = "Vec::is_empty")]
