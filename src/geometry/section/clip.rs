@@ -41,27 +41,29 @@ impl Face<'_> {
         self.trim.is_none_or(|t| t.contains(uv))
     }
 
-    /// An upper bound of the distance from `uv`'s point to the face's
+    /// Whether `uv`'s point lies within the edge tolerance of the face's
     /// boundary (its trim loops, or its parameter domain's sides when it
-    /// has no trim), mm.
-    fn edge_distance_mm(&self, uv: Vec2) -> f64 {
-        let in_uv = match self.trim {
-            Some(t) => t.distance(uv),
+    /// has no trim), the distance in the parameters taken times the
+    /// parameters' speed `sqrt(|Su|^2 + |Sv|^2)` (an upper bound of the
+    /// distance in mm); a trim is asked only for its edges within reach
+    /// ([`Trim::comes_within`]).
+    fn near_edge(&self, uv: Vec2) -> bool {
+        let d = self.surface.derivs(uv.x, uv.y, 1);
+        let speed = (d.su().norm_squared() + d.sv().norm_squared()).sqrt();
+        let tol = self.opts.edge_tol_mm;
+        match self.trim {
+            _ if speed <= 0.0 => true,
+            Some(t) => t.comes_within(uv, tol / speed),
             None => {
                 let ((u0, u1), (v0, v1)) = self.surface.domain();
-                (uv.x - u0)
+                let side = (uv.x - u0)
                     .abs()
                     .min((u1 - uv.x).abs())
                     .min((uv.y - v0).abs())
-                    .min((v1 - uv.y).abs())
+                    .min((v1 - uv.y).abs());
+                side * speed <= tol
             }
-        };
-        let d = self.surface.derivs(uv.x, uv.y, 1);
-        in_uv * (d.su().norm_squared() + d.sv().norm_squared()).sqrt()
-    }
-
-    fn near_edge(&self, uv: Vec2) -> bool {
-        self.edge_distance_mm(uv) <= self.opts.edge_tol_mm
+        }
     }
 }
 
