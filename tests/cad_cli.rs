@@ -391,3 +391,26 @@ fn part_program_may_name_a_step_workpiece() {
         "{stdout}"
     );
 }
+
+/// A part a fraction of a millimetre across (bearing.iges states
+/// millimetres for a part 0.16 mm across) gets a note on its units; a
+/// part of ordinary size none.
+#[test]
+fn import_notes_a_part_too_small_for_its_units() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("w.json");
+    let flange = Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/io1-flange.stp");
+    let o = cmm(&["import", s(&flange), "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    assert!(
+        !String::from_utf8_lossy(&o.stderr).contains("note:"),
+        "{o:?}"
+    );
+    let Some(bearing) = shared("bearing.iges") else {
+        return;
+    };
+    let o = cmm(&["import", s(&bearing), "--out", s(&out)]);
+    assert_eq!(o.status.code(), Some(0), "{o:?}");
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("note: the part is 0.16"), "{err}");
+}

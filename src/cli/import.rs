@@ -42,7 +42,28 @@ pub fn run(args: &ImportArgs) -> Result<Status, CliError> {
         eprintln!("{}", diagnostic_line(&args.file, d));
     }
     eprintln!("{}", summary_line(&import));
+    if let Some(note) = size_note(&wp) {
+        eprintln!("{note}");
+    }
     Ok(Status::Pass)
+}
+
+/// A part smaller than this across (mm) is likely one whose file states
+/// the wrong units: the import says so.
+const SMALL_PART_MM: f64 = 1.0;
+
+/// A note on stderr for a part under [`SMALL_PART_MM`] across.
+pub fn size_note(wp: &crate::workpiece::Workpiece) -> Option<String> {
+    let mut faces = wp.faces.iter().map(|f| f.bounds());
+    let first = faces.next()?;
+    let (lo, hi) = faces.fold(first, |(l, h), (a, b)| (l.inf(&a), h.sup(&b)));
+    let across = (hi - lo).norm();
+    (across < SMALL_PART_MM).then(|| {
+        format!(
+            "note: the part is {across:.4} mm across (its control points' box) in the file's \
+             own units; check them if the part is larger"
+        )
+    })
 }
 
 /// `file:line:column: #id TYPE: skipped|untrimmed: reason`.
