@@ -110,7 +110,13 @@ impl<'f> Tracker<'f> {
     pub fn enter(&mut self, cmm: &mut dyn Machine, phase: Phase) {
         self.lift_off = false;
         match phase {
-            Phase::Approach | Phase::Touch if self.phase != phase => self.start_trail(true),
+            // A measuring move leaves free air (one that starts on the
+            // surface goes on with the trail it has).
+            Phase::Approach | Phase::Touch
+                if self.phase != phase && self.deflection() < self.free_mm =>
+            {
+                self.start_trail(true)
+            }
             Phase::Idle | Phase::Position => self.start_trail(false),
             _ => {}
         }
@@ -220,7 +226,11 @@ impl<'f> Tracker<'f> {
     /// (with free space to ask) the tight clearance margin from the design
     /// data, then to rest; during a measuring move, only
     /// [`EscapeOptions::retrace_clear_mm`] further, and then back along the
-    /// move's path to where it left free air ([`trail`]). Gives up after [`EscapeOptions::max_mm`], and
+    /// move's path to where it left free air ([`trail`]). A stylus pressed
+    /// against the part in a move that does not measure comes free along
+    /// its deflection, [`EscapeOptions::retrace_clear_mm`] further, and
+    /// then backs out up the stylus (routes come in from above). Gives up
+    /// after [`EscapeOptions::max_mm`], and
     /// stops where the stylus, once free, touches the part again (backing
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
@@ -234,7 +244,14 @@ impl<'f> Tracker<'f> {
             return;
         };
         self.enter(cmm, Phase::Retract);
-        let v = dir * self.escape.speed_mm_s;
+        let mut v = dir * self.escape.speed_mm_s;
+        // Once free off a pressed stylus, up the stylus (out of a hole the
+        // way routes come in, from above): on along the deflection, or back
+        // along a move inside a small hole, its far wall is near.
+        let back = up
+            .or((-moving).try_normalize(1e-9))
+            .filter(|_| pressed.is_some());
+        let mut turned = false;
         let start = self.ball_undeflected();
         let mut clear_since: Option<Point3> = None;
         // Twice the cycles the longest move out takes at its speed.
@@ -255,6 +272,13 @@ impl<'f> Tracker<'f> {
                     // (across a small hole the far wall is near).
                     if self.has_trail() && gone >= self.escape.retrace_clear_mm {
                         break;
+                    }
+                    if let Some(b) =
+                        back.filter(|_| !turned && gone >= self.escape.retrace_clear_mm)
+                    {
+                        (v, turned) = (b * self.escape.speed_mm_s, true);
+                        clear_since = Some(here);
+                        continue;
                     }
                     if gone >= self.escape.clear_mm && self.roomy(here) {
                         break;
