@@ -130,7 +130,8 @@ impl CurveResult {
             // A scan that stopped before its end (the collision stop, a
             // trajectory error, lost contact, over-deflection) keeps what
             // it measured up to the stop until a later scan replaces it
-            // (the feature stays incomplete unless one completes).
+            // (the feature stays incomplete unless one completes); it
+            // does not replace the points of a completed scan.
             let stopped = matches!(
                 outcome,
                 Outcome::Collision
@@ -138,7 +139,10 @@ impl CurveResult {
                     | Outcome::LostContact
                     | Outcome::OverDeflection
             );
-            if stopped && !attempt.points.is_empty() {
+            // Points of a completed scan (no note on kept points) stay.
+            let replaceable =
+                self.points.is_empty() || self.notes.iter().any(|n| n.ends_with(KEPT_NOTE_END));
+            if stopped && !attempt.points.is_empty() && replaceable {
                 self.notes.retain(|n| !n.ends_with(KEPT_NOTE_END));
                 self.notes.push(format!(
                     "{} points measured before the {} {KEPT_NOTE_END}",
@@ -212,6 +216,14 @@ mod tests {
         );
         res.record(AttemptMode::Active, attempt(Outcome::Completed, 700), &pose);
         assert!(res.complete);
+        assert_eq!(res.points.len(), 700);
+        assert!(res.notes.is_empty(), "{:?}", res.notes);
+        // A later scan that stops keeps the completed scan's points.
+        res.record(
+            AttemptMode::Active,
+            attempt(Outcome::LostContact, 26),
+            &pose,
+        );
         assert_eq!(res.points.len(), 700);
         assert!(res.notes.is_empty(), "{:?}", res.notes);
     }
