@@ -8,8 +8,8 @@ use super::record::{AttemptMode, CorrectionReport};
 use super::{CurveCtx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
-    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Measured, ModeOptions, Outcome,
-    ScanKind, ScanTargets, Tracker,
+    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Collision, Measured,
+    ModeOptions, Outcome, ScanKind, ScanTargets, Tracker,
 };
 use crate::host::path::SpeedOptions;
 use crate::math::Point3;
@@ -166,10 +166,15 @@ fn design_attempt(
         plane_normal: Some(ctx.pose.dir_to_machine(ctx.plane_normal)),
     };
     let t0 = ctx.cmm.readings().time_s;
-    position(
-        ctx,
-        scan_start(path, targets.deflection_mm, ctx.free, &ctx.modes),
-    );
+    let mode = if kind == ScanKind::Active {
+        AttemptMode::Active
+    } else {
+        AttemptMode::Passive
+    };
+    let start = scan_start(path, targets.deflection_mm, ctx.free, &ctx.modes);
+    if let Some(c) = position(ctx, start) {
+        return res.record(mode, struck_on_the_way(ctx, c, t0), &ctx.pose);
+    }
     let mut attempt = design_value_scan(
         ctx.cmm,
         (ctx.probe, ctx.free),
@@ -195,11 +200,6 @@ fn design_attempt(
             "the scan left a {gap:.2} mm stretch without points (more than {gap_limit:.2} mm): the stylus lost contact"
         ));
     }
-    let mode = if kind == ScanKind::Active {
-        AttemptMode::Active
-    } else {
-        AttemptMode::Passive
-    };
     res.record(mode, attempt, &ctx.pose)
 }
 
@@ -214,9 +214,24 @@ fn largest_gap(points: &[Measured]) -> f64 {
 /// Goes straight to a probing start point (ball centre) when the line is
 /// clear of the part; otherwise the measuring mode repositions over the
 /// clearance height by itself, which also handles any failure here.
-fn position(ctx: &mut CurveCtx, start: Point3) {
-    if let Some(free) = ctx.free {
-        let _ = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes);
+/// The collision that stopped the move, if one did (the measuring mode
+/// repositions on its own after any other stop).
+fn position(ctx: &mut CurveCtx, start: Point3) -> Option<Collision> {
+    let free = ctx.free?;
+    let stop = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes).err()?;
+    stop.collision
+        .filter(|_| stop.outcome == Outcome::Collision)
+}
+
+/// An attempt of `mode` that a collision of the move to its start ended
+/// before it measured, from machine time `t0` on.
+fn struck_on_the_way(ctx: &CurveCtx, c: Collision, t0: f64) -> Attempt {
+    Attempt {
+        outcome: Outcome::Collision,
+        points: Vec::new(),
+        machine_time_s: ctx.cmm.readings().time_s - t0,
+        max_trajectory_error_mm: 0.0,
+        collision: Some(c),
     }
 }
 
@@ -261,9 +276,13 @@ fn geometric(
             ctx.pose.to_machine(d.point),
             ctx.pose.dir_to_machine(d.normal),
         );
-        match k.checked_sub(1).and_then(|j| picks.get(j)) {
+        let struck = match k.checked_sub(1).and_then(|j| picks.get(j)) {
             Some(&prev) => travel_outside(ctx, design, prev, i),
             None => position(ctx, touch_start(ctx.probe, p, n, ctx.free, &ctx.modes)),
+        };
+        if let Some(c) = struck {
+            attempt.outcome = Outcome::Collision;
+            attempt.collision = attempt.collision.or(Some(c));
         }
         let a = touch_point(
             ctx.cmm,
@@ -314,8 +333,14 @@ const TRAVEL_STEP_MM: f64 = 6.0;
 /// From the standoff position of design point `from` to that of `to`,
 /// following the design data offset outward by the ball radius plus the
 /// standoff (no detour over the part). Failures are left to the next
-/// touch point, which repositions by itself.
-fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: usize) {
+/// touch point, which repositions by itself; a collision on the way is
+/// returned (the geometric correction's attempt reports it).
+fn travel_outside(
+    ctx: &mut CurveCtx,
+    design: &[DesignPoint],
+    from: usize,
+    to: usize,
+) -> Option<Collision> {
     let clear = ctx.probe.tip_radius_mm + ctx.modes.standoff_mm;
     let mut waypoints = Vec::new();
     let mut since = 0.0;
@@ -343,7 +368,7 @@ fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: u
         });
         if !clear {
             let _ = recover(ctx.cmm, &mut tr, &ctx.modes);
-            return;
+            return tr.collision;
         }
     }
     let moved = recover(ctx.cmm, &mut tr, &ctx.modes).and_then(|_| {
@@ -358,6 +383,7 @@ fn travel_outside(ctx: &mut CurveCtx, design: &[DesignPoint], from: usize, to: u
     if moved.is_err() {
         let _ = recover(ctx.cmm, &mut tr, &ctx.modes);
     }
+    tr.collision
 }
 
 fn autonomous_task(ctx: &CurveCtx, design: &[DesignPoint], closed: bool) -> Option<AutonomousTask> {
@@ -393,10 +419,15 @@ fn autonomous_attempt(
 ) -> Option<Vec<Measured>> {
     let task = autonomous_task(ctx, design, closed)?;
     let t0 = ctx.cmm.readings().time_s;
-    position(
-        ctx,
-        autonomous_start(ctx.probe, &task, ctx.free, &ctx.modes),
-    );
+    let start = autonomous_start(ctx.probe, &task, ctx.free, &ctx.modes);
+    if let Some(c) = position(ctx, start) {
+        res.record(
+            AttemptMode::Autonomous,
+            struck_on_the_way(ctx, c, t0),
+            &ctx.pose,
+        );
+        return None;
+    }
     let mut attempt = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     let points = attempt.points.clone();

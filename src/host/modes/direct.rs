@@ -3,7 +3,7 @@
 //! part, instead of the detour over the clearance height.
 use super::motion::{free_stylus, travel};
 use super::route::{grid_point, mount_inside_soft_travel};
-use super::{HostProbe, ModeOptions, Outcome, Tracker};
+use super::{Collision, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 use crate::seam::ProbePart;
@@ -138,9 +138,13 @@ pub fn direct_move(
     target: Point3,
     free: &dyn FreeSpace,
     opts: &ModeOptions,
-) -> Result<bool, Outcome> {
+) -> Result<bool, MoveStop> {
     let mut tr = Tracker::new(cmm, probe).avoiding(Some(free)).escaping(opts);
-    let away = free_stylus(cmm, &mut tr, opts)?;
+    let stop = |tr: &Tracker, outcome| MoveStop {
+        outcome,
+        collision: tr.collision,
+    };
+    let away = free_stylus(cmm, &mut tr, opts).map_err(|o| stop(&tr, o))?;
     let from = away.unwrap_or_else(|| tr.ball_undeflected());
     let home = grid_point(from, opts.plan_grid_mm);
     let via_home = home != from;
@@ -157,8 +161,17 @@ pub fn direct_move(
         waypoints.push(target);
     }
     tr.enter(cmm, Phase::Position);
-    travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)?;
+    travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts).map_err(|o| stop(&tr, o))?;
     Ok(clear)
+}
+
+/// How a move between measurements ended when it stopped short.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveStop {
+    /// Why it stopped.
+    pub outcome: Outcome,
+    /// Where the probe struck the part, for a collision.
+    pub collision: Option<Collision>,
 }
 
 #[cfg(test)]

@@ -10,7 +10,7 @@ mod scan;
 mod touch;
 
 pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask};
-pub use direct::{approach_standoff, direct_move, FreeSpace};
+pub use direct::{approach_standoff, direct_move, FreeSpace, MoveStop};
 pub use motion::{approach_to, move_through, move_to, recover, reposition, Tracker};
 pub use route::route_from_above;
 pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
