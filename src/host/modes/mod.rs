@@ -177,12 +177,6 @@ pub struct ModeOptions {
     pub trigger_mm: f64,
     /// Below this deflection the stylus counts as out of contact, mm.
     pub contact_mm: f64,
-    /// During a move that does not measure, a deflection reading above
-    /// this (mm) once the stylus was free is the ball striking the part
-    /// (a free stylus reads exactly zero; the sensor's noise is a tenth of
-    /// a micrometre on a deflected one): a graze of a few micrometres is a
-    /// collision too.
-    pub guard_mm: f64,
     /// A retract off the surface ends once the deflection reads below
     /// this, mm: the stylus has left the surface (a free probe reads its
     /// noise only, about 0.1 um), so the move that follows starts clear.
@@ -300,7 +294,6 @@ impl Default for ModeOptions {
             min_standoff_mm: 0.01,
             trigger_mm: 0.3,
             contact_mm: 0.02,
-            guard_mm: 0.002,
             free_mm: 5e-4,
             over_deflection_mm: 0.8,
             lost_contact_cycles: 40,
