@@ -307,13 +307,13 @@ fn print_summary(results: &[PartResult]) -> Result<(), CliError> {
 }
 
 fn report_lines(r: &Report, lines: &mut Vec<String>) {
-    if let Some(outcome) = r.alignment.as_ref().and_then(|a| a.failed) {
+    if let Some((a, outcome)) = r.alignment.as_ref().and_then(|a| Some((a, a.failed?))) {
         lines.push(format!(
             "{:<20} {:<24} {:>10} {:>7} {:>9} {:>9}  points:{} (features measured at the nominal placement)",
             r.program,
             "alignment",
             serde_name(&Verdict::Incomplete),
-            0,
+            a.points,
             "-",
             "-",
             serde_name(&outcome)
