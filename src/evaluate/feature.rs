@@ -179,6 +179,7 @@ mod tests {
                 complete: true,
                 notes: Vec::new(),
                 learned: None,
+                points_before_stop: false,
             }],
             faces: vec![0],
             tolerance: (-0.01, 0.01),

@@ -100,10 +100,13 @@ pub struct CurveResult {
     pub notes: Vec<String>,
     /// The last correction made (to carry to later parts).
     pub learned: Option<Learned>,
+    /// Whether `points` are those a scan measured before it stopped
+    /// (a later scan replaces them; a completed scan's stay).
+    pub points_before_stop: bool,
 }
 
 /// How the note on the points a stopped scan keeps ends (it goes when a
-/// later scan completes and replaces them).
+/// later scan replaces them).
 const KEPT_NOTE_END: &str = "stop are kept";
 
 impl CurveResult {
@@ -139,9 +142,7 @@ impl CurveResult {
                     | Outcome::LostContact
                     | Outcome::OverDeflection
             );
-            // Points of a completed scan (no note on kept points) stay.
-            let replaceable =
-                self.points.is_empty() || self.notes.iter().any(|n| n.ends_with(KEPT_NOTE_END));
+            let replaceable = self.points.is_empty() || self.points_before_stop;
             if stopped && !attempt.points.is_empty() && replaceable {
                 self.notes.retain(|n| !n.ends_with(KEPT_NOTE_END));
                 self.notes.push(format!(
@@ -150,9 +151,11 @@ impl CurveResult {
                     crate::formats::serde_name(&outcome).replace('_', " ")
                 ));
                 self.points = attempt.points;
+                self.points_before_stop = true;
             } else if self.complete {
                 self.notes.retain(|n| !n.ends_with(KEPT_NOTE_END));
                 self.points = attempt.points;
+                self.points_before_stop = false;
             }
         }
         outcome

@@ -213,9 +213,8 @@ fn largest_gap(points: &[Measured]) -> f64 {
 
 /// Goes straight to a probing start point (ball centre) when the line is
 /// clear of the part; otherwise the measuring mode repositions over the
-/// clearance height by itself, which also handles any failure here.
-/// The collision that stopped the move, if one did (the measuring mode
-/// repositions on its own after any other stop).
+/// clearance height by itself, which also handles any other failure
+/// here. Returns the collision that stopped the move, if one did.
 fn position(ctx: &mut CurveCtx, start: Point3) -> Option<Collision> {
     let free = ctx.free?;
     let stop = direct_move(ctx.cmm, ctx.probe, start, free, &ctx.modes).err()?;
@@ -223,7 +222,7 @@ fn position(ctx: &mut CurveCtx, start: Point3) -> Option<Collision> {
         .filter(|_| stop.outcome == Outcome::Collision)
 }
 
-/// An attempt of `mode` that a collision of the move to its start ended
+/// An attempt that the collision `c` on the move to its start ended
 /// before it measured, from machine time `t0` on.
 fn struck_on_the_way(ctx: &CurveCtx, c: Collision, t0: f64) -> Attempt {
     Attempt {

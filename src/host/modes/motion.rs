@@ -7,8 +7,7 @@
 //! move to a probing start point ends moving towards the surface at the
 //! approach speed, so the approach follows without a stop.
 use super::{
-    approach_standoff, route, Collision, EscapeOptions, FreeSpace, HostProbe, Measured,
-    ModeOptions, Outcome,
+    approach_standoff, route, Collision, FreeSpace, HostProbe, Measured, ModeOptions, Outcome,
 };
 use crate::host::observe::{Machine, Phase};
 use crate::host::probe_correction::DeflectionCorrection;
@@ -45,12 +44,10 @@ pub struct Tracker<'f> {
     /// Free space around the part: repositioning routes around the part
     /// (`None`: over the clearance height unchecked).
     free: Option<&'f dyn FreeSpace>,
-    /// How the probe backs out after a collision.
-    escape: EscapeOptions,
-    /// Below this deflection the stylus is free, mm
-    /// ([`ModeOptions::free_mm`]).
-    free_mm: f64,
-    /// The modes' options the retrace after a collision moves with.
+    /// How the probe backs out after a collision
+    /// ([`ModeOptions::escape`]), below which deflection the stylus is
+    /// free ([`ModeOptions::free_mm`]), and the options the way back
+    /// after a collision moves with.
     modes: ModeOptions,
     /// The ball's path since the measuring move left free air
     /// ([`trail`]).
@@ -77,8 +74,6 @@ impl<'f> Tracker<'f> {
             phase: Phase::Idle,
             collision: None,
             free: None,
-            escape: EscapeOptions::default(),
-            free_mm: ModeOptions::default().free_mm,
             modes: ModeOptions::default(),
             trail: Vec::new(),
             lift_off: false,
@@ -88,8 +83,6 @@ impl<'f> Tracker<'f> {
     /// The same, backing out of a collision as `opts` say.
     pub fn escaping(self, opts: &ModeOptions) -> Tracker<'f> {
         Tracker {
-            escape: opts.escape,
-            free_mm: opts.free_mm,
             modes: *opts,
             ..self
         }
@@ -113,7 +106,7 @@ impl<'f> Tracker<'f> {
             // A measuring move leaves free air (one that starts on the
             // surface goes on with the trail it has).
             Phase::Approach | Phase::Touch
-                if self.phase != phase && self.deflection() < self.free_mm =>
+                if self.phase != phase && self.deflection() < self.modes.free_mm =>
             {
                 self.start_trail(true)
             }
@@ -133,7 +126,7 @@ impl<'f> Tracker<'f> {
         // A tracker that starts on the surface (idle) took over from the
         // measuring move that put the ball there.
         let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
-        if measuring && self.deflection() >= self.free_mm {
+        if measuring && self.deflection() >= self.modes.free_mm {
             self.lift_off = true;
         } else {
             self.enter(cmm, Phase::Retract);
@@ -194,7 +187,7 @@ impl<'f> Tracker<'f> {
         if !self.trail.is_empty() {
             self.extend_trail();
         }
-        if self.lift_off && self.deflection() < self.free_mm {
+        if self.lift_off && self.deflection() < self.modes.free_mm {
             self.enter(cmm, Phase::Retract);
         }
         match self.now.status {
@@ -209,8 +202,7 @@ impl<'f> Tracker<'f> {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
                 let moving = (self.now.scales - before) / cmm.cycle_s();
                 self.escape(cmm, moving);
-                let modes = self.modes;
-                self.retrace(cmm, &modes);
+                self.retrace(cmm);
                 Some(outcome)
             }
         }
@@ -220,17 +212,17 @@ impl<'f> Tracker<'f> {
     /// stylus's deflection when it is pressed against the part (away from
     /// the surface the ball struck), else against `moving` (the machine's
     /// velocity when it struck, mm/s; up the stylus when it stood still)
-    /// at [`EscapeOptions::speed_mm_s`],
+    /// at [`EscapeOptions::speed_mm_s`](super::EscapeOptions::speed_mm_s),
     /// whatever the machine reports on the way, until it reports the probe
-    /// clear with the stylus free, [`EscapeOptions::clear_mm`] further and
+    /// clear with the stylus free, [`EscapeOptions::clear_mm`](super::EscapeOptions::clear_mm) further and
     /// (with free space to ask) the tight clearance margin from the design
     /// data, then to rest; during a measuring move, only
-    /// [`EscapeOptions::retrace_clear_mm`] further, and then back along the
+    /// [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and then back along the
     /// move's path to where it left free air ([`trail`]). A stylus pressed
     /// against the part in a move that does not measure comes free along
-    /// its deflection, [`EscapeOptions::retrace_clear_mm`] further, and
+    /// its deflection, [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and
     /// then backs out up the stylus (routes come in from above). Gives up
-    /// after [`EscapeOptions::max_mm`], and
+    /// after [`EscapeOptions::max_mm`](super::EscapeOptions::max_mm), and
     /// stops where the stylus, once free, touches the part again (backing
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
@@ -238,13 +230,13 @@ impl<'f> Tracker<'f> {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came.
         let up = (-self.probe.probe_vector).try_normalize(1e-9);
-        let pressed =
-            (self.now.deflection.try_normalize(1e-9)).filter(|_| self.deflection() >= self.free_mm);
+        let pressed = (self.now.deflection.try_normalize(1e-9))
+            .filter(|_| self.deflection() >= self.modes.free_mm);
         let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
             return;
         };
         self.enter(cmm, Phase::Retract);
-        let mut v = dir * self.escape.speed_mm_s;
+        let mut v = dir * self.modes.escape.speed_mm_s;
         // Once free off a pressed stylus, up the stylus (out of a hole the
         // way routes come in, from above): on along the deflection, or back
         // along a move inside a small hole, its far wall is near.
@@ -255,9 +247,10 @@ impl<'f> Tracker<'f> {
         let start = self.ball_undeflected();
         let mut clear_since: Option<Point3> = None;
         // Twice the cycles the longest move out takes at its speed.
-        let cycles = 2.0 * self.escape.max_mm / (self.escape.speed_mm_s * cmm.cycle_s());
+        let cycles =
+            2.0 * self.modes.escape.max_mm / (self.modes.escape.speed_mm_s * cmm.cycle_s());
         for _ in 0..(cycles.min(1e7) as usize) {
-            if (self.ball_undeflected() - start).norm() >= self.escape.max_mm {
+            if (self.ball_undeflected() - start).norm() >= self.modes.escape.max_mm {
                 break;
             }
             self.now = cmm.step(v);
@@ -265,22 +258,22 @@ impl<'f> Tracker<'f> {
             let here = self.ball_undeflected();
             match self.now.status {
                 MachineStatus::AxisLimit { .. } => break,
-                MachineStatus::Ok if self.deflection() < self.free_mm => {
+                MachineStatus::Ok if self.deflection() < self.modes.free_mm => {
                     let since = *clear_since.get_or_insert(here);
                     let gone = (here - since).norm();
                     // With a trail to go back along, just off the surface
                     // (across a small hole the far wall is near).
-                    if self.has_trail() && gone >= self.escape.retrace_clear_mm {
+                    if self.has_trail() && gone >= self.modes.escape.retrace_clear_mm {
                         break;
                     }
                     if let Some(b) =
-                        back.filter(|_| !turned && gone >= self.escape.retrace_clear_mm)
+                        back.filter(|_| !turned && gone >= self.modes.escape.retrace_clear_mm)
                     {
-                        (v, turned) = (b * self.escape.speed_mm_s, true);
+                        (v, turned) = (b * self.modes.escape.speed_mm_s, true);
                         clear_since = Some(here);
                         continue;
                     }
-                    if gone >= self.escape.clear_mm && self.roomy(here) {
+                    if gone >= self.modes.escape.clear_mm && self.roomy(here) {
                         break;
                     }
                 }

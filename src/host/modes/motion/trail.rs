@@ -13,7 +13,6 @@
 //! to where the measuring move began in free air: the point the route to
 //! the feature led to, from which later routes start.
 use super::{travel, Tracker};
-use crate::host::modes::ModeOptions;
 use crate::host::observe::{Machine, Phase};
 use crate::math::Point3;
 
@@ -43,12 +42,14 @@ impl Tracker<'_> {
             return;
         };
         let here = self.ball_undeflected();
-        if (here - last).norm_squared() < self.escape.trail_step_mm.powi(2) {
+        if (here - last).norm_squared() < self.modes.escape.trail_step_mm.powi(2) {
             return;
         }
         let d = self.now.deflection;
         let lift = match d.try_normalize(1e-9) {
-            Some(u) if d.norm() >= self.free_mm => u * (d.norm() + self.escape.retrace_clear_mm),
+            Some(u) if d.norm() >= self.modes.free_mm => {
+                u * (d.norm() + self.modes.escape.retrace_clear_mm)
+            }
             _ => crate::math::Vec3::zeros(),
         };
         self.trail.push(here + lift);
@@ -57,7 +58,8 @@ impl Tracker<'_> {
     /// Moves the probe back along the trail to its start (see the module
     /// docs), in phase retract; stops where the machine reports anything
     /// but a free move. The trail is used once.
-    pub(super) fn retrace(&mut self, cmm: &mut dyn Machine, opts: &ModeOptions) {
+    pub(super) fn retrace(&mut self, cmm: &mut dyn Machine) {
+        let opts = self.modes;
         let trail = std::mem::take(&mut self.trail);
         let here = self.ball_undeflected();
         let back: Vec<Point3> = trail.iter().rev().copied().collect();
@@ -68,7 +70,7 @@ impl Tracker<'_> {
             return;
         }
         self.enter(cmm, Phase::Retract);
-        let speed = self.escape.retrace_speed_mm_s;
-        let _ = travel(cmm, self, &back, speed, 0.0, opts);
+        let speed = self.modes.escape.retrace_speed_mm_s;
+        let _ = travel(cmm, self, &back, speed, 0.0, &opts);
     }
 }
