@@ -39,3 +39,70 @@ fn a_collision_on_the_way_to_a_touch_point_is_reported() {
     assert_eq!(struck["collision"]["probe_part"], "shaft", "{struck}");
     assert!(struck["collision"]["at_mm"].is_array(), "{struck}");
 }
+
+/// Runs of consecutive trace rows of a move that does not measure
+/// (position, retract) with the stylus deflected.
+fn deflected_runs(trace: &str) -> usize {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (phase, d) = (col("phase"), [col("dx_mm"), col("dy_mm"), col("dz_mm")]);
+    let mut runs = 0;
+    let mut inside = false;
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let deflected = d.iter().any(|&k| f[k].parse::<f64>().unwrap() != 0.0);
+        let moving = f[phase] == "position" || f[phase] == "retract";
+        runs += usize::from(moving && deflected && !inside);
+        inside = moving && deflected;
+    }
+    runs
+}
+
+/// io1 made 1.3 mm off its place (no alignment), a 7 mm bolt hole
+/// scanned with a 3 mm ball: the active scan's trajectory error sends the
+/// supervisor to a geometric correction whose touch points lie in the
+/// misplaced hole's wall. The first strike ends the correction's attempt
+/// (a machine stops there): no touch after it runs into the wall again,
+/// so every deflection outside a measuring move is the one collision
+/// reported.
+#[test]
+fn the_first_strike_ends_a_geometric_correction() {
+    let program = json!({
+        "format": "cmm-program/1", "name": "io1-misplaced",
+        "workpiece": arg(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, -90, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0.3, -0.8, 0.6],
+                                        "rotate_deg": [1.5, 0.05, 0] } },
+        "features": [
+            { "name": "bolt-hole-30", "type": "section_scan",
+              "plane": { "origin_mm": [3, 0, 0], "normal": [1, 0, 0] },
+              "surfaces": ["face11", "face25"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let file = write_program(dir.path(), "misplaced.json", &program);
+    let (out, trace) = (dir.path().join("out"), dir.path().join("trace.csv"));
+    let o = cmm(&[
+        "scan",
+        &arg(&file),
+        "--ideal",
+        "--quiet",
+        "--out",
+        &arg(&out),
+        "--trace",
+        &arg(&trace),
+    ]);
+    assert!(matches!(o.status.code(), Some(1 | 3)), "{o:?}");
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let attempts = report["features"][0]["attempts"].as_array().unwrap();
+    let struck = attempts
+        .iter()
+        .filter(|a| a["outcome"] == "collision")
+        .count();
+    let touches = attempts.iter().find(|a| a["mode"] == "points").unwrap();
+    assert_eq!(touches["outcome"], "collision", "{attempts:?}");
+    let runs = deflected_runs(&std::fs::read_to_string(trace).unwrap());
+    assert_eq!(runs, struck, "{attempts:?}");
+}

@@ -279,9 +279,12 @@ fn geometric(
             Some(&prev) => travel_outside(ctx, design, prev, i),
             None => position(ctx, touch_start(ctx.probe, p, n, ctx.free, &ctx.modes)),
         };
+        // A strike ends the attempt (a machine stops there); the points
+        // touched before it still go to the fit below.
         if let Some(c) = struck {
             attempt.outcome = Outcome::Collision;
             attempt.collision = attempt.collision.or(Some(c));
+            break;
         }
         let a = touch_point(
             ctx.cmm,
@@ -299,6 +302,7 @@ fn geometric(
         } else if matches!(a.outcome, Outcome::AxisLimit | Outcome::Collision) {
             attempt.outcome = a.outcome;
             attempt.collision = a.collision.or(attempt.collision);
+            break;
         }
     }
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
@@ -429,6 +433,13 @@ fn autonomous_attempt(
     }
     let mut attempt = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
+    if attempt.outcome == Outcome::Aborted {
+        res.notes.push(format!(
+            "the autonomous scan did not come back to its start or reach its end within {:.1} mm (three times the section's {:.1} mm and 10 mm)",
+            task.longest_mm(),
+            task.nominal_length_mm
+        ));
+    }
     let points = attempt.points.clone();
     (res.record(AttemptMode::Autonomous, attempt, &ctx.pose) == Outcome::Completed)
         .then_some(points)

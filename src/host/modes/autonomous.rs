@@ -29,6 +29,14 @@ pub struct AutonomousTask {
     pub pitch_mm: f64,
 }
 
+impl AutonomousTask {
+    /// How far the scan runs before it gives up (outcome aborted): three
+    /// times the nominal section's length and 10 mm, mm.
+    pub fn longest_mm(&self) -> f64 {
+        3.0 * self.nominal_length_mm + 10.0
+    }
+}
+
 /// Runs an autonomous scan.
 pub fn autonomous_scan(
     cmm: &mut dyn Machine,
@@ -117,7 +125,7 @@ fn follow(
         if finished(task, tr, start, travelled, dir) {
             return Ok(());
         }
-        if travelled > 3.0 * task.nominal_length_mm + 10.0 {
+        if travelled > task.longest_mm() {
             return Err(Outcome::Aborted);
         }
     }
@@ -129,15 +137,69 @@ fn follow(
 fn finished(task: &AutonomousTask, tr: &Tracker, start: Point3, travelled: f64, dir: Vec3) -> bool {
     let here = tr.ball_undeflected();
     match task.end {
-        None => {
-            travelled > 0.5 * task.nominal_length_mm
-                && (here - start).norm() < task.pitch_mm.max(0.2)
-        }
+        None => closed_again(task, start, here, travelled),
         Some((end, tangent)) => {
             let past = tr
                 .measured()
                 .is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
             past && dir.dot(&tangent) > 0.0
         }
+    }
+}
+
+/// Whether a closed section's scan, `travelled` mm along from `start`, is
+/// back at it with the ball at `here` (ball centres, mm): after half the
+/// section's length, within a pitch (at least 0.2 mm) of the start within
+/// the scanning plane. A start the approach left off the plane (the plane
+/// hold takes the ball to it on the way) is still come back to.
+fn closed_again(task: &AutonomousTask, start: Point3, here: Point3, travelled: f64) -> bool {
+    let pn = task.plane.1;
+    let off = here - start;
+    let in_plane = off - pn * off.dot(&pn);
+    travelled > 0.5 * task.nominal_length_mm && in_plane.norm() < task.pitch_mm.max(0.2)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A closed section in the plane z = 3 whose scan started 0.575 mm
+    /// above the plane (the approach came down off it).
+    fn task() -> AutonomousTask {
+        AutonomousTask {
+            start: Point3::new(5.0, 0.0, 3.0),
+            start_normal: Vec3::x(),
+            direction: Vec3::y(),
+            plane: (Point3::new(0.0, 0.0, 3.0), Vec3::z()),
+            end: None,
+            nominal_length_mm: 31.4,
+            deflection_mm: 0.3,
+            pitch_mm: 0.5,
+        }
+    }
+
+    #[test]
+    fn a_loop_closes_on_a_start_off_the_scanning_plane() {
+        let start = Point3::new(6.5, 0.0, 3.575);
+        // Back over the start in the plane, after a full loop.
+        assert!(closed_again(
+            &task(),
+            start,
+            Point3::new(6.5, 0.1, 3.0),
+            31.0
+        ));
+        // Not before half the loop, nor a pitch away within the plane.
+        assert!(!closed_again(
+            &task(),
+            start,
+            Point3::new(6.5, 0.1, 3.0),
+            10.0
+        ));
+        assert!(!closed_again(
+            &task(),
+            start,
+            Point3::new(6.5, 0.6, 3.0),
+            31.0
+        ));
     }
 }

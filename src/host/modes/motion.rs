@@ -235,7 +235,13 @@ impl<'f> Tracker<'f> {
         let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
             return;
         };
-        self.enter(cmm, Phase::Retract);
+        // Coming free off the surface the ball was measuring belongs to the
+        // measuring move (as its lift-off does); the retract starts free.
+        let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
+        let mut lifting = measuring && pressed.is_some();
+        if !lifting {
+            self.enter(cmm, Phase::Retract);
+        }
         let mut v = dir * self.modes.escape.speed_mm_s;
         // Once free off a pressed stylus, up the stylus (out of a hole the
         // way routes come in, from above): on along the deflection, or back
@@ -255,6 +261,10 @@ impl<'f> Tracker<'f> {
             }
             self.now = cmm.step(v);
             self.command = v;
+            if lifting && self.deflection() < self.modes.free_mm {
+                lifting = false;
+                self.enter(cmm, Phase::Retract);
+            }
             let here = self.ball_undeflected();
             match self.now.status {
                 MachineStatus::AxisLimit { .. } => break,
