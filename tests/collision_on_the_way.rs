@@ -103,6 +103,35 @@ fn the_first_strike_ends_a_geometric_correction() {
         .count();
     let touches = attempts.iter().find(|a| a["mode"] == "points").unwrap();
     assert_eq!(touches["outcome"], "collision", "{attempts:?}");
-    let runs = deflected_runs(&std::fs::read_to_string(trace).unwrap());
-    assert_eq!(runs, struck, "{attempts:?}");
+    let trace = std::fs::read_to_string(trace).unwrap();
+    assert_eq!(deflected_runs(&trace), struck, "{attempts:?}");
+    // The speed reported is the axes' at the strike (the trace's measured
+    // velocity where the ball guard caught it), not the one commanded.
+    let c = &touches["collision"];
+    assert_eq!(c["probe_part"], "ball", "{c}");
+    let axes = strike_speed(&trace).unwrap();
+    let reported = c["speed_mm_s"].as_f64().unwrap();
+    assert!((reported - axes).abs() < 1e-6, "{reported} vs {axes}");
+}
+
+/// The measured speed (mm/s) of the first trace row of a positioning move
+/// whose deflection reaches the ball guard's contact threshold (0.02 mm).
+fn strike_speed(trace: &str) -> Option<f64> {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next()?.split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (phase, d, v) = (
+        col("phase"),
+        [col("dx_mm"), col("dy_mm"), col("dz_mm")],
+        [col("vx"), col("vy"), col("vz")],
+    );
+    let norm = |f: &[&str], k: [usize; 3]| {
+        k.iter()
+            .map(|&i| f[i].parse::<f64>().unwrap().powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    lines
+        .map(|l| l.split(',').collect::<Vec<_>>())
+        .find_map(|f| (f[phase] == "position" && norm(&f, d) >= 0.02).then(|| norm(&f, v)))
 }

@@ -29,6 +29,8 @@ pub struct Tracker<'f> {
     pub points: Vec<Measured>,
     /// Ball-centre velocity commanded in the last cycle, mm/s.
     pub command: Vec3,
+    /// Velocity the scales moved with in the last cycle, mm/s.
+    pub moving: Vec3,
     /// The measured point of the previous cycle sampled.
     prev_point: Option<Point3>,
     /// Length of the measured path since the first point, mm.
@@ -67,6 +69,7 @@ impl<'f> Tracker<'f> {
             now,
             points: Vec::new(),
             command: Vec3::zeros(),
+            moving: Vec3::zeros(),
             prev_point: None,
             travel: 0.0,
             next_mark: 0.0,
@@ -184,6 +187,7 @@ impl<'f> Tracker<'f> {
         let before = self.now.scales;
         self.now = cmm.step(v);
         self.command = v;
+        self.moving = (self.now.scales - before) / cmm.cycle_s();
         if !self.trail.is_empty() {
             self.extend_trail();
         }
@@ -200,8 +204,7 @@ impl<'f> Tracker<'f> {
                 speed_mm_s,
             } => {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
-                let moving = (self.now.scales - before) / cmm.cycle_s();
-                self.escape(cmm, moving);
+                self.escape(cmm, self.moving);
                 self.retrace(cmm);
                 Some(outcome)
             }
@@ -758,7 +761,9 @@ impl Guard {
         let watching = matches!(tr.phase, Phase::Position | Phase::Retract);
         if watching && self.free && touching {
             let at = tr.measured().map_or(tr.ball_undeflected(), |m| m.point);
-            let moving = tr.command;
+            // The speed the axes struck with (the scales' move over the
+            // last cycle), not the one commanded.
+            let moving = tr.moving;
             let outcome = tr.struck(ProbePart::Ball, at, moving.norm());
             tr.escape(cmm, moving);
             return Err(outcome);
