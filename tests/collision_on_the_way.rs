@@ -82,20 +82,8 @@ fn the_first_strike_ends_a_geometric_correction() {
               "surfaces": ["face11", "face25"], "tolerance_mm": [-0.05, 0.05] } ] });
     let dir = tempfile::tempdir().unwrap();
     let file = write_program(dir.path(), "misplaced.json", &program);
-    let (out, trace) = (dir.path().join("out"), dir.path().join("trace.csv"));
-    let o = cmm(&[
-        "scan",
-        &arg(&file),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-        "--trace",
-        &arg(&trace),
-    ]);
-    assert!(matches!(o.status.code(), Some(1 | 3)), "{o:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let (code, report, trace) = scan_ideal_traced(&file, dir.path());
+    assert!(matches!(code, Some(1 | 3)), "{report}");
     let attempts = report["features"][0]["attempts"].as_array().unwrap();
     let struck = attempts
         .iter()
@@ -103,7 +91,6 @@ fn the_first_strike_ends_a_geometric_correction() {
         .count();
     let touches = attempts.iter().find(|a| a["mode"] == "points").unwrap();
     assert_eq!(touches["outcome"], "collision", "{attempts:?}");
-    let trace = std::fs::read_to_string(trace).unwrap();
     assert_eq!(deflected_runs(&trace), struck, "{attempts:?}");
     // The speed reported is the axes' at the strike (the trace's measured
     // velocity where the ball guard caught it), not the one commanded.

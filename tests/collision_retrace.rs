@@ -58,20 +58,8 @@ fn features_after_a_collision_under_an_overhang_are_measured() {
         section("cap", [0.0, 0.0, 505.0], [0.0, 0.1, 1.0], "face18"),
     ]);
     let file = write_program(dir.path(), "lamp.json", &program(features));
-    let (out, trace) = (dir.path().join("out"), dir.path().join("trace.csv"));
-    let o = cmm(&[
-        "scan",
-        &arg(&file),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-        "--trace",
-        &arg(&trace),
-    ]);
-    assert_eq!(o.status.code(), Some(3), "{o:?}");
-    let report: Value =
-        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    let (code, report, trace) = scan_ideal_traced(&file, dir.path());
+    assert_eq!(code, Some(3), "{report}");
     let f = report["features"].as_array().unwrap();
     assert_eq!(f[0]["status"], "incomplete");
     let struck = &f[0]["attempts"][0];
@@ -93,7 +81,7 @@ fn features_after_a_collision_under_an_overhang_are_measured() {
     // No cycle of a move that does not measure has the stylus deflected:
     // coming free off the surface belongs to the scan the strike stopped,
     // and the way back follows the scan off the surface.
-    let rows = deflections(&std::fs::read_to_string(trace).unwrap());
+    let rows = deflections(&trace);
     for (k, (p, d)) in rows.iter().enumerate() {
         if p == "retract" || p == "position" {
             assert!(*d == 0.0, "row {k}: {p} deflected {d}");

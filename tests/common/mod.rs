@@ -273,6 +273,29 @@ pub fn write_program(dir: &std::path::Path, name: &str, program: &serde_json::Va
     path
 }
 
+/// `cmm scan PROGRAM --ideal --quiet --out DIR/out --trace DIR/trace.csv`:
+/// its exit code, the report and the trace it wrote.
+pub fn scan_ideal_traced(
+    program: &std::path::Path,
+    dir: &std::path::Path,
+) -> (Option<i32>, serde_json::Value, String) {
+    let (out, trace) = (dir.join("out"), dir.join("trace.csv"));
+    let o = cmm(&[
+        "scan",
+        &arg(program),
+        "--ideal",
+        "--quiet",
+        "--out",
+        &arg(&out),
+        "--trace",
+        &arg(&trace),
+    ]);
+    let text =
+        std::fs::read_to_string(out.join("report.json")).unwrap_or_else(|e| panic!("{e}: {o:?}"));
+    let trace = std::fs::read_to_string(trace).unwrap_or_else(|e| panic!("{e}: {o:?}"));
+    (o.status.code(), serde_json::from_str(&text).unwrap(), trace)
+}
+
 /// `cmm scan PROGRAM --ideal --quiet --out OUT`: its exit code and the
 /// report it wrote.
 pub fn scan_ideal(
