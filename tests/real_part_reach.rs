@@ -10,7 +10,7 @@ mod common;
 
 use std::path::Path;
 
-use common::{arg, cmm, repo};
+use common::{arg, cmm, repo, scan_ideal_traced};
 use serde_json::{json, Value};
 
 /// Writes `program` (its workpiece a file of `workpieces/`) to `dir`.
@@ -113,22 +113,12 @@ fn positioning_under_the_top_of_the_travel_stays_inside_it() {
     let path = write_program(dir.path(), &program);
     let check = cmm(&["check", &path]);
     assert_eq!(check.status.code(), Some(0), "{check:?}");
-    let (out, trace) = (dir.path().join("out"), dir.path().join("t.csv"));
-    let run = cmm(&[
-        "scan",
-        &path,
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-        "--trace",
-        &arg(&trace),
-    ]);
-    assert_eq!(run.status.code(), Some(0), "{run:?}");
-    for f in read_report(&out)["features"].as_array().unwrap() {
+    let (code, report, trace) = scan_ideal_traced(Path::new(&path), dir.path());
+    assert_eq!(code, Some(0), "{report}");
+    for f in report["features"].as_array().unwrap() {
         assert_eq!(f["status"], "pass", "{f}");
     }
-    let top = highest_z(&std::fs::read_to_string(trace).unwrap());
+    let top = highest_z(&trace);
     assert!(top < 600.0, "the Z axis reached {top} mm");
 }
 

@@ -279,21 +279,10 @@ pub fn scan_ideal_traced(
     program: &std::path::Path,
     dir: &std::path::Path,
 ) -> (Option<i32>, serde_json::Value, String) {
-    let (out, trace) = (dir.join("out"), dir.join("trace.csv"));
-    let o = cmm(&[
-        "scan",
-        &arg(program),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(&out),
-        "--trace",
-        &arg(&trace),
-    ]);
-    let text =
-        std::fs::read_to_string(out.join("report.json")).unwrap_or_else(|e| panic!("{e}: {o:?}"));
-    let trace = std::fs::read_to_string(trace).unwrap_or_else(|e| panic!("{e}: {o:?}"));
-    (o.status.code(), serde_json::from_str(&text).unwrap(), trace)
+    let trace = dir.join("trace.csv");
+    let (code, report) = scan_ideal_with(program, &dir.join("out"), &["--trace", &arg(&trace)]);
+    let text = std::fs::read_to_string(&trace).unwrap_or_else(|e| panic!("{e}: {report}"));
+    (code, report, text)
 }
 
 /// `cmm scan PROGRAM --ideal --quiet --out OUT`: its exit code and the
@@ -302,15 +291,20 @@ pub fn scan_ideal(
     program: &std::path::Path,
     out: &std::path::Path,
 ) -> (Option<i32>, serde_json::Value) {
-    let o = cmm(&[
-        "scan",
-        &arg(program),
-        "--ideal",
-        "--quiet",
-        "--out",
-        &arg(out),
-    ]);
-    let text =
-        std::fs::read_to_string(out.join("report.json")).unwrap_or_else(|e| panic!("{e}: {o:?}"));
+    scan_ideal_with(program, out, &[])
+}
+
+/// [`scan_ideal`] with `more` arguments.
+fn scan_ideal_with(
+    program: &std::path::Path,
+    out: &std::path::Path,
+    more: &[&str],
+) -> (Option<i32>, serde_json::Value) {
+    let (program, out) = (arg(program), arg(out));
+    let mut args = vec!["scan", &program, "--ideal", "--quiet", "--out", &out];
+    args.extend_from_slice(more);
+    let o = cmm(&args);
+    let text = std::fs::read_to_string(std::path::Path::new(&out).join("report.json"))
+        .unwrap_or_else(|e| panic!("{e}: {o:?}"));
     (o.status.code(), serde_json::from_str(&text).unwrap())
 }
