@@ -69,16 +69,33 @@ fn a_box_outline_is_scanned_round_its_edges_at_the_wanted_deflection() {
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
     let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
-    let (mut lo, mut hi, mut cycles) = (f64::INFINITY, 0.0f64, 0);
+    let mut scanned: Vec<f64> = Vec::new();
     for line in lines {
         let v: Vec<&str> = line.split(',').collect();
         if v[phase] != "scan" {
             continue;
         }
         let d = [dx, dy, dz].map(|k| v[k].parse::<f64>().unwrap());
-        let m = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        (lo, hi, cycles) = (lo.min(m), hi.max(m), cycles + 1);
+        scanned.push((d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt());
     }
+    // The stylus's lift off the part after the scan belongs to the
+    // measuring move (its phase): a tail over which the deflection falls
+    // every cycle, down to free.
+    let mut end = scanned.len();
+    while end >= 2 && scanned[end - 1] < scanned[end - 2] {
+        end -= 1;
+    }
+    assert!(
+        scanned.len() - end < 100,
+        "a lift-off of {} cycles",
+        scanned.len() - end
+    );
+    let kept = &scanned[..end];
+    let (lo, hi, cycles) = (
+        kept.iter().copied().fold(f64::INFINITY, f64::min),
+        kept.iter().copied().fold(0.0f64, f64::max),
+        kept.len(),
+    );
     assert!(cycles > 3000, "{cycles}");
     assert!(lo > 0.15 && hi < 0.4, "deflection {lo}..{hi} mm");
 }

@@ -88,6 +88,46 @@ fn phase_touches_nothing(trace: &str, wanted: &str, cycles: usize) {
     assert!(seen > cycles, "{seen} {wanted} cycles");
 }
 
+/// The program's end move completed and left the probe touching nothing,
+/// at rest (under 1 mm/s), no lower than where the program started it
+/// (above the part): the last feature of the program is a scan, which
+/// ends with the stylus pressed on the part.
+fn ends_clear_and_at_rest_above_the_start(report: &Value, trace: &str) {
+    assert_eq!(
+        report["end_move"]["outcome"], "completed",
+        "{}",
+        report["end_move"]
+    );
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let rows: Vec<Vec<&str>> = lines.map(|l| l.split(',').collect()).collect();
+    let num = |row: &[&str], name: &str| row[col(name)].parse::<f64>().unwrap();
+    let (first, last) = (rows.first().unwrap(), rows.last().unwrap());
+    for k in ["dx_mm", "dy_mm", "dz_mm"] {
+        assert_eq!(num(last, k), 0.0, "{last:?}");
+    }
+    let speed = ["vx", "vy", "vz"]
+        .map(|k| num(last, k))
+        .iter()
+        .map(|v| v * v)
+        .sum::<f64>();
+    assert!(speed.sqrt() < 1.0, "{last:?}");
+    assert!(
+        num(last, "z_mm") >= num(first, "z_mm") - 0.05,
+        "{first:?} {last:?}"
+    );
+    let scanned = rows
+        .iter()
+        .rev()
+        .find(|r| r[col("phase")] == "scan")
+        .unwrap();
+    assert!(
+        num(scanned, "z_mm") < num(last, "z_mm") - 10.0,
+        "{scanned:?}"
+    );
+}
+
 /// With `--ideal` every point's deviation is its true deviation (0.5 um),
 /// and each scanned section is covered at its pitch: points 0.5 mm apart
 /// on average (within 3 %), at least 97 % of its length over the pitch.
@@ -543,6 +583,7 @@ fn linkrods_program_measures_a_one_millimetre_bore_with_a_small_ball() {
         "{n} points"
     );
     positioning_touches_nothing_over(&trace, 300);
+    ends_clear_and_at_rest_above_the_start(&report, &trace);
 
     let mut p: Value = serde_json::from_str(&std::fs::read_to_string(&program).unwrap()).unwrap();
     p["workpiece"] = repo("workpieces/linkrods.step").to_string_lossy().into();

@@ -19,14 +19,15 @@ use crate::host::inspect::clearance::ClearanceOptions;
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
 use crate::host::inspect::LearnedSet;
-use crate::host::modes::{FreeSpace, HostProbe, ModeOptions};
+use crate::host::modes::{park, FreeSpace, HostProbe, ModeOptions};
 use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
 use crate::program::limits::start_position;
 use crate::program::Program;
 use crate::report::{
-    AlignmentReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict, REPORT_FORMAT,
+    AlignmentReport, EndMoveReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict,
+    REPORT_FORMAT,
 };
 use crate::seam::Cmm;
 use crate::world::as_machined::AsMachined;
@@ -190,6 +191,7 @@ pub(super) fn run_variant(
             probe_vector_mm: setup.host_probe.probe_vector.into(),
         },
         features,
+        end_move: m.end_move,
     };
     Ok((report, m.learned, m.rows))
 }
@@ -244,6 +246,7 @@ struct Measuring<'p> {
     machine_time_s: f64,
     rows: Vec<TraceRow>,
     learned: LearnedSet,
+    end_move: EndMoveReport,
     /// The simulated machine's contact search on the true part.
     search: ContactSearch,
 }
@@ -292,7 +295,10 @@ fn measure_program<'p>(
         .iter()
         .map(|f| measure_feature(&run, f, &mut traced, &mut learned))
         .collect();
+    let end_start = traced.readings().time_s;
+    let ended = park(&mut traced, host_probe, run.free, &modes);
     let machine_time_s = traced.readings().time_s;
+    let end_move = EndMoveReport::new(ended, machine_time_s - end_start, &aligned.placement);
     let rows = raw.into_rows();
     let search = sim.into_contact_search();
     Ok(Measuring {
@@ -302,6 +308,7 @@ fn measure_program<'p>(
         machine_time_s,
         rows,
         learned,
+        end_move,
         search,
     })
 }

@@ -10,6 +10,7 @@ use crate::app::{load_on, probe_calibration, RunOptions, SimulatedPart};
 use crate::formats::serde_name;
 use crate::host::calibrate::file::ProbeCalibration;
 use crate::host::inspect::learned::CorrectionsFile;
+use crate::host::modes::Outcome;
 use crate::host::trace::trace_csv;
 use crate::output::OutputSet;
 use crate::program::MachineFiles;
@@ -334,6 +335,23 @@ fn report_lines(r: &Report, lines: &mut Vec<String>) {
             f.deviation_mm.min,
             f.deviation_mm.max,
             attempts.join(" -> ")
+        ));
+    }
+    let end = &r.end_move;
+    if end.outcome != Outcome::Completed {
+        let at = end.collision.as_ref().map_or(String::new(), |c| {
+            let [x, y, z] = c.at_mm;
+            format!(" ({} at {x:.3}, {y:.3}, {z:.3} mm)", c.probe_part)
+        });
+        lines.push(format!(
+            "{:<20} {:<24} {:>10} {:>7} {:>9} {:>9}  end move stopped: {}{at}",
+            r.program,
+            "end move",
+            "-",
+            "-",
+            "-",
+            "-",
+            serde_name(&end.outcome)
         ));
     }
 }

@@ -68,6 +68,11 @@ mod tests {
                 probe_vector_mm: [0.0, 0.0, -50.0],
             },
             features: vec![],
+            end_move: EndMoveReport {
+                outcome: crate::host::modes::Outcome::Completed,
+                machine_time_s: 0.5,
+                collision: None,
+            },
         };
         let text = to_json(&report);
         assert!(text.ends_with("}\n"));

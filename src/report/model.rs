@@ -8,7 +8,7 @@ pub const REPORT_FORMAT: &str = "cmm-report/1";
 
 pub use crate::evaluate::model::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
 pub use crate::host::inspect::record::{
-    AlignmentReport, AttemptMode, AttemptReport, CorrectionReport, FeatureKind,
+    AlignmentReport, AttemptMode, AttemptReport, CorrectionReport, EndMoveReport, FeatureKind,
 };
 
 /// A whole-part report.
@@ -37,6 +37,9 @@ pub struct Report {
     pub alignment: Option<AlignmentReport>,
     /// Features in program order.
     pub features: Vec<FeatureReport>,
+    /// The move that ended the program (stylus freed, probe up at the
+    /// clearance height).
+    pub end_move: EndMoveReport,
 }
 
 /// `x_machine = rotation x_part + translation_mm`.

@@ -140,5 +140,10 @@ pub fn report() -> Report {
             probe_vector_mm: [0.0, 0.0, -60.0],
         },
         features,
+        end_move: EndMoveReport {
+            outcome: Outcome::Completed,
+            machine_time_s: 0.0,
+            collision: None,
+        },
     }
 }

@@ -80,6 +80,39 @@ impl CollisionReport {
     }
 }
 
+/// The move that ends a program: the stylus freed from the part and the
+/// probe up at the clearance height, at rest.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct EndMoveReport {
+    /// `completed`, or why the move stopped short (`collision`, ...).
+    pub outcome: Outcome,
+    /// Machine time of the move, s.
+    pub machine_time_s: f64,
+    /// Where the probe struck the part (outcome `collision`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub collision: Option<CollisionReport>,
+}
+
+impl EndMoveReport {
+    /// The report of the end move that ended as `result` after
+    /// `machine_time_s`, on a part placed by `pose`.
+    pub fn new(
+        result: Result<(), crate::host::modes::MoveStop>,
+        machine_time_s: f64,
+        pose: &Pose,
+    ) -> EndMoveReport {
+        let (outcome, collision) = match result {
+            Ok(()) => (Outcome::Completed, None),
+            Err(stop) => (stop.outcome, stop.collision),
+        };
+        EndMoveReport {
+            outcome,
+            machine_time_s,
+            collision: collision.map(|c| CollisionReport::new(&c, pose)),
+        }
+    }
+}
+
 /// A correction of the feature's design data between attempts.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 #[serde(tag = "kind", rename_all = "snake_case")]

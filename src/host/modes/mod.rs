@@ -5,6 +5,7 @@
 mod autonomous;
 mod direct;
 mod motion;
+mod park;
 mod route;
 mod scan;
 mod touch;
@@ -12,6 +13,7 @@ mod touch;
 pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask};
 pub use direct::{approach_standoff, direct_move, FreeSpace, MoveStop};
 pub use motion::{approach_to, move_through, move_to, recover, reposition, Tracker};
+pub use park::park;
 pub use route::route_from_above;
 pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
 pub use touch::{touch_point, touch_start};
