@@ -2,7 +2,7 @@
 //! corrections made between them, and the alignment.
 use serde::Serialize;
 
-use crate::host::modes::{Collision, Outcome};
+use crate::host::modes::{Collision, MoveStop, Outcome};
 use crate::program::Pose;
 
 /// What kind of feature was measured.
@@ -96,11 +96,7 @@ pub struct EndMoveReport {
 impl EndMoveReport {
     /// The report of the end move that ended as `result` after
     /// `machine_time_s`, on a part placed by `pose`.
-    pub fn new(
-        result: Result<(), crate::host::modes::MoveStop>,
-        machine_time_s: f64,
-        pose: &Pose,
-    ) -> EndMoveReport {
+    pub fn new(result: Result<(), MoveStop>, machine_time_s: f64, pose: &Pose) -> EndMoveReport {
         let (outcome, collision) = match result {
             Ok(()) => (Outcome::Completed, None),
             Err(stop) => (stop.outcome, stop.collision),

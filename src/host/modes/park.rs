@@ -51,23 +51,22 @@ pub fn park(
 /// vector) up to the clearance height above it, when one is needed and
 /// found.
 fn route_up(free: &dyn FreeSpace, (here, pv): (Point3, Vec3), opts: &ModeOptions) -> Vec<Point3> {
-    let Some(z) = opts
-        .clearance_z_mm
-        .filter(|&z| z > here.z + opts.arrive_tol_mm)
-    else {
-        return Vec::new();
-    };
-    let top = Point3::new(here.x, here.y, z);
-    plan_route_from(free, (here, pv), top, Vec3::z(), opts).map_or(Vec::new(), |r| r.waypoints)
+    (above(here, opts))
+        .and_then(|top| plan_route_from(free, (here, pv), top, Vec3::z(), opts))
+        .map_or(Vec::new(), |r| r.waypoints)
 }
 
 /// The point straight above `here` at the clearance height, when `here`
 /// is below it and the line up is clear.
 fn rise(here: Point3, free: Option<&dyn FreeSpace>, opts: &ModeOptions) -> Option<Point3> {
+    above(here, opts).filter(|&top| free.is_none_or(|f| f.segment_clear(here, top)))
+}
+
+/// The point straight above `here` at the clearance height, when `here`
+/// is below it.
+fn above(here: Point3, opts: &ModeOptions) -> Option<Point3> {
     let z = opts.clearance_z_mm?;
-    let top = Point3::new(here.x, here.y, z);
-    let below = z > here.z + opts.arrive_tol_mm;
-    (below && free.is_none_or(|f| f.segment_clear(here, top))).then_some(top)
+    (z > here.z + opts.arrive_tol_mm).then(|| Point3::new(here.x, here.y, z))
 }
 
 #[cfg(test)]
