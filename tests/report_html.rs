@@ -51,6 +51,27 @@ fn html_escapes_names_and_marks_out_of_tolerance() {
 }
 
 #[test]
+fn html_says_how_the_end_move_ended_and_where_it_struck() {
+    let mut report = report();
+    assert!(report_html(&report).contains("<td><b>End move</b></td><td>completed, 0.00 s</td>"));
+    report.end_move = EndMoveReport {
+        outcome: cmm::host::modes::Outcome::Collision,
+        machine_time_s: 0.25,
+        collision: Some(CollisionReport {
+            probe_part: "shaft",
+            at_mm: [1.0, -2.5, 30.125],
+            speed_mm_s: 50.0,
+            phase: "position",
+        }),
+    };
+    let html = report_html(&report);
+    assert!(
+        html.contains("collision, 0.25 s; shaft struck at (1.000, -2.500, 30.125) mm"),
+        "{html}"
+    );
+}
+
+#[test]
 fn html_is_deterministic_and_ignores_wall_time() {
     let mut other = report();
     other.wall_time_s = 99.0;

@@ -115,7 +115,26 @@ fn header(out: &mut String, report: &Report) {
     });
     meta_row(out, "Probe", |out| probe_text(out, report));
     meta_row(out, "Part to machine", |out| placement(out, report));
+    meta_row(out, "End move", |out| end_move(out, report));
     out.push_str("</table>\n");
+}
+
+/// How the end move ended and its machine time, with where the probe
+/// struck the part when it did.
+fn end_move(out: &mut String, report: &Report) {
+    let end = &report.end_move;
+    push_escaped(out, &json_name(&end.outcome));
+    out.push_str(", ");
+    seconds(out, end.machine_time_s);
+    if let Some(c) = &end.collision {
+        let [x, y, z] = c.at_mm;
+        // Writing into a String cannot fail.
+        let _ = write!(
+            out,
+            "; {} struck at ({x:.3}, {y:.3}, {z:.3}) mm",
+            c.probe_part
+        );
+    }
 }
 
 /// One row of the run facts; `value` appends the value's markup.

@@ -8,7 +8,8 @@ pub const REPORT_FORMAT: &str = "cmm-report/1";
 
 pub use crate::evaluate::model::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
 pub use crate::host::inspect::record::{
-    AlignmentReport, AttemptMode, AttemptReport, CorrectionReport, EndMoveReport, FeatureKind,
+    AlignmentReport, AttemptMode, AttemptReport, CollisionReport, CorrectionReport, EndMoveReport,
+    FeatureKind,
 };
 
 /// A whole-part report.
