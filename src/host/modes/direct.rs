@@ -140,11 +140,7 @@ pub fn direct_move(
     opts: &ModeOptions,
 ) -> Result<bool, MoveStop> {
     let mut tr = Tracker::new(cmm, probe).avoiding(Some(free)).escaping(opts);
-    let stop = |tr: &Tracker, outcome| MoveStop {
-        outcome,
-        collision: tr.collision,
-    };
-    let away = free_stylus(cmm, &mut tr, opts).map_err(|o| stop(&tr, o))?;
+    let away = free_stylus(cmm, &mut tr, opts).map_err(|o| MoveStop::of(&tr, o))?;
     let from = away.unwrap_or_else(|| tr.ball_undeflected());
     let home = grid_point(from, opts.plan_grid_mm);
     let via_home = home != from;
@@ -161,7 +157,8 @@ pub fn direct_move(
         waypoints.push(target);
     }
     tr.enter(cmm, Phase::Position);
-    travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts).map_err(|o| stop(&tr, o))?;
+    travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)
+        .map_err(|o| MoveStop::of(&tr, o))?;
     Ok(clear)
 }
 
@@ -172,6 +169,17 @@ pub struct MoveStop {
     pub outcome: Outcome,
     /// Where the probe struck the part, for a collision.
     pub collision: Option<Collision>,
+}
+
+impl MoveStop {
+    /// The stop of a move driven through `tr` that ended with `outcome`
+    /// (with the collision `tr` recorded, if any).
+    pub(super) fn of(tr: &Tracker, outcome: Outcome) -> MoveStop {
+        MoveStop {
+            outcome,
+            collision: tr.collision,
+        }
+    }
 }
 
 #[cfg(test)]

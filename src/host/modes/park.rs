@@ -22,11 +22,7 @@ pub fn park(
     opts: &ModeOptions,
 ) -> Result<(), MoveStop> {
     let mut tr = Tracker::new(cmm, probe).avoiding(free).escaping(opts);
-    let stop = |tr: &Tracker, outcome| MoveStop {
-        outcome,
-        collision: tr.collision,
-    };
-    let away = free_stylus(cmm, &mut tr, opts).map_err(|o| stop(&tr, o))?;
+    let away = free_stylus(cmm, &mut tr, opts).map_err(|o| MoveStop::of(&tr, o))?;
     let here = away.unwrap_or_else(|| tr.ball_undeflected());
     let mut waypoints: Vec<Point3> = away.into_iter().collect();
     let (up, legs) = match (rise(here, free, opts), free) {
@@ -40,9 +36,9 @@ pub fn park(
     }
     tr.enter(cmm, Phase::Position);
     let speed = opts.rapid_speed_mm_s;
-    travel(cmm, &mut tr, &waypoints, speed, 0.0, opts).map_err(|o| stop(&tr, o))?;
+    travel(cmm, &mut tr, &waypoints, speed, 0.0, opts).map_err(|o| MoveStop::of(&tr, o))?;
     for w in legs {
-        travel(cmm, &mut tr, &[w], speed, 0.0, opts).map_err(|o| stop(&tr, o))?;
+        travel(cmm, &mut tr, &[w], speed, 0.0, opts).map_err(|o| MoveStop::of(&tr, o))?;
     }
     Ok(())
 }
