@@ -132,9 +132,47 @@ fn bench_evaluate(c: &mut Criterion) {
     );
 }
 
+/// A real part's high-degree blend (linkrods.step, a rational face of
+/// degrees 6 by 10): the power-basis evaluation against the basis
+/// recursion it replaces.
+fn bench_high_degree(c: &mut Criterion) {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("workpieces/linkrods.step");
+    let wp = match Workpiece::from_path(&path) {
+        Ok(wp) => wp,
+        Err(e) => panic!("{e}"),
+    };
+    let degree =
+        |f: &&cmm::workpiece::Face| (f.surface.knots_u().degree(), f.surface.knots_v().degree());
+    let Some(face) = wp.faces.iter().find(|f| degree(f) == (6, 10)) else {
+        panic!("linkrods.step has no face of degrees 6 by 10");
+    };
+    let s = &face.surface;
+    let ((u0, u1), (v0, v1)) = s.domain();
+    let uv: Vec<(f64, f64)> = (0..1000)
+        .map(|k| {
+            let (a, b) = ((k % 37) as f64 / 37.0, (k % 41) as f64 / 41.0);
+            (u0 + a * (u1 - u0), v0 + b * (v1 - v0))
+        })
+        .collect();
+    for (name, fast) in [("power basis", true), ("basis recursion", false)] {
+        c.bench_function(&format!("derivs2_degree_6x10/{name}"), |b| {
+            let mut k = 0;
+            b.iter(|| {
+                k = (k + 1) % uv.len();
+                let (u, v) = uv[k];
+                if fast {
+                    black_box(s.derivs(u, v, 2))
+                } else {
+                    black_box(s.derivs_de_boor(u, v, 2))
+                }
+            })
+        });
+    }
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default().sample_size(30).warm_up_time(std::time::Duration::from_millis(500)).measurement_time(std::time::Duration::from_secs(2));
-    targets = bench, bench_evaluate
+    targets = bench, bench_evaluate, bench_high_degree
 }
 criterion_main!(benches);

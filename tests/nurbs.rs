@@ -320,3 +320,69 @@ fn rational_jet2_agrees_with_the_basis_recursion() {
         }
     }
 }
+
+/// A random rational surface of degrees `p` by `q` placed where real parts
+/// sit on a machine table (coordinates of several hundred mm).
+fn high_degree_surface(r: &mut TestRng, p: usize, q: usize) -> NurbsSurface {
+    let (ku, nu) = random_knots(r, p);
+    let (kv, nv) = random_knots(r, q);
+    let at = [350.0, -500.0, 120.0];
+    let cps: Vec<Vec<[f64; 3]>> = (0..nu)
+        .map(|i| {
+            (0..nv)
+                .map(|j| {
+                    [
+                        at[0] + i as f64 * 4.0 + uniform(r, -1.0, 1.0),
+                        at[1] + j as f64 * 4.0 + uniform(r, -1.0, 1.0),
+                        at[2] + uniform(r, -5.0, 5.0),
+                    ]
+                })
+                .collect()
+        })
+        .collect();
+    let w: Vec<Vec<f64>> = (0..nu)
+        .map(|_| (0..nv).map(|_| uniform(r, 0.5, 2.0)).collect())
+        .collect();
+    NurbsSurface::try_new([p, q], ku, kv, &cps, Some(&w), false).unwrap()
+}
+
+/// Degrees 5 to 11 (real parts' blends) take the power-basis path too:
+/// points, derivatives to third order and the second-order jet agree with
+/// the basis recursion at table coordinates, points to 1e-8 mm (the
+/// contact needs 1e-4 mm).
+#[test]
+fn high_degree_fast_path_agrees_with_the_basis_recursion() {
+    let mut r = rng(29);
+    for case in 0..60 {
+        let (p, q) = (5 + case % 7, 5 + (case * 3) % 7);
+        let s = high_degree_surface(&mut r, p, q);
+        let ((u0, u1), (v0, v1)) = s.domain();
+        for _ in 0..10 {
+            let (u, v) = (uniform(&mut r, u0, u1), uniform(&mut r, v0, v1));
+            let (a, b) = (s.derivs(u, v, 3), s.derivs_de_boor(u, v, 3));
+            let e = (a.d[0][0] - b.d[0][0]).norm();
+            assert!(e <= 1e-8, "case {case} point {p} {q} err {e:e}");
+            assert!((s.point(u, v).coords - b.d[0][0]).norm() <= 1e-8);
+            let scale = 1.0 + b.d[1][0].norm() + b.d[0][1].norm();
+            for k in 0..4 {
+                for l in 0..4 - k {
+                    let err = (a.d[k][l] - b.d[k][l]).norm();
+                    assert!(
+                        err <= 1e-8 * scale * (1.0 + b.d[k][l].norm()),
+                        "case {case} d[{k}][{l}]"
+                    );
+                }
+            }
+            let j = s.jet2(u, v);
+            let want = [
+                b.d[0][0], b.d[1][0], b.d[0][1], b.d[2][0], b.d[1][1], b.d[0][2],
+            ];
+            for (got, want) in j.d.iter().zip(want) {
+                assert!(
+                    (got - want).norm() <= 1e-8 * scale * (1.0 + want.norm()),
+                    "case {case} jet2"
+                );
+            }
+        }
+    }
+}

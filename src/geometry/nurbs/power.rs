@@ -11,7 +11,14 @@ use super::surface::NurbsSurface;
 use crate::math::{Vec3, Vec4};
 
 /// Highest degree (in either direction) evaluated in the power basis.
-pub const FAST_MAX_DEGREE: usize = 5;
+/// Real CAD parts carry rational blends of degree 6 to 10 (fillets and
+/// variable-radius blends exported as B-splines); the conversion's
+/// coefficients grow like `2^p` times a binomial, which each patch's own
+/// origin (its first control point) keeps small: the coefficients are
+/// those of the patch less its origin, so a part placed 1000 mm from the
+/// machine's zero rounds like one at the zero (tests/nurbs.rs checks
+/// degrees 5 to 11 against the basis recursion at table coordinates).
+pub const FAST_MAX_DEGREE: usize = 11;
 const CAP: usize = FAST_MAX_DEGREE + 1;
 
 /// A local patch parameter in [0, 1] with the inverse width of its span.
@@ -29,6 +36,9 @@ pub(crate) struct PowerPatches {
     /// Patch `(a, b)` starts at `(a * nb + b) * stride`; entry `i * (q + 1) + j`
     /// multiplies `s^i t^j`.
     coef: Vec<Vec4>,
+    /// Each patch's origin, taken off its coefficients (mm): the
+    /// coefficients are those of `S - origin`.
+    origin: Vec<Vec3>,
     /// The same coefficients without weights, for non-rational surfaces
     /// (empty for rational ones).
     coef3: Vec<Vec3>,
@@ -42,9 +52,10 @@ impl PowerPatches {
             return None;
         }
         let (mu, mv) = (bezier_to_power(degree[0]), bezier_to_power(degree[1]));
-        let coef: Vec<Vec4> = decompose(surface)
-            .iter()
-            .flat_map(|patch| convert(patch, &mu, &mv))
+        let patches = decompose(surface);
+        let origin: Vec<Vec3> = patches.iter().map(patch_origin).collect();
+        let coef: Vec<Vec4> = (patches.iter().zip(&origin))
+            .flat_map(|(patch, &o)| convert(patch, o, &mu, &mv))
             .collect();
         let coef3 = if surface.is_rational() {
             Vec::new()
@@ -62,6 +73,7 @@ impl PowerPatches {
             breaks_v,
             degree,
             coef,
+            origin,
             coef3,
         })
     }
@@ -88,7 +100,7 @@ impl PowerPatches {
     #[inline]
     pub fn jet2_rational(&self, u: f64, v: f64, out: &mut Jet2) -> bool {
         let [p, q] = self.degree;
-        let Some((patch, su, tv)) = self.patch_at(&self.coef, u, v) else {
+        let Some((patch, su, tv, o)) = self.patch_at(&self.coef, u, v) else {
             return false;
         };
         let mut hom = HomogeneousJet2([Vec4::zeros(); 6]);
@@ -101,6 +113,7 @@ impl PowerPatches {
             _ => return false,
         }
         hom.project(out);
+        out.d[0] += o;
         true
     }
 
@@ -113,14 +126,14 @@ impl PowerPatches {
         coef: &'c [V],
         u: f64,
         v: f64,
-    ) -> Option<(&'c [V], LocalParam, LocalParam)> {
+    ) -> Option<(&'c [V], LocalParam, LocalParam, Vec3)> {
         let [p, q] = self.degree;
         let (a, s, hu) = span_of(&self.breaks_u, &self.inv_width[0], u);
         let (b, t, hv) = span_of(&self.breaks_v, &self.inv_width[1], v);
         let stride = (p + 1) * (q + 1);
-        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
-        let patch = coef.get(start..start + stride)?;
-        Some((patch, (s, hu), (t, hv)))
+        let index = a * (self.breaks_v.len() - 1) + b;
+        let patch = coef.get(index * stride..(index + 1) * stride)?;
+        Some((patch, (s, hu), (t, hv), *self.origin.get(index)?))
     }
 
     #[inline(always)]
@@ -129,7 +142,7 @@ impl PowerPatches {
             return false;
         }
         let [p, q] = self.degree;
-        let Some((patch, su, tv)) = self.patch_at(&self.coef3, u, v) else {
+        let Some((patch, su, tv, o)) = self.patch_at(&self.coef3, u, v) else {
             return false;
         };
         match (p + 1, q + 1, nd) {
@@ -151,6 +164,7 @@ impl PowerPatches {
                 }
             }
         }
+        out.shift(o);
         true
     }
 
@@ -161,12 +175,12 @@ impl PowerPatches {
     #[inline]
     pub fn point(&self, u: f64, v: f64) -> Option<Vec3> {
         if self.coef3.is_empty() {
-            let (patch, (s, _), (t, _)) = self.patch_at(&self.coef, u, v)?;
+            let (patch, (s, _), (t, _), o) = self.patch_at(&self.coef, u, v)?;
             let a = self.sum0(patch, s, t);
-            Some(xyz_of(&a) / a.w)
+            Some(xyz_of(&a) / a.w + o)
         } else {
-            let (patch, (s, _), (t, _)) = self.patch_at(&self.coef3, u, v)?;
-            Some(self.sum0(patch, s, t))
+            let (patch, (s, _), (t, _), o) = self.patch_at(&self.coef3, u, v)?;
+            Some(self.sum0(patch, s, t) + o)
         }
     }
 
@@ -191,16 +205,24 @@ impl PowerPatches {
         let (a, su) = local(&self.breaks_u, u, p, nd);
         let (b, tv) = local(&self.breaks_v, v, q, nd);
         let stride = (p + 1) * (q + 1);
-        let start = (a * (self.breaks_v.len() - 1) + b) * stride;
+        let index = a * (self.breaks_v.len() - 1) + b;
+        let start = index * stride;
         let patch = &self.coef[start..start + stride];
-        match (p + 1, q + 1) {
+        let mut aw = match (p + 1, q + 1) {
             (4, 4) => kernel::<Vec4, 4, 4>(patch, &su, &tv, nd),
             (3, 3) => kernel::<Vec4, 3, 3>(patch, &su, &tv, nd),
             (2, 2) => kernel::<Vec4, 2, 2>(patch, &su, &tv, nd),
             (3, 2) => kernel::<Vec4, 3, 2>(patch, &su, &tv, nd),
             (2, 3) => kernel::<Vec4, 2, 3>(patch, &su, &tv, nd),
             _ => kernel_any(patch, &su, &tv, nd, p + 1, q + 1),
+        };
+        let o = self.origin.get(index).copied().unwrap_or_else(Vec3::zeros);
+        for (k, row) in aw.iter_mut().enumerate().take(nd + 1) {
+            for a in row.iter_mut().take(nd + 1 - k) {
+                shift_homogeneous(a, o);
+            }
         }
+        aw
     }
 }
 
@@ -469,6 +491,18 @@ fn poly_kernel_nd<const NP: usize, const NQ: usize, S: Sink<Vec3>>(
 /// Where a kernel writes derivative `d^(k+l) S / du^k dv^l`.
 trait Sink<V> {
     fn put(&mut self, k: usize, l: usize, v: V);
+    /// Adds the patch origin `o` taken off the coefficients back.
+    fn shift(&mut self, o: Vec3);
+}
+
+/// `A + o w` (every derivative of `A = A' + o w` alike): the homogeneous
+/// table of `S` from that of `S - o`.
+#[inline(always)]
+fn shift_homogeneous(a: &mut Vec4, o: Vec3) {
+    let w = a.w;
+    a.x += o.x * w;
+    a.y += o.y * w;
+    a.z += o.z * w;
 }
 
 impl Sink<Vec3> for [[Vec3; 4]; 4] {
@@ -478,6 +512,11 @@ impl Sink<Vec3> for [[Vec3; 4]; 4] {
             *slot = v;
         }
     }
+
+    #[inline(always)]
+    fn shift(&mut self, o: Vec3) {
+        self[0][0] += o;
+    }
 }
 
 impl Sink<Vec3> for Jet2 {
@@ -486,6 +525,11 @@ impl Sink<Vec3> for Jet2 {
         if let Some(slot) = jet_slot(k, l).and_then(|i| self.d.get_mut(i)) {
             *slot = v;
         }
+    }
+
+    #[inline(always)]
+    fn shift(&mut self, o: Vec3) {
+        self.d[0] += o;
     }
 }
 
@@ -498,6 +542,13 @@ impl Sink<Vec4> for HomogeneousJet2 {
     fn put(&mut self, k: usize, l: usize, v: Vec4) {
         if let Some(slot) = jet_slot(k, l).and_then(|i| self.0.get_mut(i)) {
             *slot = v;
+        }
+    }
+
+    #[inline(always)]
+    fn shift(&mut self, o: Vec3) {
+        for a in &mut self.0 {
+            shift_homogeneous(a, o);
         }
     }
 }
@@ -573,11 +624,30 @@ fn bezier_to_power(p: usize) -> [[f64; CAP]; CAP] {
     m
 }
 
-/// `A = M_u B M_v^T` for one patch.
-fn convert(patch: &BezierPatch, mu: &[[f64; CAP]; CAP], mv: &[[f64; CAP]; CAP]) -> Vec<Vec4> {
+/// A patch's origin: its first control point (the origin when its weight
+/// is not positive).
+fn patch_origin(patch: &BezierPatch) -> Vec3 {
+    match patch.pw.first() {
+        Some(b) if b.w > 0.0 => xyz_of(b) / b.w,
+        _ => Vec3::zeros(),
+    }
+}
+
+/// `A = M_u B M_v^T` for one patch, less its origin `o` (the homogeneous
+/// control points `B - o w`).
+fn convert(
+    patch: &BezierPatch,
+    o: Vec3,
+    mu: &[[f64; CAP]; CAP],
+    mv: &[[f64; CAP]; CAP],
+) -> Vec<Vec4> {
     let [p, q] = patch.degree;
     let grid = move |n: usize, m: usize| (0..n).flat_map(move |i| (0..m).map(move |j| (i, j)));
-    let b = |k: usize, m: usize| patch.pw[k * (q + 1) + m];
+    let b = |k: usize, m: usize| {
+        let mut c = patch.pw[k * (q + 1) + m];
+        shift_homogeneous(&mut c, -o);
+        c
+    };
     let half: Vec<Vec4> = grid(p + 1, q + 1)
         .map(|(k, j)| (0..=j).fold(Vec4::zeros(), |acc, m| acc + b(k, m) * mv[j][m]))
         .collect();
@@ -588,4 +658,30 @@ fn convert(patch: &BezierPatch, mu: &[[f64; CAP]; CAP], mv: &[[f64; CAP]; CAP]) 
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A flat rational patch of degrees `p` by `q` on [0, 1]^2.
+    fn patch(p: usize, q: usize) -> NurbsSurface {
+        let clamped = |n: usize| [vec![0.0; n + 1], vec![1.0; n + 1]].concat();
+        let cps: Vec<Vec<[f64; 3]>> = (0..=p)
+            .map(|i| (0..=q).map(|j| [i as f64, j as f64, 0.0]).collect())
+            .collect();
+        let w: Vec<Vec<f64>> = (0..=p).map(|i| vec![1.0 + 0.1 * i as f64; q + 1]).collect();
+        NurbsSurface::try_new([p, q], clamped(p), clamped(q), &cps, Some(&w), false).unwrap()
+    }
+
+    /// Surfaces up to [`FAST_MAX_DEGREE`] get power-basis patches (the
+    /// high-degree blends of real parts included); beyond it the basis
+    /// recursion serves.
+    #[test]
+    fn power_patches_up_to_the_fast_degree() {
+        assert!(PowerPatches::new(&patch(3, 3)).is_some());
+        assert!(PowerPatches::new(&patch(6, 10)).is_some());
+        assert!(PowerPatches::new(&patch(FAST_MAX_DEGREE, 2)).is_some());
+        assert!(PowerPatches::new(&patch(FAST_MAX_DEGREE + 1, 2)).is_none());
+    }
 }
