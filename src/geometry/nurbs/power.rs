@@ -93,8 +93,8 @@ impl PowerPatches {
     }
 
     /// The second-order jet of a rational surface whose patches have a
-    /// dedicated kernel (bicubic, biquadratic, bilinear, quadratic by
-    /// linear), by Horner's rule on the homogeneous coefficients and the
+    /// dedicated kernel (each of degrees 1 to 3 by 1 to 3),
+    /// by Horner's rule on the homogeneous coefficients and the
     /// quotient rule; `false` when it does not apply (the general
     /// homogeneous path serves then).
     #[inline]
@@ -110,6 +110,10 @@ impl PowerPatches {
             (3, 2) => poly_kernel::<3, 2, 2, _, _>(patch, su, tv, &mut hom),
             (2, 3) => poly_kernel::<2, 3, 2, _, _>(patch, su, tv, &mut hom),
             (2, 2) => poly_kernel::<2, 2, 2, _, _>(patch, su, tv, &mut hom),
+            (4, 2) => poly_kernel::<4, 2, 2, _, _>(patch, su, tv, &mut hom),
+            (2, 4) => poly_kernel::<2, 4, 2, _, _>(patch, su, tv, &mut hom),
+            (4, 3) => poly_kernel::<4, 3, 2, _, _>(patch, su, tv, &mut hom),
+            (3, 4) => poly_kernel::<3, 4, 2, _, _>(patch, su, tv, &mut hom),
             _ => return false,
         }
         hom.project(out);
@@ -153,6 +157,14 @@ impl PowerPatches {
             (4, 4, _) => poly_kernel_nd::<4, 4, _>(patch, su, tv, nd, out),
             (3, 3, _) => poly_kernel_nd::<3, 3, _>(patch, su, tv, nd, out),
             (2, 2, _) => poly_kernel_nd::<2, 2, _>(patch, su, tv, nd, out),
+            // Extrusions and ruled faces of CAD parts (cubic or quadratic
+            // by linear) and cubic by quadratic blends.
+            (4, 2, _) => poly_kernel_nd::<4, 2, _>(patch, su, tv, nd, out),
+            (2, 4, _) => poly_kernel_nd::<2, 4, _>(patch, su, tv, nd, out),
+            (3, 2, _) => poly_kernel_nd::<3, 2, _>(patch, su, tv, nd, out),
+            (2, 3, _) => poly_kernel_nd::<2, 3, _>(patch, su, tv, nd, out),
+            (4, 3, _) => poly_kernel_nd::<4, 3, _>(patch, su, tv, nd, out),
+            (3, 4, _) => poly_kernel_nd::<3, 4, _>(patch, su, tv, nd, out),
             _ => {
                 let (_, su) = local(&self.breaks_u, u, p, nd);
                 let (_, tv) = local(&self.breaks_v, v, q, nd);
