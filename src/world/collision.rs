@@ -60,7 +60,7 @@ impl ProbeCollisions {
             shape: probe.shape,
             lift_mm: (r * r - rs * rs).max(0.0).sqrt(),
             shaft: PartCheck::new(contact, opts),
-            body: PartCheck::new(contact, opts),
+            body: PartCheck::new(contact, opts).with_caps(),
         }
     }
 

@@ -10,11 +10,13 @@
 //!   reaches `L`.
 //! - **Broad phase**: the leaves whose bound comes within the radius plus
 //!   the check's margin (at most [`CollisionOptions::margin_mm`]) of the
-//!   axis segment (an exact segment-box distance and the leaf's slab);
-//!   with none, `L` is the nearest leaf bound less the radius. A leaf whose bound keeps
-//!   [`CollisionOptions::certify_mm`] from the cylinder's surface is
-//!   cleared by its bound alone (a shaft running 0.4 mm beside a wall is
-//!   cleared this way, without a descent).
+//!   axis segment (an exact segment-box distance and the leaf's slab; for
+//!   the probe body also how far the leaf lies beyond an end cap's plane,
+//!   so a body standing above a part wider than it lists none of the
+//!   part); with none, `L` is the nearest leaf bound less the radius. A
+//!   leaf whose bound keeps [`CollisionOptions::certify_mm`] from the
+//!   cylinder's surface is cleared by its bound alone (a shaft running
+//!   0.4 mm beside a wall is cleared this way, without a descent).
 //! - **Exact check** (when a leaf's bound comes nearer than that): from
 //!   where the last check found its least distance,
 //!   then from the cylinder's point nearest to each candidate
@@ -48,7 +50,7 @@ mod tests;
 
 use super::index::{LeafSource, PartIndex};
 use super::search::Cursor;
-use super::shapes::{Cylinder, Segment};
+use super::shapes::{CappedAxis, Cylinder};
 use super::tree::Shape;
 use super::{ContactOptions, TrueContact};
 use crate::geometry::{ProjectionError, ProjectionOptions};
@@ -140,6 +142,17 @@ pub struct Strike {
     pub depth_mm: f64,
 }
 
+/// A list of leaves near a probe part's axis serves later checks only
+/// while the axis vector `b - a` stays within this (mm) of the one it was
+/// made for: the rounding of a rigid move, not a turn (see
+/// `PartCheck::near_leaves`).
+const AXIS_TURN_MM: f64 = 1e-9;
+
+/// No leaf of a part lies farther than this (mm) from a probe part's axis
+/// (10 m: beyond any machine's travel); bounds how far a cap's plane
+/// swings at a leaf when the axis turns by a rounding.
+const PART_REACH_MM: f64 = 1e4;
+
 /// A descent's alternating-projection step shorter than this (mm) that
 /// does not point downhill is not looked at.
 const SETTLED_STEP_MM: f64 = 0.01;
@@ -189,6 +202,9 @@ pub struct PartCheck {
     reach: f64,
     /// [`ContactOptions::free_air_ratio`].
     free_air_ratio: f64,
+    /// Whether the broad phase bounds leaves by the cylinder's end caps
+    /// too ([`PartCheck::with_caps`]).
+    caps: bool,
     /// The margin of the check running, mm.
     margin: f64,
 }
@@ -210,7 +226,15 @@ impl PartCheck {
             reach: opts.reach_mm,
             free_air_ratio: contact.free_air_ratio,
             margin: opts.margin_mm,
+            caps: false,
         }
+    }
+
+    /// The check with its broad phase also bounding leaves by how far
+    /// they lie beyond the planes of the cylinder's end caps: for a
+    /// cylinder wider than the parts below it (a probe body).
+    pub fn with_caps(self) -> PartCheck {
+        PartCheck { caps: true, ..self }
     }
 
     /// Forgets what earlier checks learnt.
@@ -306,27 +330,12 @@ impl PartCheck {
         let margin = self.next_margin();
         self.margin = margin;
         let near = cyl.radius + margin;
-        self.near_leaves((ix, part), seg, near);
-        let listed = !self.order.is_empty();
-        // The listed bounds are the axis's distance; beyond an end cap the
-        // cylinder keeps its end gap.
-        for o in &mut self.order {
-            if let Some(leaf) = leaves.leaf(o.1) {
-                o.0 = o.0.max(cyl.radius + cyl.end_gap(&leaf.aabb));
-            }
-        }
-        self.order.retain(|o| o.0 < near);
+        let axis = CappedAxis::of(cyl, self.caps);
+        self.near_leaves((ix, part), axis, near);
         if self.order.is_empty() {
-            // Every leaf keeps the margin (those listed by their end gap),
-            // or none was near: the nearest leaf's bound.
-            let far = match listed {
-                true => margin,
-                false => {
-                    let kept = (cyl.radius, self.free_air_ratio);
-                    ix.nearest_within(part, seg, kept) - cyl.radius
-                }
-            };
-            return Ok(Ok(far));
+            // No leaf comes within the margin: the nearest leaf's bound.
+            let kept = (cyl.radius, self.free_air_ratio);
+            return Ok(Ok(ix.nearest_within(part, axis, kept) - cyl.radius));
         }
         // A leaf whose bound would not clear it: its oriented box may, and
         // for a crossed leaf its trimmed box (the part inside the trim).
@@ -421,28 +430,41 @@ impl PartCheck {
         Ok(Ok(floor))
     }
 
-    /// Fills `self.order` with every leaf whose bound from `seg` is below
+    /// Fills `self.order` with every leaf whose bound from `axis` is below
     /// `radius`, with its bound (in no particular order): from the listed
     /// leaves while the list serves, else from the tree (listing again,
     /// [`CollisionOptions::list_slack_margins`] wider). A leaf's bound is the
-    /// larger of a box and a slab distance, each moving by at most the
-    /// larger end move `m` when the axis moves (every point of the axis
-    /// moves by at most that), so a listed leaf whose bound then was at
-    /// least `radius + m` is left out without looking at it again.
+    /// larger of a box, a slab and an end-cap distance, each moving by at
+    /// most the larger end move `m` when the axis moves without turning
+    /// (every point of the axis and each cap's plane moves by at most
+    /// that), so a listed leaf whose bound then was at least `radius + m`
+    /// is left out without looking at it again. An axis that turned (a
+    /// head indexed; beyond rounding) lists again: a cap's plane swings
+    /// by more than its ends move far from them.
     fn near_leaves(
         &mut self,
         (ix, part): (&PartIndex, (&Workpiece, &AsMachined)),
-        seg: Segment,
+        axis: CappedAxis,
         radius: f64,
     ) {
         self.order.clear();
-        let moved = |(a, b, _): (Point3, Point3, f64)| (seg.a - a).norm().max((seg.b - b).norm());
+        let seg = axis.seg;
+        let moved = |(a, b, _): (Point3, Point3, f64)| {
+            let turn = ((seg.b - seg.a) - (b - a)).norm();
+            if turn > AXIS_TURN_MM {
+                return f64::INFINITY;
+            }
+            // The unit axis turns by at most 2 |dv| / |v|, which moves a
+            // cap's plane at a leaf by that times the leaf's distance.
+            let swing = 2.0 * turn * PART_REACH_MM / (b - a).norm().max(f64::MIN_POSITIVE);
+            (seg.a - a).norm().max((seg.b - b).norm()) + swing
+        };
         let o = &self.opts;
         let slack = (o.list_slack_margins * self.margin).min(o.max_list_slack_mm);
         let fresh = (self.listed_at).filter(|l| l.2 - moved(*l) >= radius && moved(*l) <= slack);
         let Some(listed_at) = fresh else {
             let wide = radius + slack;
-            ix.within_bounds(part, seg, wide, &mut self.order);
+            ix.within_bounds(part, axis, wide, &mut self.order);
             self.bounds_looked += self.order.len() as u64;
             self.listed.clear();
             self.listed.extend_from_slice(&self.order);
@@ -460,7 +482,7 @@ impl PartCheck {
                 continue;
             };
             self.bounds_looked += 1;
-            match seg.leaf_bound_within(l, r2) {
+            match axis.leaf_bound_within(l, r2) {
                 Some(bound) if bound < radius => self.order.push((bound, id)),
                 _ => {}
             }

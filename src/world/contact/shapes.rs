@@ -53,6 +53,76 @@ impl Shape for Segment {
     }
 }
 
+/// A cylinder seen by the broad phase: its axis segment, with each box
+/// or leaf bounded by its distance from the axis and, with `caps`, by the
+/// radius plus how far it lies beyond the plane of either end cap, the
+/// larger (the cylinder's distance is at least this less the radius). A
+/// probe body standing above a part, wider than the part, prunes every box
+/// below its bottom cap rather than listing the whole part by its axis
+/// distance. A stylus shaft's caps prune little (its lower one sits at
+/// the ball, among the leaves it comes near) for what they cost.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct CappedAxis {
+    pub(crate) cyl: Cylinder,
+    pub(crate) seg: Segment,
+    pub(crate) caps: bool,
+}
+
+impl CappedAxis {
+    /// The broad-phase shape of `cyl`, its end caps bounding with `caps`.
+    pub(crate) fn of(cyl: &Cylinder, caps: bool) -> CappedAxis {
+        CappedAxis {
+            cyl: *cyl,
+            seg: cyl.segment(),
+            caps,
+        }
+    }
+
+    /// The radius plus the end gap of `b` (zero without caps: no bound),
+    /// mm.
+    #[inline(always)]
+    fn capped(&self, b: &Aabb) -> f64 {
+        if !self.caps {
+            return 0.0;
+        }
+        self.cyl.radius + self.cyl.end_gap(b)
+    }
+}
+
+impl Shape for CappedAxis {
+    fn box_dist2(&self, b: &Aabb) -> f64 {
+        let cap = self.capped(b);
+        self.seg.box_dist2(b).max(cap * cap)
+    }
+
+    /// The segment's own box first (cheapest), then the caps, then the
+    /// exact segment-box distance.
+    #[inline(always)]
+    fn box_beyond(&self, b: &Aabb, r2: f64) -> bool {
+        if self.seg.box_gap2(b) >= r2 {
+            return true;
+        }
+        let cap = self.capped(b);
+        cap * cap >= r2 || self.seg.box_dist2(b) >= r2
+    }
+
+    fn leaf_bound(&self, leaf: &Leaf) -> f64 {
+        self.seg.leaf_bound(leaf).max(self.capped(&leaf.aabb))
+    }
+
+    #[inline(always)]
+    fn leaf_bound_within(&self, leaf: &Leaf, r2: f64) -> Option<f64> {
+        if self.seg.box_gap2(&leaf.aabb) >= r2 {
+            return None;
+        }
+        let cap = self.capped(&leaf.aabb);
+        if cap * cap >= r2 {
+            return None;
+        }
+        (self.seg.leaf_bound_within(leaf, r2)).map(|b| b.max(cap))
+    }
+}
+
 /// The squared distance from the segment `a..b` to the box `bx` and the
 /// parameter `s` in `[0, 1]` of the segment's point `a + s (b - a)` that
 /// attains it (exact: the squared distance is a piecewise quadratic in

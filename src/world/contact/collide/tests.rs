@@ -88,3 +88,66 @@ fn a_shaft_close_beside_the_part_looks_at_the_leaves_near_it() {
     eprintln!("leaf bounds looked at: {looked} (full margin {looked_full})");
     assert!(looked * 2 < looked_full, "{looked} vs {looked_full}");
 }
+
+/// Checks of a probe body (12.5 mm radius, 80 mm long, standing on its
+/// bottom cap at `z`) over the middle of the link rods: the strikes, the
+/// leaf bounds looked at and the free-air bounds left behind.
+fn body_checks(
+    (wp, am, ix): (&Workpiece, &AsMachined, &PartIndex),
+    check: PartCheck,
+    heights: &[f64],
+) -> (Vec<bool>, u64, Vec<f64>) {
+    let mut check = check;
+    let popts = ProjectionOptions::default();
+    let mut floors = Vec::new();
+    let hits = (heights.iter())
+        .map(|&z| {
+            check.reset();
+            let (a, b) = (Point3::new(5.7, 3.2, z), Point3::new(5.7, 3.2, z + 80.0));
+            let cyl = Cylinder::between(a, b, 12.5).unwrap();
+            let hit = check.check((ix, (wp, am)), &cyl, (a, b), &popts);
+            floors.push(check.anchor.map_or(f64::NAN, |k| k.floor));
+            hit.unwrap().is_some()
+        })
+        .collect();
+    (hits, check.bounds_looked, floors)
+}
+
+/// A probe body wider than the part standing above it: its end caps clear
+/// the leaves below its bottom cap, so the check looks at few of the
+/// part's 6000 leaves and leaves a free-air bound of about the body's
+/// height above the part (the rings' tops are at z = 2; the fillets'
+/// boxes reach a little higher), where the axis distance alone looks at
+/// all of them and leaves at most the margin; a body lowered into the
+/// rings strikes either way.
+#[test]
+fn a_body_above_the_part_is_cleared_by_its_end_caps() {
+    let wp = linkrods();
+    let am = AsMachined::nominal();
+    let ix = PartIndex::new(&wp, &am, &ContactOptions::default().leaves);
+    let part = (&wp, &am, &ix);
+    let opts = CollisionOptions::default();
+    let contact = ContactOptions::default();
+    let capped = || PartCheck::new(&contact, &opts).with_caps();
+    let plain = || PartCheck::new(&contact, &opts);
+    // Heights more than the margin and the list's slack above the rings:
+    // no leaf's box is listed at all.
+    let high = [5.0, 10.0];
+    let (_, looked, _) = body_checks(part, capped(), &high);
+    let (_, plain_looked, _) = body_checks(part, plain(), &high);
+    assert!(plain_looked > 10_000, "{plain_looked}");
+    assert!(looked * 20 < plain_looked, "{looked} of {plain_looked}");
+    let above = [2.5, 5.0, 10.0];
+    let (hits, _, floors) = body_checks(part, capped(), &above);
+    let (plain_hits, _, plain_floors) = body_checks(part, plain(), &above);
+    assert_eq!(hits, [false; 3]);
+    assert_eq!(plain_hits, hits);
+    for (k, z) in above.iter().enumerate() {
+        let free_air = contact.free_air_ratio * (z - 2.0 - 0.15);
+        assert!(floors[k] >= free_air, "z {z}: {floors:?}");
+        assert!(plain_floors[k] <= opts.margin_mm, "z {z}: {plain_floors:?}");
+    }
+    let inside = |check| body_checks(part, check, &[1.0]).0;
+    assert_eq!(inside(capped()), [true]);
+    assert_eq!(inside(plain()), [true]);
+}
