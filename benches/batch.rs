@@ -41,7 +41,14 @@ fn autonomous(p: &SimulatedPart) -> SimulatedPart {
 fn batch(p: &SimulatedPart, known: &CorrectionsFile) -> (Vec<f64>, CorrectionsFile) {
     let parts = plan_parts(1, PARTS, SEED, (1, 1));
     let base = RunOptions::default();
-    let (results, learned) = run_batch(std::slice::from_ref(p), &parts, &base, known, JOBS, &|| {});
+    let (results, learned) = run_batch(
+        std::slice::from_ref(p),
+        &parts,
+        &base,
+        known,
+        JOBS,
+        &|_, _| {},
+    );
     let times = results.iter().map(part_time).collect();
     (times, learned)
 }

@@ -53,14 +53,16 @@ pub type PartResult = Result<(Report, LearnedSet), RunError>;
 
 /// Runs the parts on `jobs` threads; returns results in part order and
 /// the updated corrections.
-/// `done` is called after every finished part (for progress display).
+/// `done` is called with every finished part's number (in `parts`) and
+/// result, as it finishes (for progress display, and to write its files
+/// while the others run).
 pub fn run_batch(
     programs: &[SimulatedPart],
     parts: &[Part],
     base: &RunOptions,
     known: &CorrectionsFile,
     jobs: usize,
-    done: &(dyn Fn() + Sync),
+    done: &(dyn Fn(usize, &PartResult) + Sync),
 ) -> (Vec<PartResult>, CorrectionsFile) {
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(jobs.max(1))
@@ -75,7 +77,7 @@ pub fn run_batch(
             .map(|&i| {
                 (i, {
                     let r = run_part(programs, &parts[i], base, known, &[]);
-                    done();
+                    done(i, &r);
                     r
                 })
             })
@@ -95,7 +97,7 @@ pub fn run_batch(
             .map(|&i| {
                 (i, {
                     let r = run_part(programs, &parts[i], &later, known, &learned_first);
-                    done();
+                    done(i, &r);
                     r
                 })
             })

@@ -146,34 +146,46 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
     }
     check_outputs(args)?;
     let mut outputs = OutputSet::default();
+    let single = parts.len() == 1;
+    let report_dir = |part: &Part| match single {
+        true => args.out.clone(),
+        false => args.out.join(part_dir(args, part, &programs)),
+    };
     let (mut results, updated) = match (&args.trace, parts.first()) {
         (Some(path), Some(part)) => {
-            traced_run(&programs, part, &base, &known, (path, &mut outputs))?
+            let out = traced_run(&programs, part, &base, &known, (path, &mut outputs))?;
+            for (part, result) in parts.iter().zip(&out.0) {
+                if let Ok((report, _)) = result {
+                    crate::report::add_reports(&mut outputs, &report_dir(part), report);
+                }
+            }
+            out
         }
         _ => {
             let bar = progress_bar(args, parts.len());
-            let tick = || bar.inc(1);
+            // Each part's reports are written (to temporary names) as it
+            // finishes, so the batch holds no report files in memory.
+            let staged = std::sync::Mutex::new(OutputSet::default());
+            let done = |i: usize, result: &PartResult| {
+                bar.inc(1);
+                if let (Some(part), Ok((report, _))) = (parts.get(i), result) {
+                    let dir = report_dir(part);
+                    if let Ok(mut set) = staged.lock() {
+                        crate::report::add_reports(&mut set, &dir, report);
+                    }
+                }
+            };
             let jobs = args.jobs.min(parts.len()).max(1);
-            let out = run_batch(&programs, &parts, &base, &known, jobs, &tick);
+            let out = run_batch(&programs, &parts, &base, &known, jobs, &done);
             bar.finish_and_clear();
+            outputs.absorb(staged.into_inner().unwrap_or_else(|e| e.into_inner()));
             out
         }
     };
-    let single = parts.len() == 1;
     // One part that could not start: bad input, nothing is written.
     if single && matches!(results.first(), Some(Err(_))) {
         if let Some(Err(e)) = results.pop() {
             return Err(CliError::Run(e));
-        }
-    }
-    for (part, result) in parts.iter().zip(&results) {
-        if let Ok((report, _)) = result {
-            let dir = if single {
-                args.out.clone()
-            } else {
-                args.out.join(part_dir(args, part, &programs))
-            };
-            crate::report::add_reports(&mut outputs, &dir, report);
         }
     }
     if !single {
