@@ -169,9 +169,12 @@ pub fn run(args: &ScanArgs) -> Result<Status, CliError> {
             let done = |i: usize, result: &PartResult| {
                 bar.inc(1);
                 if let (Some(part), Ok((report, _))) = (parts.get(i), result) {
-                    let dir = report_dir(part);
+                    // Formatted and written outside the lock: other
+                    // workers wait only for the list of files.
+                    let mut own = OutputSet::default();
+                    crate::report::add_reports(&mut own, &report_dir(part), report);
                     if let Ok(mut set) = staged.lock() {
-                        crate::report::add_reports(&mut set, &dir, report);
+                        set.absorb(own);
                     }
                 }
             };
