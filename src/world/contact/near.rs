@@ -25,6 +25,14 @@ const BOUND_ROUNDING_MM: f64 = 1e-9;
 /// holds; the order is the same).
 const SORTED_MAX: usize = 24;
 
+/// A longer list is sorted only this far when it is made (its least
+/// entries, chosen by selection in linear time); the rest is sorted the
+/// first time a query walks past them. Near a part of many small faces (a
+/// fillet cut into tiny pieces) a list holds thousands of leaves while a
+/// query looks at a few dozen: sorting them all cost more than the
+/// queries.
+const SORTED_PREFIX: usize = 48;
+
 /// The order of `(bound, leaf)` pairs: bound first, ties by leaf number.
 pub(super) fn by_bound(a: &(f64, u32), b: &(f64, u32)) -> Ordering {
     a.0.total_cmp(&b.0).then(a.1.cmp(&b.1))
@@ -60,8 +68,10 @@ impl Eq for Ranked {}
 pub(super) struct NearList {
     /// Where the list was made and the radius it was made within, mm.
     at: Option<(Point3, f64)>,
-    /// `(bound at the listing point, leaf)`, least first.
+    /// `(bound at the listing point, leaf)`, least first up to
+    /// `sorted_upto`; every later entry comes after those.
     entries: Vec<(f64, u32)>,
+    sorted_upto: usize,
     /// The current query: its point, the shift from the listing point,
     /// the bound a leaf must be under, the leaf it skips, the next entry
     /// not looked at, and the looked-at leaves not yet taken.
@@ -100,7 +110,15 @@ impl NearList {
     ) -> bool {
         self.entries.clear();
         fill(&mut self.entries);
-        self.entries.sort_unstable_by(by_bound);
+        if self.entries.len() > SORTED_PREFIX {
+            let k = SORTED_PREFIX - 1;
+            self.entries.select_nth_unstable_by(k, by_bound);
+            self.entries[..k].sort_unstable_by(by_bound);
+            self.sorted_upto = SORTED_PREFIX;
+        } else {
+            self.entries.sort_unstable_by(by_bound);
+            self.sorted_upto = self.entries.len();
+        }
         self.at = Some((y, listed));
         !self.entries.is_empty()
     }
@@ -113,7 +131,11 @@ impl NearList {
             return false;
         };
         let key = (l.lower_bound(a), leaf);
-        self.entries.binary_search_by(|e| by_bound(e, &key)).is_ok()
+        let (sorted, rest) = self
+            .entries
+            .split_at(self.sorted_upto.min(self.entries.len()));
+        sorted.binary_search_by(|e| by_bound(e, &key)).is_ok()
+            || rest.iter().any(|e| by_bound(e, &key).is_eq())
     }
 
     /// Starts a query at `y` for the leaves whose bound is below `cap`
@@ -160,7 +182,11 @@ impl NearList {
         }
         // The threshold falls as leaves come in: a listed leaf whose bound
         // here cannot come under the least one looked at stays unlooked.
-        while let Some(&(listed, id)) = self.entries.get(self.next) {
+        loop {
+            self.sort_through(self.next);
+            let Some(&(listed, id)) = self.entries.get(self.next) else {
+                break;
+            };
             let threshold = self.heap.peek().map_or(self.cap, |r| r.0.min(self.cap));
             if listed - self.shift > threshold {
                 break;
@@ -171,6 +197,27 @@ impl NearList {
             }
         }
         self.heap.pop().map(|Ranked(b, id)| (b, id))
+    }
+
+    /// Sorts the entries on from `sorted_upto` as far as entry `k`, in
+    /// steps that double the sorted part (each step selects its entries
+    /// from the rest in linear time).
+    fn sort_through(&mut self, k: usize) {
+        let len = self.entries.len();
+        while k >= self.sorted_upto && self.sorted_upto < len {
+            let from = self.sorted_upto;
+            let end = from + from.max(SORTED_PREFIX);
+            let rest = &mut self.entries[from..];
+            if end < len {
+                let nth = end - from - 1;
+                rest.select_nth_unstable_by(nth, by_bound);
+                rest[..nth].sort_unstable_by(by_bound);
+                self.sorted_upto = end;
+            } else {
+                rest.sort_unstable_by(by_bound);
+                self.sorted_upto = len;
+            }
+        }
     }
 
     /// The bound at the query point of `id` when it is below the cap and
