@@ -72,3 +72,55 @@ fn a_convex_corner_rolled_round_with_default_errors_gives_edge_points() {
         }
     }
 }
+
+/// The flange's bore is two half cylinders meeting at z = 0. Touched at
+/// their seams with a 2 mm ball on a part moved 1.2 mm along y (more than
+/// the ball's radius), the ball centre stands behind the nominal wall;
+/// its foot on the point's own half lies on that half's edge, straight
+/// against the normal there. The points are on the surface, not on an
+/// edge: with `--ideal` each reads the shift itself (the reference:
+/// -1.2 mm where the wall moved away from the axis, +1.2 mm opposite),
+/// and the feature fails its tolerance of -1.0 mm.
+#[test]
+fn points_on_a_seam_behind_the_nominal_wall_are_not_edge_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({
+        "format": "cmm-program/1", "name": "flange-seam",
+        "workpiece": repo("workpieces/io1-flange.stp").to_str().unwrap(),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [0, -90, 0] },
+        "probe": { "tip_diameter_mm": 2.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 40, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0, 1.2, 0] } },
+        "features": [ { "name": "bore-seams", "type": "touch_points",
+            "points_mm": [[5, 18, 0], [5, -18, 0], [27, 18, 0], [27, -18, 0]],
+            "surfaces": ["face3", "face18"], "tolerance_mm": [-1.0, 1.3] } ] });
+    let prog = common::write_program(dir.path(), "flange-seam.json", &program);
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args([
+            "scan",
+            prog.to_str().unwrap(),
+            "--ideal",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert_eq!(run.status.code(), Some(1), "{run:?}");
+    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let points = report["features"][0]["points"].as_array().unwrap();
+    assert_eq!(points.len(), 4);
+    for p in points {
+        assert_eq!(p["edge"].as_bool(), None, "{p}");
+        let y = p["nominal"][1].as_f64().unwrap();
+        let want = -1.2 * y.signum();
+        let got = p["deviation_mm"].as_f64().unwrap();
+        assert!((got - want).abs() < 5e-4, "{got} mm at {p}");
+    }
+    let min = report["features"][0]["deviation_mm"]["min"]
+        .as_f64()
+        .unwrap();
+    assert!((min + 1.2).abs() < 5e-4, "min {min}");
+}

@@ -64,8 +64,13 @@ fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: V
 /// Whether the ball stood on an edge of the design: the ball centre's
 /// nominal foot on the face of the point's own foot lies on the face's
 /// edge and the ball centre stands off it turned by more than 10 degrees
-/// from the face's normal there, as it does only over an edge (a ball
-/// touching a face has its centre along the face's normal). This needs
+/// from the face's normal line there, as it does only over an edge (a
+/// ball touching a face has its centre along the face's normal; where the
+/// part carries more material than the ball's radius, behind the face,
+/// against the normal: at a seam between two faces that continue each
+/// other, a cylinder's halves, the centre's foot on the point's own face
+/// lies on that face's edge, and the point is on the surface all the
+/// same). This needs
 /// the ball centre alone, which the scales and the probe vector give to
 /// micrometres, not the deflection's direction, which lags while the ball
 /// rolls round a corner: a point measured there can carry a measured
@@ -86,7 +91,7 @@ fn ball_on_edge(
         return false;
     };
     let off = (ball - foot.projection.point).try_normalize(0.0);
-    off.is_some_and(|u| u.dot(&foot.projection.normal) < EDGE_COS) && on_boundary(wp, &foot)
+    off.is_some_and(|u| u.dot(&foot.projection.normal).abs() < EDGE_COS) && on_boundary(wp, &foot)
 }
 
 /// Whether the foot lies within `d` (mm) of its face's edge (the trim,
