@@ -464,3 +464,56 @@ fn alignment_touches_route_into_a_bolt_hole() {
     assert!(alignment.get("notes").is_none(), "{alignment}");
     assert!(alignment["rms_mm"].as_f64().unwrap() < 1e-6, "{alignment}");
 }
+
+/// The flange moved 0.3 mm across its axis and 0.1 mm along y of the
+/// machine: the alignment finds the shift itself (the reference: the
+/// transform put into the part) and keeps the placement's turn about the
+/// axis, which its points leave free. Removing the free turn's share of
+/// each step afterwards fitted part of the shift as a turn about the
+/// axis (0.12 degrees here), as the free turn's axis lies away from the
+/// points' centroid.
+#[test]
+fn a_free_turn_stays_at_the_placement_when_the_part_is_shifted() {
+    // Points on the flange's top face, the bore and the outside
+    // cylinder, their centroid 4.4 mm off the axis.
+    let points = vec![
+        [31.0, 24.0, 0.0],
+        [31.0, -12.0, 20.78],
+        [31.0, -12.0, -20.78],
+        [15.0, 18.0, 0.0],
+        [15.0, 0.0, 18.0],
+        [15.0, -18.0, 0.0],
+        [15.0, 0.0, -18.0],
+        [6.0, 40.0, 0.0],
+        [6.0, -20.0, 34.64],
+    ];
+    let mut program = flange_alignment();
+    program["alignment"] = json!({ "points_mm": points });
+    program["probe"] = json!({ "tip_diameter_mm": 3.0, "stylus_length_mm": 50 });
+    program["as_machined"] = json!({ "transform": { "translate_mm": [0.1, 0.3, -0.2] } });
+    let (code, report) = run_default(&program, true);
+    assert_eq!(code, Some(0), "{}", report["alignment"]);
+    let pose = &report["part_to_machine"];
+    let r = |i: usize, j: usize| pose["rotation"][i][j].as_f64().unwrap();
+    // The placement's R0 = [[0,0,-1],[0,1,0],[1,0,0]] (-90 degrees about y).
+    let r0 = [[0.0, 0.0, -1.0], [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]];
+    for (i, row) in r0.iter().enumerate() {
+        for (j, want) in row.iter().enumerate() {
+            assert!(
+                (r(i, j) - want).abs() < 1e-9,
+                "rotation {}",
+                pose["rotation"]
+            );
+        }
+    }
+    // t = t0 + R0 (0.1, 0.3, -0.2).
+    let want = [300.0 + 0.2, 400.0 + 0.3, 100.0 + 0.1];
+    for (k, w) in want.iter().enumerate() {
+        let t = pose["translation_mm"][k].as_f64().unwrap();
+        assert!(
+            (t - w).abs() < 1e-6,
+            "translation {}",
+            pose["translation_mm"]
+        );
+    }
+}
