@@ -517,3 +517,52 @@ fn a_free_turn_stays_at_the_placement_when_the_part_is_shifted() {
         );
     }
 }
+
+/// CTC 05's counterbore (38.1 mm) scanned at z = 19 with a 2 mm ball on a
+/// part moved 1.7 mm along x: the active scan stops on a trajectory error
+/// with the ball 0.4 mm inside the design's material, where no route of
+/// the design data starts. The probe goes back the way it came in, the
+/// geometric correction touches its points, and the corrected path's
+/// start (inside the design too) gets an approach from the nearest clear
+/// standoff. The rescan completes; its points lie on the moved wall and
+/// read their distance from the design's circle (the reference: the two
+/// circles, 1.7 mm apart), and the touch points after it are reached.
+#[test]
+fn a_small_ball_stopped_inside_the_design_backs_out_and_corrects() {
+    let program = json!({ "format": "cmm-program/1", "name": "cbore-shift",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, 20], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 2.0, "stylus_length_mm": 60 },
+        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [1.7, 0, 0] } },
+        "features": [
+            { "name": "cbore", "type": "section_scan",
+              "plane": { "origin_mm": [0, 222.25, 19], "normal": [0, 0, 1] },
+              "surfaces": ["face22", "face23"], "tolerance_mm": [-2, 2] },
+            { "name": "slot-floor", "type": "touch_points",
+              "points_mm": [[-250, 10, 45.72], [-250, -10, 45.72], [-215, 12, 45.72]],
+              "surfaces": ["face187"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let (code, report) = run_default(&program, true);
+    let f = &report["features"][0];
+    assert_eq!(code, Some(0), "{}", f);
+    let outcomes: Vec<&str> = (f["attempts"].as_array().unwrap().iter())
+        .map(|a| a["outcome"].as_str().unwrap())
+        .collect();
+    assert_eq!(outcomes, ["trajectory_error", "completed", "completed"]);
+    let points = f["points"].as_array().unwrap();
+    // 2 pi 19.05 mm at a 0.5 mm pitch: 239.
+    assert!(points.len() >= 216, "{} points", points.len());
+    let radius = 19.05;
+    for p in points {
+        let m = &p["measured"];
+        let (x, y) = (m[0].as_f64().unwrap(), m[1].as_f64().unwrap() - 222.25);
+        // On the moved wall; its distance from the design's wall (the
+        // material lies outside the bore: farther out reads negative).
+        let on_true = (x - 1.7).hypot(y) - radius;
+        assert!(on_true.abs() < 5e-4, "{on_true} mm off the true wall at {m}");
+        let want = radius - x.hypot(y);
+        let got = p["deviation_mm"].as_f64().unwrap();
+        assert!((got - want).abs() < 5e-4, "{got} mm, want {want} at {m}");
+    }
+    assert_eq!(report["features"][1]["status"], "pass");
+}

@@ -434,6 +434,11 @@ impl FreeSpace for PartClearance<'_> {
         Some(self.opts.margin_mm)
     }
 
+    fn in_material(&self, p: Point3) -> bool {
+        (self.workpiece.closest_point(self.pose.to_part(p)))
+            .is_ok_and(|f| f.projection.signed_distance < 0.0)
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         if !self.standing_clear(ball, false) {
             Some(ProbePart::Shaft)

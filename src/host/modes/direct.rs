@@ -52,6 +52,13 @@ pub trait FreeSpace {
         let _ = ball;
         None
     }
+
+    /// Whether the point `p` (machine coordinates) lies inside the
+    /// design's material. Without a finer check, never.
+    fn in_material(&self, p: Point3) -> bool {
+        let _ = p;
+        false
+    }
 }
 
 /// Fewest halvings of the standoff tried by [`approach_standoff`].
@@ -108,11 +115,17 @@ fn clear_standoff(
     // short of the touch (where the ball is that much clear of the part).
     let near_end = at(APPROACH_END_SHARE * shortest);
     if free.approach_clear(near_end, near_end) {
-        return (standoffs.clone())
+        let found = (standoffs.clone())
             .find(|&s| free.start_clear(at(s)) && free.approach_clear(at(s), near_end));
+        // A touch deeper in the design than the approach's check looks
+        // (the distance alone keeps it) is inside it as well.
+        if found.is_some() || !free.in_material(near_end) {
+            return found;
+        }
     }
     // The touch lies inside the design (the true part stands out of it,
-    // the ball backing off it): the design says nothing of the line's
+    // the ball backing off it, or a correction of the design moved it
+    // there): the design says nothing of the line's
     // end, only that it must be clear down to the nearest clear standoff.
     let nearest = (standoffs.clone())
         .filter(|&s| free.start_clear(at(s)))

@@ -139,6 +139,10 @@ impl FreeSpace for Remembering<'_> {
         a == Answer::Clear(true)
     }
 
+    fn in_material(&self, p: Point3) -> bool {
+        self.inner.in_material(p)
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         let a = self.answer(Query::Posture(bits(ball)), || {
             Answer::Strikes(self.inner.posture(ball))
