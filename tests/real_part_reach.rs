@@ -559,7 +559,10 @@ fn a_small_ball_stopped_inside_the_design_backs_out_and_corrects() {
         // On the moved wall; its distance from the design's wall (the
         // material lies outside the bore: farther out reads negative).
         let on_true = (x - 1.7).hypot(y) - radius;
-        assert!(on_true.abs() < 5e-4, "{on_true} mm off the true wall at {m}");
+        assert!(
+            on_true.abs() < 5e-4,
+            "{on_true} mm off the true wall at {m}"
+        );
         let want = radius - x.hypot(y);
         let got = p["deviation_mm"].as_f64().unwrap();
         assert!((got - want).abs() < 5e-4, "{got} mm, want {want} at {m}");

@@ -180,6 +180,15 @@ impl<M: Model + Sync> State<M> {
     /// when the damped system was singular (damping raised). Convergence is
     /// judged on the undamped Gauss-Newton step, never on a damped one.
     fn advance(&mut self, points: &[Vec3], extent: f64, tol: f64) -> Option<(f64, bool)> {
+        // Residuals at the tolerance (the rounding floor, for data exactly
+        // on the element): the model passes through the points as nearly
+        // as the arithmetic tells, and no later step could be checked. A
+        // layout that fixes a parameter to second order only (a cylinder
+        // touched at four points of one circle and two of another, in one
+        // plane) otherwise creeps on below the cost's rounding.
+        if (self.ne.cost / points.len().max(1) as f64).sqrt() <= tol {
+            return Some((0.0, true));
+        }
         // The size reported is that of the undamped (Gauss-Newton) step,
         // the one convergence is judged on, even when a damped step is
         // taken instead.
