@@ -5,7 +5,7 @@
 use super::direct::{FreeSpace, MoveStop};
 use super::motion::{free_stylus, travel};
 use super::route::plan_route_from;
-use super::{HostProbe, ModeOptions, Tracker};
+use super::{HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::math::{Point3, Vec3};
 
@@ -14,7 +14,8 @@ use crate::math::{Point3, Vec3};
 /// to rest: straight up when that line is clear of the part (`free`, when
 /// known), else by a clear route to the point above (out of a pocket
 /// under an overhang first, say), stopping at each of its corners. With
-/// no clear way up, the probe stops where it came free.
+/// no clear way up, the probe stops where it came free and the move ends
+/// [`Outcome::Blocked`] (reported as `aborted`).
 pub fn park(
     cmm: &mut dyn Machine,
     probe: HostProbe,
@@ -30,6 +31,7 @@ pub fn park(
         (None, Some(free)) => (Vec::new(), route_up(free, (here, probe.probe_vector), opts)),
         (None, None) => (Vec::new(), Vec::new()),
     };
+    let stuck = up.is_empty() && legs.is_empty() && above(here, opts).is_some();
     waypoints.extend(up);
     if waypoints.is_empty() {
         waypoints.push(here);
@@ -40,7 +42,10 @@ pub fn park(
     for w in legs {
         travel(cmm, &mut tr, &[w], speed, 0.0, opts).map_err(|o| MoveStop::of(&tr, o))?;
     }
-    Ok(())
+    match stuck {
+        true => Err(MoveStop::of(&tr, Outcome::Blocked)),
+        false => Ok(()),
+    }
 }
 
 /// The legs of a clear route from `here` (ball centre, with the probe
