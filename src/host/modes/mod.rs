@@ -183,6 +183,11 @@ pub struct ModeOptions {
     /// this, mm: the stylus has left the surface (a free probe reads its
     /// noise only, about 0.1 um), so the move that follows starts clear.
     pub free_mm: f64,
+    /// Backing the stylus off the part gives up (the move stops there,
+    /// aborted) once the ball has gone this far without the stylus coming
+    /// free, mm: a few times the stylus's range, so a stylus held on a
+    /// surface it is not backing off is never dragged along it.
+    pub free_travel_mm: f64,
     /// Passive scanning fails above this deflection, mm.
     pub over_deflection_mm: f64,
     /// Consecutive cycles out of contact before passive scanning, touch
@@ -297,6 +302,7 @@ impl Default for ModeOptions {
             trigger_mm: 0.3,
             contact_mm: 0.02,
             free_mm: 5e-4,
+            free_travel_mm: 5.0,
             over_deflection_mm: 0.8,
             lost_contact_cycles: 40,
             active_lost_contact_cycles: 1000,

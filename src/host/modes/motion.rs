@@ -551,22 +551,41 @@ pub fn recover(cmm: &mut dyn Machine, tr: &mut Tracker, opts: &ModeOptions) -> R
 /// Backs the stylus off along its deflection at the approach speed until
 /// it is free; returns the point one standoff further out, or less where
 /// the probe would not fit ([`approach_standoff`]: a small hole), `None`
-/// when it was free already.
+/// when it was free already. The direction follows the deflection once
+/// that turns from it by more than [`FREE_TURN_COS`]: a ball held in a
+/// corner, leaving one face, then backs off the other rather than sliding
+/// along it, and the standoff runs on the way it came free. Gives up ([`Outcome::Aborted`]) after
+/// [`ModeOptions::free_travel_mm`] without coming free.
 pub(super) fn free_stylus(
     cmm: &mut dyn Machine,
     tr: &mut Tracker,
     opts: &ModeOptions,
 ) -> Result<Option<Point3>, Outcome> {
-    let Some(dir) = tr.now.deflection.try_normalize(1e-9) else {
+    let Some(mut dir) = tr.now.deflection.try_normalize(1e-9) else {
         return Ok(None);
     };
     tr.retract_from_surface(cmm);
+    let start = tr.ball_undeflected();
+    let mut turned = false;
     for _ in 0..opts.max_cycles {
+        let here = tr.ball_undeflected();
         if tr.deflection() < opts.free_mm {
-            let here = tr.ball_undeflected();
+            // Out of a corner, on the way the ball came free (between the
+            // faces' normals).
+            if turned {
+                dir = (here - start).try_normalize(1e-9).unwrap_or(dir);
+            }
             return Ok(Some(
                 here + dir * approach_standoff(tr.free, here, dir, opts),
             ));
+        }
+        if (here - start).norm() > opts.free_travel_mm {
+            return Err(Outcome::Aborted);
+        }
+        if let Some(now) = tr.now.deflection.try_normalize(1e-9) {
+            if now.dot(&dir) < FREE_TURN_COS {
+                (dir, turned) = (now, true);
+            }
         }
         if let Some(o) = tr.step(cmm, dir * opts.approach_speed_mm_s) {
             if o != Outcome::OverDeflection {
@@ -576,6 +595,10 @@ pub(super) fn free_stylus(
     }
     Err(Outcome::Aborted)
 }
+
+/// The deflection turned from the direction a stylus is backed off along
+/// by more than this (cos 30 degrees) is followed instead.
+const FREE_TURN_COS: f64 = 0.866_025_403_784_438_6;
 
 /// The blended move behind [`move_through`] and [`reposition`]: through
 /// `waypoints` at up to `speed`, ending on the last at `end_speed` (at rest
