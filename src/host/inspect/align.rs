@@ -269,7 +269,9 @@ fn motion_note(v: Vec<f64>, c: Vec3, l: f64) -> String {
         let d = t.normalize();
         format!("a shift along ({:.3}, {:.3}, {:.3})", d.x, d.y, d.z)
     };
-    format!("the alignment points do not fix {what} (part frame): the fit keeps the placement's")
+    format!(
+        "the alignment points do not fix {what} (part frame): the fit keeps the placement's value"
+    )
 }
 
 /// Signed distance of a measured machine point from the design surfaces
