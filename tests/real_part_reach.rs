@@ -569,3 +569,48 @@ fn a_small_ball_stopped_inside_the_design_backs_out_and_corrects() {
     }
     assert_eq!(report["features"][1]["status"], "pass");
 }
+
+/// CTC 05's wing cut at x = 230 (an open section over twelve faces, from
+/// one end of the part to the other), scanned autonomously on a part
+/// moved 2 mm along the section: the part ends 2 mm before the design's
+/// section does. The scan ends where the ball rolls over the part's end,
+/// rather than following the end face down and under the part (where it
+/// measured points 25.4 mm off the design until the shaft struck). On a
+/// rigidly moved part no point of the named faces reads more than the
+/// move (the reference: 2 mm), and each reads its true deviation.
+#[test]
+fn an_autonomous_scan_ends_where_the_part_ends() {
+    let faces = [
+        "face21", "face182", "face179", "face170", "face9", "face7", "face4", "face5", "face16",
+        "face13", "face72", "face20",
+    ];
+    let program = json!({ "format": "cmm-program/1", "name": "wing-auto",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0, 2.0, 0] } },
+        "features": [
+            { "name": "wing", "type": "section_scan", "mode": "autonomous",
+              "plane": { "origin_mm": [230, 0, 0], "normal": [1, 0, 0] },
+              "surfaces": faces, "tolerance_mm": [-0.05, 0.05] } ] });
+    let (_, report) = run_default(&program, true);
+    let f = &report["features"][0];
+    assert_eq!(
+        f["attempts"][0]["outcome"], "completed",
+        "{}",
+        f["attempts"]
+    );
+    let points = f["points"].as_array().unwrap();
+    assert!(points.len() > 600, "{} points", points.len());
+    for p in points.iter().filter(|p| p["edge"].as_bool() != Some(true)) {
+        let dev = p["deviation_mm"].as_f64().unwrap();
+        let truth = p["true_deviation_mm"].as_f64().unwrap();
+        assert!(dev.abs() <= 2.0 + 1e-3, "{dev} mm at {}", p["measured"]);
+        assert!(
+            (dev - truth).abs() < 5e-4,
+            "{dev} vs {truth} at {}",
+            p["measured"]
+        );
+    }
+}

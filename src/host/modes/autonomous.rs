@@ -122,7 +122,7 @@ fn follow(
             return Err(Outcome::LostContact);
         }
         tr.sample(task.pitch_mm);
-        if finished(task, tr, start, travelled, dir) {
+        if finished(task, tr, (start, travelled, dir), opts) {
             return Ok(());
         }
         if travelled > task.longest_mm() {
@@ -133,19 +133,33 @@ fn follow(
 }
 
 /// Closed: back near the start after most of a loop. Open: past the end
-/// point's plane (perpendicular to the end tangent).
-fn finished(task: &AutonomousTask, tr: &Tracker, start: Point3, travelled: f64, dir: Vec3) -> bool {
+/// point's plane (perpendicular to the end tangent), or rolled over the
+/// part's end near it ([`ModeOptions::autonomous_end_reach_mm`]: the
+/// measured normal within 60 degrees of the end tangent).
+fn finished(
+    task: &AutonomousTask,
+    tr: &Tracker,
+    (start, travelled, dir): (Point3, f64, Vec3),
+    opts: &ModeOptions,
+) -> bool {
     let here = tr.ball_undeflected();
     match task.end {
         None => closed_again(task, start, here, travelled),
         Some((end, tangent)) => {
-            let past = tr
-                .measured()
-                .is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
-            past && dir.dot(&tangent) > 0.0
+            let m = tr.measured();
+            let past = m.is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
+            let over_end = m.is_some_and(|m| {
+                (m.point - end).norm() <= opts.autonomous_end_reach_mm
+                    && m.normal.dot(&tangent) >= END_FACE_COS
+            });
+            (past && dir.dot(&tangent) > 0.0) || over_end
         }
     }
 }
+
+/// The measured normal of a ball rolled over the part's end leans towards
+/// the end tangent by at least this (cos 60 degrees).
+const END_FACE_COS: f64 = 0.5;
 
 /// Whether a closed section's scan, `travelled` mm along from `start`, is
 /// back at it with the ball at `here` (ball centres, mm): after half the

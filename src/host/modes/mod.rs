@@ -210,6 +210,13 @@ pub struct ModeOptions {
     pub gain_correction: f64,
     /// Autonomous scanning speed, mm/s.
     pub autonomous_speed_mm_s: f64,
+    /// An autonomous scan of an open section also ends where the ball
+    /// rolls over the part's end within this distance of the section's
+    /// nominal end (mm): the surface it follows then faces the way the
+    /// section ran out (a part shifted back along the section ends before
+    /// its design does, and the scan would follow its end face down and
+    /// under it).
+    pub autonomous_end_reach_mm: f64,
     /// Lateral acceleration limit used in speed planning, mm/s^2.
     pub lateral_accel_mm_s2: f64,
     /// Tangential acceleration limit used in speed planning, mm/s^2.
@@ -311,6 +318,7 @@ impl Default for ModeOptions {
             gain_deflection: 40.0,
             gain_correction: 40.0,
             autonomous_speed_mm_s: 12.0,
+            autonomous_end_reach_mm: 5.0,
             lateral_accel_mm_s2: 1000.0,
             tangential_accel_mm_s2: 500.0,
             max_cycles: 3_000_000,
