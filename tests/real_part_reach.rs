@@ -614,3 +614,56 @@ fn an_autonomous_scan_ends_where_the_part_ends() {
         );
     }
 }
+
+/// The same wing section in `auto` mode: the active scan stops on a
+/// trajectory error, and the geometric correction's touch points read the
+/// 2 mm move, except one at a fillet's tangent edge, which lands on the
+/// moved fillet off the plane its gap is measured along. The translation
+/// fitted to the others is applied; the rescan completes, every point
+/// within the move (the reference: 2 mm) and reading its true deviation.
+#[test]
+fn a_translation_is_corrected_when_a_touch_at_a_fillet_edge_disagrees() {
+    let faces = [
+        "face21", "face182", "face179", "face170", "face9", "face7", "face4", "face5", "face16",
+        "face13", "face72", "face20",
+    ];
+    let program = json!({ "format": "cmm-program/1", "name": "wing-auto",
+        "workpiece": workpiece("nist-ctc05.stp"),
+        "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0, 2.0, 0] } },
+        "features": [
+            { "name": "wing", "type": "section_scan",
+              "plane": { "origin_mm": [230, 0, 0], "normal": [1, 0, 0] },
+              "surfaces": faces, "tolerance_mm": [-0.05, 0.05] } ] });
+    let (_, report) = run_default(&program, true);
+    let f = &report["features"][0];
+    let outcomes: Vec<&str> = (f["attempts"].as_array().unwrap().iter())
+        .map(|a| a["outcome"].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        outcomes,
+        ["trajectory_error", "completed", "completed"],
+        "{}",
+        f["notes"]
+    );
+    let c = &f["corrections"][0];
+    assert_eq!(c["model"], "translation", "{c}");
+    assert!(c["points"].as_u64().unwrap() < 16, "{c}");
+    for p in f["points"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|p| p["edge"].as_bool() != Some(true))
+    {
+        let dev = p["deviation_mm"].as_f64().unwrap();
+        let truth = p["true_deviation_mm"].as_f64().unwrap();
+        assert!(dev.abs() <= 2.0 + 1e-3, "{dev} mm at {}", p["measured"]);
+        assert!(
+            (dev - truth).abs() < 5e-4,
+            "{dev} vs {truth} at {}",
+            p["measured"]
+        );
+    }
+}
