@@ -135,7 +135,8 @@ fn follow(
 /// Closed: back near the start after most of a loop. Open: past the end
 /// point's plane (perpendicular to the end tangent), or rolled over the
 /// part's end near it ([`ModeOptions::autonomous_end_reach_mm`]: the
-/// measured normal within 60 degrees of the end tangent).
+/// measured normal within 60 degrees of the end tangent, after most of
+/// the section, [`END_SHARE`]).
 fn finished(
     task: &AutonomousTask,
     tr: &Tracker,
@@ -148,9 +149,13 @@ fn finished(
         Some((end, tangent)) => {
             let m = tr.measured();
             let past = m.is_some_and(|m| (m.point - end).dot(&tangent) >= 0.0);
+            // Round most of the section first: on a tight arc the normal
+            // turns towards the end tangent well before the end.
+            let reach = opts.autonomous_end_reach_mm;
+            let length = task.nominal_length_mm;
+            let round = travelled >= (length - reach).max(END_SHARE * length);
             let over_end = m.is_some_and(|m| {
-                (m.point - end).norm() <= opts.autonomous_end_reach_mm
-                    && m.normal.dot(&tangent) >= END_FACE_COS
+                round && (m.point - end).norm() <= reach && m.normal.dot(&tangent) >= END_FACE_COS
             });
             (past && dir.dot(&tangent) > 0.0) || over_end
         }
@@ -160,6 +165,10 @@ fn finished(
 /// The measured normal of a ball rolled over the part's end leans towards
 /// the end tangent by at least this (cos 60 degrees).
 const END_FACE_COS: f64 = 0.5;
+
+/// ... once the scan has gone this share of the section's length, and
+/// all of it but [`ModeOptions::autonomous_end_reach_mm`].
+const END_SHARE: f64 = 0.75;
 
 /// Whether a closed section's scan, `travelled` mm along from `start`, is
 /// back at it with the ball at `here` (ball centres, mm): after half the

@@ -554,7 +554,8 @@ pub fn recover(cmm: &mut dyn Machine, tr: &mut Tracker, opts: &ModeOptions) -> R
 /// when it was free already. The direction follows the deflection once
 /// that turns from it by more than [`FREE_TURN_COS`]: a ball held in a
 /// corner, leaving one face, then backs off the other rather than sliding
-/// along it, and the standoff runs on the way it came free. Gives up ([`Outcome::Aborted`]) after
+/// along it, and the standoff runs along the sum of the directions
+/// followed. Gives up ([`Outcome::Aborted`]) after
 /// [`ModeOptions::free_travel_mm`] without coming free.
 pub(super) fn free_stylus(
     cmm: &mut dyn Machine,
@@ -566,15 +567,13 @@ pub(super) fn free_stylus(
     };
     tr.retract_from_surface(cmm);
     let start = tr.ball_undeflected();
-    let mut turned = false;
+    // The directions followed, summed: out of a corner the standoff runs
+    // between the faces' normals.
+    let mut followed = dir;
     for _ in 0..opts.max_cycles {
         let here = tr.ball_undeflected();
         if tr.deflection() < opts.free_mm {
-            // Out of a corner, on the way the ball came free (between the
-            // faces' normals).
-            if turned {
-                dir = (here - start).try_normalize(1e-9).unwrap_or(dir);
-            }
+            dir = followed.try_normalize(1e-9).unwrap_or(dir);
             return Ok(Some(
                 here + dir * approach_standoff(tr.free, here, dir, opts),
             ));
@@ -584,7 +583,8 @@ pub(super) fn free_stylus(
         }
         if let Some(now) = tr.now.deflection.try_normalize(1e-9) {
             if now.dot(&dir) < FREE_TURN_COS {
-                (dir, turned) = (now, true);
+                dir = now;
+                followed += now;
             }
         }
         if let Some(o) = tr.step(cmm, dir * opts.approach_speed_mm_s) {
