@@ -571,99 +571,73 @@ fn a_small_ball_stopped_inside_the_design_backs_out_and_corrects() {
 }
 
 /// CTC 05's wing cut at x = 230 (an open section over twelve faces, from
-/// one end of the part to the other), scanned autonomously on a part
-/// moved 2 mm along the section: the part ends 2 mm before the design's
-/// section does. The scan ends where the ball rolls over the part's end,
-/// rather than following the end face down and under the part (where it
-/// measured points 25.4 mm off the design until the shaft struck). On a
-/// rigidly moved part no point of the named faces reads more than the
-/// move (the reference: 2 mm), and each reads its true deviation.
-#[test]
-fn an_autonomous_scan_ends_where_the_part_ends() {
+/// one end of the part to the other) in `mode` (the default when `None`),
+/// on a part moved 2 mm along the section, scanned with `--ideal`: the
+/// wing's feature report.
+fn wing_moved_2mm(mode: Option<&str>) -> Value {
     let faces = [
         "face21", "face182", "face179", "face170", "face9", "face7", "face4", "face5", "face16",
         "face13", "face72", "face20",
     ];
-    let program = json!({ "format": "cmm-program/1", "name": "wing-auto",
+    let mut feature = json!({ "name": "wing", "type": "section_scan",
+        "plane": { "origin_mm": [230, 0, 0], "normal": [1, 0, 0] },
+        "surfaces": faces, "tolerance_mm": [-0.05, 0.05] });
+    if let Some(m) = mode {
+        feature["mode"] = json!(m);
+    }
+    let program = json!({ "format": "cmm-program/1", "name": "wing",
         "workpiece": workpiece("nist-ctc05.stp"),
         "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
         "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
         "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
         "as_machined": { "transform": { "translate_mm": [0, 2.0, 0] } },
-        "features": [
-            { "name": "wing", "type": "section_scan", "mode": "autonomous",
-              "plane": { "origin_mm": [230, 0, 0], "normal": [1, 0, 0] },
-              "surfaces": faces, "tolerance_mm": [-0.05, 0.05] } ] });
+        "features": [feature] });
     let (_, report) = run_default(&program, true);
-    let f = &report["features"][0];
-    assert_eq!(
-        f["attempts"][0]["outcome"], "completed",
-        "{}",
-        f["attempts"]
-    );
+    report["features"][0].clone()
+}
+
+/// On the rigidly moved part no point of the named faces (edge points
+/// aside) reads more than the move (the reference: 2 mm), and each reads
+/// its true deviation.
+fn points_within_the_2mm_move(f: &Value) {
     let points = f["points"].as_array().unwrap();
     assert!(points.len() > 600, "{} points", points.len());
     for p in points.iter().filter(|p| p["edge"].as_bool() != Some(true)) {
         let dev = p["deviation_mm"].as_f64().unwrap();
         let truth = p["true_deviation_mm"].as_f64().unwrap();
         assert!(dev.abs() <= 2.0 + 1e-3, "{dev} mm at {}", p["measured"]);
-        assert!(
-            (dev - truth).abs() < 5e-4,
-            "{dev} vs {truth} at {}",
-            p["measured"]
-        );
+        let at = &p["measured"];
+        assert!((dev - truth).abs() < 5e-4, "{dev} vs {truth} at {at}");
     }
 }
 
-/// The same wing section in `auto` mode: the active scan stops on a
-/// trajectory error, and the geometric correction's touch points read the
-/// 2 mm move, except one at a fillet's tangent edge, which lands on the
-/// moved fillet off the plane its gap is measured along. The translation
-/// fitted to the others is applied; the rescan completes, every point
-/// within the move (the reference: 2 mm) and reading its true deviation.
+/// The wing scanned autonomously: the part ends 2 mm before the design's
+/// section does. The scan ends where the ball rolls over the part's end,
+/// rather than following the end face down and under the part (where it
+/// measured points 25.4 mm off the design until the shaft struck).
+#[test]
+fn an_autonomous_scan_ends_where_the_part_ends() {
+    let f = wing_moved_2mm(Some("autonomous"));
+    let outcome = &f["attempts"][0]["outcome"];
+    assert_eq!(outcome, "completed", "{}", f["attempts"]);
+    points_within_the_2mm_move(&f);
+}
+
+/// The wing in `auto` mode: the active scan stops on a trajectory error,
+/// and the geometric correction's touch points read the 2 mm move, except
+/// one at a fillet's tangent edge, which lands on the moved fillet off
+/// the plane its gap is measured along. The translation fitted to the
+/// others is applied, and the rescan completes.
 #[test]
 fn a_translation_is_corrected_when_a_touch_at_a_fillet_edge_disagrees() {
-    let faces = [
-        "face21", "face182", "face179", "face170", "face9", "face7", "face4", "face5", "face16",
-        "face13", "face72", "face20",
-    ];
-    let program = json!({ "format": "cmm-program/1", "name": "wing-auto",
-        "workpiece": workpiece("nist-ctc05.stp"),
-        "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
-        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
-        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
-        "as_machined": { "transform": { "translate_mm": [0, 2.0, 0] } },
-        "features": [
-            { "name": "wing", "type": "section_scan",
-              "plane": { "origin_mm": [230, 0, 0], "normal": [1, 0, 0] },
-              "surfaces": faces, "tolerance_mm": [-0.05, 0.05] } ] });
-    let (_, report) = run_default(&program, true);
-    let f = &report["features"][0];
+    let f = wing_moved_2mm(None);
     let outcomes: Vec<&str> = (f["attempts"].as_array().unwrap().iter())
         .map(|a| a["outcome"].as_str().unwrap())
         .collect();
-    assert_eq!(
-        outcomes,
-        ["trajectory_error", "completed", "completed"],
-        "{}",
-        f["notes"]
-    );
+    let want = ["trajectory_error", "completed", "completed"];
+    assert_eq!(outcomes, want, "{}", f["notes"]);
     let c = &f["corrections"][0];
     assert_eq!(c["model"], "translation", "{c}");
     assert!(c["points"].as_u64().unwrap() < 16, "{c}");
-    for p in f["points"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .filter(|p| p["edge"].as_bool() != Some(true))
-    {
-        let dev = p["deviation_mm"].as_f64().unwrap();
-        let truth = p["true_deviation_mm"].as_f64().unwrap();
-        assert!(dev.abs() <= 2.0 + 1e-3, "{dev} mm at {}", p["measured"]);
-        assert!(
-            (dev - truth).abs() < 5e-4,
-            "{dev} vs {truth} at {}",
-            p["measured"]
-        );
-    }
+    points_within_the_2mm_move(&f);
 }

@@ -198,12 +198,12 @@ impl FreeMotions {
     /// turn (a screw's turn holds it whole).
     fn constraints(&self) -> Vec<[f64; 6]> {
         let (c, l) = (self.centroid, self.spread);
-        // The free motions as a turn about the origin and a shift; turns
-        // scaled by the spread, so both parts are in mm.
+        // The free motions as a turn (times the spread, as the motions
+        // hold it) and the shift of the origin, mm.
         let motions: Vec<(Vec3, Vec3)> = (self.motions.iter())
             .map(|m| {
-                let w = Vec3::new(m[0], m[1], m[2]) / l;
-                (w * l, Vec3::new(m[3], m[4], m[5]) - w.cross(&c))
+                let turn = Vec3::new(m[0], m[1], m[2]);
+                (turn, Vec3::new(m[3], m[4], m[5]) - (turn / l).cross(&c))
             })
             .collect();
         let k = motions.len();
