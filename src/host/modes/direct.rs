@@ -72,6 +72,9 @@ const STANDOFF_HALVINGS: usize = 4;
 /// into a hole narrower than the ball plus the standoff thus starts inside
 /// the hole, not in its far wall or beyond it. In a hole too small for a
 /// sixteenth, the halves go on down to [`ModeOptions::min_standoff_mm`].
+/// A touch inside the design (the design's signed distance,
+/// [`FreeSpace::in_material`], where the approach line's check finds no
+/// standoff) takes the nearest clear standoff beyond the design's surface.
 /// With no free space to ask, the configured standoff; with none clear (a
 /// hole narrower than the ball and the tight margin), a sixteenth: the
 /// approach then starts in the hole, where the route planning says no,
