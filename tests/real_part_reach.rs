@@ -575,6 +575,12 @@ fn a_small_ball_stopped_inside_the_design_backs_out_and_corrects() {
 /// on a part moved 2 mm along the section, scanned with `--ideal`: the
 /// wing's feature report.
 fn wing_moved_2mm(mode: Option<&str>) -> Value {
+    wing_turned(json!({ "translate_mm": [0, 2.0, 0] }), mode)
+}
+
+/// The wing's program in `mode` (the default when `None`) on the nominal
+/// part.
+fn wing_program(mode: Option<&str>) -> Value {
     let faces = [
         "face21", "face182", "face179", "face170", "face9", "face7", "face4", "face5", "face16",
         "face13", "face72", "face20",
@@ -585,13 +591,52 @@ fn wing_moved_2mm(mode: Option<&str>) -> Value {
     if let Some(m) = mode {
         feature["mode"] = json!(m);
     }
-    let program = json!({ "format": "cmm-program/1", "name": "wing",
+    json!({ "format": "cmm-program/1", "name": "wing",
         "workpiece": workpiece("nist-ctc05.stp"),
         "placement": { "translate_mm": [350, 500, 0], "rotate_deg": [0, 0, 0] },
         "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
         "defaults": { "speed_mm_s": 50, "deflection_mm": 0.3, "pitch_mm": 0.5 },
-        "as_machined": { "transform": { "translate_mm": [0, 2.0, 0] } },
-        "features": [feature] });
+        "features": [feature] })
+}
+
+/// The wing scanned autonomously on a part turned by 0.05 degrees about x
+/// and 0.2 about z: at the slot's floor and wall the ball is held in the
+/// corner, its deflection switching between the two. The scan stops
+/// there with a note that says so, rather than jittering on until three
+/// times the section's length (96 s of machine time, and a note of the
+/// length only).
+#[test]
+fn an_autonomous_scan_held_in_a_corner_stops_and_says_so() {
+    let f = wing_turned(json!({ "rotate_deg": [0.05, 0, 0.2] }), Some("autonomous"));
+    let attempt = &f["attempts"][0];
+    assert_eq!(attempt["outcome"], "aborted", "{f}");
+    assert!(
+        attempt["machine_time_s"].as_f64().unwrap() < 30.0,
+        "{attempt}"
+    );
+    let note = f["notes"][0].as_str().unwrap();
+    assert!(note.contains("stalled with the ball centre at"), "{note}");
+}
+
+/// The wing in `auto` mode on a part moved and turned by half a degree:
+/// the corrections fail, and the autonomous scan's approach comes down
+/// where the surface is not. It ends as lost contact a few millimetres
+/// past the design's surface instead of coming on down until the probe
+/// body struck the part.
+#[test]
+fn an_autonomous_approach_that_finds_no_surface_stops() {
+    let moved = json!({ "translate_mm": [-0.6, 0.5, 0.2], "rotate_deg": [0.1, 0.08, 0.5] });
+    let f = wing_turned(moved, None);
+    for a in f["attempts"].as_array().unwrap() {
+        assert_ne!(a["outcome"], "collision", "{a}");
+    }
+}
+
+/// The wing in `mode` on a part placed by the as-machined `transform`,
+/// with `--ideal`: the wing's feature report.
+fn wing_turned(transform: Value, mode: Option<&str>) -> Value {
+    let mut program = wing_program(mode);
+    program["as_machined"] = json!({ "transform": transform });
     let (_, report) = run_default(&program, true);
     report["features"][0].clone()
 }

@@ -431,9 +431,16 @@ fn autonomous_attempt(
         );
         return None;
     }
-    let mut attempt = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
+    let (mut attempt, stalled) = autonomous_scan(ctx.cmm, (ctx.probe, ctx.free), &task, &ctx.modes);
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
-    if attempt.outcome == Outcome::Aborted {
+    if let Some(at) = stalled {
+        let p = ctx.pose.to_part(at);
+        let drive = ctx.modes.autonomous_stall_mm;
+        res.notes.push(format!(
+            "the autonomous scan stalled with the ball centre at ({:.3}, {:.3}, {:.3}) (part frame): it moved less than {:.1} mm while driven {:.1} mm along",
+            p.x, p.y, p.z, 0.1 * drive, drive
+        ));
+    } else if attempt.outcome == Outcome::Aborted {
         res.notes.push(format!(
             "the autonomous scan did not come back to its start or reach its end within {:.1} mm (three times the section's {:.1} mm and 10 mm)",
             task.longest_mm(),

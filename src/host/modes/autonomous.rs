@@ -37,19 +37,22 @@ impl AutonomousTask {
     }
 }
 
-/// Runs an autonomous scan.
+/// Runs an autonomous scan; with the attempt, where its ball centre
+/// stalled (machine coordinates) when it did
+/// ([`ModeOptions::autonomous_stall_mm`]; the attempt is then `aborted`).
 pub fn autonomous_scan(
     cmm: &mut dyn Machine,
     (probe, free): (HostProbe, Option<&dyn FreeSpace>),
     task: &AutonomousTask,
     opts: &ModeOptions,
-) -> Attempt {
+) -> (Attempt, Option<Point3>) {
     let mut tr = Tracker::new(cmm, probe).avoiding(free).escaping(opts);
     let above = autonomous_start(probe, task, tr.free(), opts);
+    let mut stalled = None;
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))
-        .and_then(|_| follow(cmm, &mut tr, task, opts));
-    finish(tr, result)
+        .and_then(|_| follow(cmm, &mut tr, task, opts, &mut stalled));
+    (finish(tr, result), stalled)
 }
 
 /// Where the approach of an autonomous scan starts (ball centre, the
@@ -72,9 +75,17 @@ fn touch_down(
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
     tr.enter(cmm, Phase::Approach);
+    // As far as a design-value scan's approach looks for its surface.
+    let (from, reach) = (
+        tr.ball_undeflected(),
+        2.0 * (task.deflection_mm + opts.standoff_mm) + 2.0,
+    );
     for _ in 0..opts.max_cycles {
         if tr.deflection() >= task.deflection_mm {
             return Ok(());
+        }
+        if (tr.ball_undeflected() - from).norm() > reach {
+            return Err(Outcome::LostContact);
         }
         if let Some(o) = tr.step(cmm, -task.start_normal * opts.approach_speed_mm_s) {
             return Err(o);
@@ -91,11 +102,13 @@ fn follow(
     tr: &mut Tracker,
     task: &AutonomousTask,
     opts: &ModeOptions,
+    stalled: &mut Option<Point3>,
 ) -> Result<(), Outcome> {
     tr.enter(cmm, Phase::Autonomous);
     let (o, pn) = task.plane;
     let mut dir = task.direction;
     let start = tr.ball_undeflected();
+    let mut mark = (start, 0.0);
     let (mut travelled, mut lost, mut speed) = (0.0, 0usize, 0.0f64);
     let dt = cmm.cycle_s();
     for _ in 0..opts.max_cycles {
@@ -127,6 +140,14 @@ fn follow(
         }
         if travelled > task.longest_mm() {
             return Err(Outcome::Aborted);
+        }
+        if travelled - mark.1 >= opts.autonomous_stall_mm {
+            let here = tr.ball_undeflected();
+            if (here - mark.0).norm() < STALL_MOVE_SHARE * opts.autonomous_stall_mm {
+                *stalled = Some(here);
+                return Err(Outcome::Aborted);
+            }
+            mark = (here, travelled);
         }
     }
     Err(Outcome::Aborted)
@@ -161,6 +182,10 @@ fn finished(
         }
     }
 }
+
+/// A ball that moves less than this share of
+/// [`ModeOptions::autonomous_stall_mm`] while driven that far has stalled.
+const STALL_MOVE_SHARE: f64 = 0.1;
 
 /// The measured normal of a ball rolled over the part's end leans towards
 /// the end tangent by at least this (cos 60 degrees).

@@ -217,6 +217,11 @@ pub struct ModeOptions {
     /// its design does, and the scan would follow its end face down and
     /// under it).
     pub autonomous_end_reach_mm: f64,
+    /// An autonomous scan whose ball centre stays within a tenth of this
+    /// (mm) of where it was while it is driven this far along has stalled
+    /// (held in a corner it cannot turn, its deflection switching between
+    /// the walls) and ends `aborted`.
+    pub autonomous_stall_mm: f64,
     /// Lateral acceleration limit used in speed planning, mm/s^2.
     pub lateral_accel_mm_s2: f64,
     /// Tangential acceleration limit used in speed planning, mm/s^2.
@@ -319,6 +324,7 @@ impl Default for ModeOptions {
             gain_correction: 40.0,
             autonomous_speed_mm_s: 12.0,
             autonomous_end_reach_mm: 5.0,
+            autonomous_stall_mm: 10.0,
             lateral_accel_mm_s2: 1000.0,
             tangential_accel_mm_s2: 500.0,
             max_cycles: 3_000_000,
