@@ -78,9 +78,9 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
         Ok((m, n)) => compare(
             spec,
             name,
-            summary(&m.element, m.form_mm),
+            (summary(&m.element, m.form_mm), &m.element),
             summary(&n.element, n.form_mm),
-            &m.element,
+            &nominal,
         ),
         Err(e) => FitResult {
             element: name,
@@ -131,16 +131,34 @@ fn summary(e: &Element, form_mm: f64) -> ElementSummary {
     }
 }
 
-/// Position deviation: centre distance, the nominal axis point's distance
-/// from the measured axis, or the nominal plane point's from the measured plane.
-fn position(e: &Element, nominal: &ElementSummary) -> f64 {
-    let c = Point3::from(nominal.center);
+/// Position deviation: the centres' distance (circle, sphere), or the
+/// largest distance of the measured axis or plane from the nominal one
+/// over the stretch the nominal points `at` span: at the ends of their
+/// extent along the nominal axis (the distance from a point moving along
+/// one line to another line is convex, largest at an end), or at each of
+/// them on the nominal plane (the distance between two planes is linear
+/// along either). A tilted axis or plane is off by more at the ends of
+/// what was measured than at its middle.
+fn position(e: &Element, nominal: &ElementSummary, at: &[Point3]) -> f64 {
+    let (c, dn) = (Point3::from(nominal.center), Vec3::from(nominal.direction));
+    let along = |p: &Point3| (p - c).dot(&dn);
     match e {
         Element::Cylinder(m) => {
-            let r = c - m.axis_point;
-            (r - m.axis_direction * r.dot(&m.axis_direction)).norm()
+            let to_axis = |p: Point3| {
+                let r = p - m.axis_point;
+                (r - m.axis_direction * r.dot(&m.axis_direction)).norm()
+            };
+            let ts = at.iter().map(along);
+            let lo = ts.clone().fold(0.0, f64::min);
+            let hi = ts.fold(0.0, f64::max);
+            to_axis(c + dn * lo).max(to_axis(c + dn * hi))
         }
-        Element::Plane(m) => (c - m.point).dot(&m.normal).abs(),
+        Element::Plane(m) => {
+            let off = |q: Point3| (q - m.point).dot(&m.normal).abs();
+            at.iter()
+                .map(|p| off(p - dn * along(p)))
+                .fold(off(c), f64::max)
+        }
         other => (c - Point3::from(summary(other, 0.0).center)).norm(),
     }
 }
@@ -148,12 +166,12 @@ fn position(e: &Element, nominal: &ElementSummary) -> f64 {
 fn compare(
     spec: &FitSpec,
     name: &'static str,
-    m: ElementSummary,
+    (m, me): (ElementSummary, &Element),
     n: ElementSummary,
-    me: &Element,
+    at: &[Point3],
 ) -> FitResult {
     let size = m.diameter_mm - n.diameter_mm;
-    let pos = position(me, &n);
+    let pos = position(me, &n, at);
     let size_ok = spec.size_mm.is_none_or(|[lo, hi]| size >= lo && size <= hi);
     let form_ok = spec.form_mm.is_none_or(|f| m.form_mm <= f);
     let pos_ok = spec.position_mm.is_none_or(|p| pos <= p);
@@ -187,6 +205,71 @@ mod tests {
             true_deviation_mm: 0.0,
             edge,
         }
+    }
+
+    /// `p` turned by `angle` (rad) about the x axis.
+    fn turned(p: [f64; 3], angle: f64) -> [f64; 3] {
+        let (c, s) = (angle.cos(), angle.sin());
+        [p[0], c * p[1] - s * p[2], s * p[1] + c * p[2]]
+    }
+
+    /// Points of a nominal element at `nominal` (with the design normals
+    /// `normal`), measured on the element turned by `angle` about the x
+    /// axis.
+    fn tilted(nominal: &[([f64; 3], [f64; 3])], angle: f64) -> Vec<PointReport> {
+        (nominal.iter())
+            .map(|&(at, normal)| PointReport {
+                measured: turned(at, angle),
+                nominal: at,
+                normal,
+                deviation_mm: 0.0,
+                true_deviation_mm: 0.0,
+                edge: false,
+            })
+            .collect()
+    }
+
+    fn spec(element: FitElement) -> FitSpec {
+        FitSpec {
+            element,
+            size_mm: None,
+            form_mm: None,
+            position_mm: Some(0.05),
+        }
+    }
+
+    /// A cylinder of radius 5 about the z axis touched at z = 0 and z = 20,
+    /// and a plane z = 0 touched out to 10 mm from the axis, each turned
+    /// by 0.2 degrees about the x axis: the axis and the plane stand off
+    /// the nominal ones by 20 sin(0.2 deg) = 0.0698 mm and 10 sin(0.2 deg)
+    /// = 0.0349 mm at the far ends of what was touched, 0 at the origin
+    /// (the reference: the turn itself).
+    #[test]
+    fn a_tilted_axis_or_plane_is_off_by_its_largest_distance_over_the_points() {
+        let angle = 0.2_f64.to_radians();
+        let ring = |z: f64| {
+            (0..4).map(move |k| {
+                let a = std::f64::consts::FRAC_PI_2 * k as f64;
+                ([5.0 * a.cos(), 5.0 * a.sin(), z], [a.cos(), a.sin(), 0.0])
+            })
+        };
+        let cylinder: Vec<_> = ring(0.0).chain(ring(20.0)).collect();
+        let fit = fit_feature(&spec(FitElement::Cylinder), &tilted(&cylinder, angle)).unwrap();
+        let want = 20.0 * angle.sin();
+        assert!((fit.position_deviation_mm - want).abs() < 1e-9, "{fit:?}");
+        assert_eq!(fit.status, Verdict::Fail);
+        let plane: Vec<_> = [
+            [10.0, 0.0, 0.0],
+            [0.0, 10.0, 0.0],
+            [-10.0, 0.0, 0.0],
+            [0.0, -10.0, 0.0],
+        ]
+        .map(|p| (p, [0.0, 0.0, 1.0]))
+        .to_vec();
+        let fit = fit_feature(&spec(FitElement::Plane), &tilted(&plane, angle)).unwrap();
+        let want = 10.0 * angle.sin();
+        assert!((fit.position_deviation_mm - want).abs() < 1e-9, "{fit:?}");
+        assert_eq!(fit.status, Verdict::Pass);
     }
 
     /// Three touch points of a plane, one of them an edge point: two
