@@ -9,7 +9,7 @@ use super::{CurveCtx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
     scan_start, touch_point, touch_start, Attempt, AutonomousTask, Collision, Measured,
-    ModeOptions, Outcome, ScanKind, ScanTargets, Tracker,
+    ModeOptions, Outcome, ScanKind, ScanTargets, Tracker, STALL_MOVE_SHARE,
 };
 use crate::host::path::SpeedOptions;
 use crate::math::Point3;
@@ -438,7 +438,7 @@ fn autonomous_attempt(
         let drive = ctx.modes.autonomous_stall_mm;
         res.notes.push(format!(
             "the autonomous scan stalled with the ball centre at ({:.3}, {:.3}, {:.3}) (part frame): it moved less than {:.1} mm while driven {:.1} mm along",
-            p.x, p.y, p.z, 0.1 * drive, drive
+            p.x, p.y, p.z, STALL_MOVE_SHARE * drive, drive
         ));
     } else if attempt.outcome == Outcome::Aborted {
         res.notes.push(format!(

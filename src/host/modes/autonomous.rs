@@ -185,7 +185,7 @@ fn finished(
 
 /// A ball that moves less than this share of
 /// [`ModeOptions::autonomous_stall_mm`] while driven that far has stalled.
-const STALL_MOVE_SHARE: f64 = 0.1;
+pub const STALL_MOVE_SHARE: f64 = 0.1;
 
 /// The measured normal of a ball rolled over the part's end leans towards
 /// the end tangent by at least this (cos 60 degrees).

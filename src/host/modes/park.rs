@@ -42,10 +42,10 @@ pub fn park(
     for w in legs {
         travel(cmm, &mut tr, &[w], speed, 0.0, opts).map_err(|o| MoveStop::of(&tr, o))?;
     }
-    match stuck {
-        true => Err(MoveStop::of(&tr, Outcome::Blocked)),
-        false => Ok(()),
+    if stuck {
+        return Err(MoveStop::of(&tr, Outcome::Blocked));
     }
+    Ok(())
 }
 
 /// The legs of a clear route from `here` (ball centre, with the probe
