@@ -439,6 +439,12 @@ impl FreeSpace for PartClearance<'_> {
             .is_ok_and(|f| f.projection.signed_distance < 0.0)
     }
 
+    fn design_foot(&self, p: Point3) -> Option<(f64, Vec3)> {
+        let f = self.workpiece.closest_point(self.pose.to_part(p)).ok()?;
+        let pr = f.projection;
+        Some((pr.signed_distance, self.pose.dir_to_machine(pr.normal)))
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         if !self.standing_clear(ball, false) {
             Some(ProbePart::Shaft)

@@ -259,7 +259,12 @@ fn fit_model(
         let b = DVector::from_fn(design.len(), |i, _| {
             (measured[i] - moved[i].point).dot(&moved[i].normal)
         });
-        let step = a.svd(true, true).solve(&b, 1e-12).ok()?;
+        let step = visible_step(a, &b, |j| {
+            let field = moved
+                .iter()
+                .map(|m| frame.basis(m.point, m.normal)[cols[j]]);
+            field.map(|v| v.norm_squared()).sum::<f64>().sqrt()
+        })?;
         for (j, &k) in cols.iter().enumerate() {
             params[k] += step[j];
         }
@@ -282,6 +287,34 @@ fn fit_model(
     Some(c)
 }
 
+/// The least share of a combination of the basis motions that shows in
+/// the touch points' gaps along their normals (the singular values of the
+/// gap matrix with each motion scaled to unit displacement over the
+/// points) for it to be fitted: a motion the gaps cannot see (sliding
+/// along a straight wall, or any motion in the plane of a section that
+/// grazes its surface) would otherwise take any size the rounding of the
+/// gaps gives it, moving the design by metres.
+const MIN_VISIBLE_SHARE: f64 = 1e-2;
+
+/// The least-squares step of the gaps `b` by the columns of `a`, each
+/// scaled by `displacement(j)` (the norm over the points of its motion's
+/// displacement), leaving at zero every combination of motions less than
+/// [`MIN_VISIBLE_SHARE`] of which shows in the gaps.
+fn visible_step(
+    mut a: DMatrix<f64>,
+    b: &DVector<f64>,
+    displacement: impl Fn(usize) -> f64,
+) -> Option<DVector<f64>> {
+    let scale: Vec<f64> = (0..a.ncols())
+        .map(|j| displacement(j).max(1e-300))
+        .collect();
+    for (j, s) in scale.iter().enumerate() {
+        a.column_mut(j).unscale_mut(*s);
+    }
+    let step = a.svd(true, true).solve(b, MIN_VISIBLE_SHARE).ok()?;
+    Some(DVector::from_fn(step.len(), |j, _| step[j] / scale[j]))
+}
+
 impl Correction {
     /// The corrected design point.
     pub fn apply(&self, d: &DesignPoint) -> DesignPoint {
@@ -302,5 +335,48 @@ impl Correction {
             .unwrap_or(d.normal);
         let point = f.c + f.e1 * (a3 + tx) + f.e2 * (b3 + ty) + w + normal * h;
         DesignPoint { point, normal }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A straight wall along x in the section plane z = 0, its normals
+    /// along y but for a tilt of a few nanoradians (as a wall's normals
+    /// are on real CAD faces), touched with gaps of 0.3 mm plus a
+    /// ±0.01 mm spread: a translation along the wall and a scale about
+    /// the points' centroid barely show in the gaps, and must not be
+    /// fitted to the spread.
+    fn straight_wall() -> (Vec<DesignPoint>, Vec<Point3>) {
+        (0..16)
+            .map(|i| {
+                let x = i as f64 * 2.0;
+                let tilt = 1e-9 * ((i * 7) % 5) as f64;
+                let normal = Vec3::new(tilt, 1.0, 0.0).normalize();
+                let d = DesignPoint {
+                    point: Point3::new(x, 0.0, 0.0),
+                    normal,
+                };
+                let gap = 0.3 + 0.01 * if i % 2 == 0 { 1.0 } else { -1.0 };
+                (d, d.point + normal * gap)
+            })
+            .unzip()
+    }
+
+    #[test]
+    fn motions_the_gaps_cannot_see_are_not_fitted() {
+        let (design, measured) = straight_wall();
+        let frame = Frame::of(&design, Vec3::z());
+        for model in Model::MENU {
+            let c = fit_model(&design, &measured, frame, model).expect("fits");
+            // Every design point moves by the gap along its normal (0.3
+            // mm, the spread evened out), not along the wall.
+            for d in &design {
+                let moved = c.apply(d).point - d.point;
+                assert!(moved.norm() < 0.32, "{model:?}: {moved:?}");
+                assert!((moved.dot(&d.normal) - 0.3).abs() < 0.02, "{model:?}");
+            }
+        }
     }
 }

@@ -314,10 +314,14 @@ fn geometric(
         ctx.supervisor.geometric_threshold_mm,
     );
     let Some(c) = fit else {
-        res.notes.push(format!(
-            "no simple correction fits the {} touch points",
-            touched.len()
-        ));
+        res.notes.push(if touched.is_empty() {
+            format!("none of the {} touch points could be measured", picks.len())
+        } else {
+            format!(
+                "no simple correction fits the {} touch points",
+                touched.len()
+            )
+        });
         return None;
     };
     res.corrections.push(CorrectionReport::Geometric {

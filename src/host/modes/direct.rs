@@ -59,6 +59,14 @@ pub trait FreeSpace {
         let _ = p;
         false
     }
+
+    /// The design's signed distance from `p` (machine coordinates, mm,
+    /// positive outside the material) and its outward unit normal at the
+    /// nearest point, machine coordinates. Without a finer check, `None`.
+    fn design_foot(&self, p: Point3) -> Option<(f64, Vec3)> {
+        let _ = p;
+        None
+    }
 }
 
 /// Fewest halvings of the standoff tried by [`approach_standoff`].

@@ -10,7 +10,7 @@ use std::sync::{Arc, Mutex};
 
 use super::PartClearance;
 use crate::host::modes::FreeSpace;
-use crate::math::Point3;
+use crate::math::{Point3, Vec3};
 use crate::seam::ProbePart;
 
 /// One question to the free-space check, by the bits of its inputs.
@@ -141,6 +141,10 @@ impl FreeSpace for Remembering<'_> {
 
     fn in_material(&self, p: Point3) -> bool {
         self.inner.in_material(p)
+    }
+
+    fn design_foot(&self, p: Point3) -> Option<(f64, Vec3)> {
+        self.inner.design_foot(p)
     }
 
     fn posture(&self, ball: Point3) -> Option<ProbePart> {

@@ -1,7 +1,10 @@
 //! Routes out of a corner: the probe came to rest nearer the part than
 //! the clearance margin (a scan that ran up to a wall in a concave corner
 //! ends a few tenths of a millimetre from the wall and from its own
-//! surface), so no route checked with a margin starts where it is.
+//! surface), so no route checked with a margin starts where it is; or
+//! it came to rest in free air within a ball radius of the design's
+//! surface (a scan stopped over a gouge in the true part), and leaves
+//! along the design's normal.
 use super::{mount_reachable, plan_route, Route};
 use crate::host::modes::{FreeSpace, ModeOptions};
 use crate::math::{Point3, Vec3};
@@ -29,15 +32,60 @@ pub(super) fn plan_route_out(
     let outs = ESCAPE_MM
         .iter()
         .flat_map(|&d| dirs.iter().map(move |&u| here + u * d));
-    outs.filter(|&out| mount_reachable(out - probe_vector, opts))
+    let found = outs
+        .filter(|&out| mount_reachable(out - probe_vector, opts))
         .filter(|&out| free.approach_clear(here, out) && free.start_clear(out))
-        .find_map(|out| {
-            let route = plan_route(free, (out, probe_vector), target, approach, opts)?;
-            Some(Route {
-                waypoints: std::iter::once(out).chain(route.waypoints).collect(),
-                tight: true,
-            })
-        })
+        .find_map(|out| route_via(free, (out, probe_vector), target, approach, opts));
+    found.or_else(|| {
+        let (s, n) = free.design_foot(here).filter(|&(s, _)| s > 0.0)?;
+        ESCAPE_MM
+            .iter()
+            .map(|&d| here + n * d)
+            .filter(|&out| mount_reachable(out - probe_vector, opts))
+            .filter(|&out| leaves_design(free, (here, s), out) && free.start_clear(out))
+            .find_map(|out| route_via(free, (out, probe_vector), target, approach, opts))
+    })
+}
+
+/// The route from `here` to `out` and on by a planned route, tight.
+fn route_via(
+    free: &dyn FreeSpace,
+    (out, probe_vector): (Point3, Vec3),
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Option<Route> {
+    let route = plan_route(free, (out, probe_vector), target, approach, opts)?;
+    Some(Route {
+        waypoints: std::iter::once(out).chain(route.waypoints).collect(),
+        tight: true,
+    })
+}
+
+/// Steps (mm) at which a leg leaving the design is sampled.
+const LEAVE_STEP_MM: f64 = 0.1;
+
+/// Whether the ball centre, at the design's signed distance `s` (mm) at
+/// `here`, leaves the design on the straight leg to `out`: the distance
+/// grows at every step until the ball is clear as an approach's start is,
+/// and from there the leg is clear as an approach is. A ball that stopped
+/// in free air nearer the design than its radius (where the true part
+/// lies deeper) backs off the way nothing of the design stands.
+fn leaves_design(free: &dyn FreeSpace, (here, s): (Point3, f64), out: Point3) -> bool {
+    let (len, dir) = ((out - here).norm(), (out - here).normalize());
+    let mut last = s;
+    let steps = (len / LEAVE_STEP_MM).ceil().min(1e4) as usize;
+    for k in 1..=steps {
+        let p = here + dir * (k as f64 * LEAVE_STEP_MM).min(len);
+        if free.approach_clear(p, p) {
+            return free.approach_clear(p, out);
+        }
+        match free.design_foot(p) {
+            Some((d, _)) if d > last => last = d,
+            _ => return false,
+        }
+    }
+    false
 }
 
 /// The unit directions of the 26 neighbours of a cube's centre, ordered by
@@ -63,5 +111,55 @@ mod tests {
         assert_eq!(dirs[0], Vec3::z());
         assert!(dirs.windows(2).all(|w| w[0].z >= w[1].z));
         assert_eq!(dirs[25], -Vec3::z());
+    }
+
+    /// The material below z = 0 (a floor) for a ball of radius 1, the
+    /// clearance margins of [`FreeSpace`]'s answers analytic: a segment
+    /// keeps 2 mm, a start 1.2 mm, an approach half the radius.
+    struct Floor;
+
+    impl Floor {
+        fn lowest(from: Point3, to: Point3) -> f64 {
+            from.z.min(to.z)
+        }
+    }
+
+    impl FreeSpace for Floor {
+        fn segment_clear(&self, from: Point3, to: Point3) -> bool {
+            Floor::lowest(from, to) >= 2.0
+        }
+        fn start_clear(&self, at: Point3) -> bool {
+            at.z >= 1.2
+        }
+        fn approach_clear(&self, from: Point3, to: Point3) -> bool {
+            Floor::lowest(from, to) >= 0.5
+        }
+        fn design_foot(&self, p: Point3) -> Option<(f64, Vec3)> {
+            Some((p.z, Vec3::z()))
+        }
+    }
+
+    /// A ball that stopped in free air 0.44 mm over the design's floor
+    /// (its radius 1: a gouge in the true part let it sink) leaves
+    /// straight up the floor's normal, and then goes on to its target.
+    #[test]
+    fn a_ball_sunk_into_the_design_leaves_along_its_normal() {
+        let opts = ModeOptions {
+            clearance_z_mm: Some(30.0),
+            ..ModeOptions::default()
+        };
+        let here = Point3::new(0.0, 0.0, 0.44);
+        let probe_vector = Vec3::new(0.0, 0.0, -50.0);
+        let target = Point3::new(20.0, 0.0, 6.0);
+        let route = plan_route_out(&Floor, (here, probe_vector), target, Vec3::z(), &opts)
+            .expect("a route out");
+        let first = route.waypoints[0];
+        assert!((first - here).xy().norm() < 1e-12, "{first:?}");
+        assert!(first.z >= 1.2, "{first:?}");
+        assert_eq!(route.waypoints.last(), Some(&target));
+        // A ball whose centre is below the design's surface has nothing
+        // to say it is in free air: no route.
+        let under = Point3::new(0.0, 0.0, -0.1);
+        assert!(plan_route_out(&Floor, (under, probe_vector), target, Vec3::z(), &opts).is_none());
     }
 }
