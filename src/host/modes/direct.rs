@@ -67,6 +67,19 @@ pub trait FreeSpace {
         let _ = p;
         None
     }
+
+    /// Notes a positioning move's route (ball centres, machine
+    /// coordinates): from `from` through `waypoints`. Without a memory of
+    /// the way in, nothing.
+    fn note_way(&self, from: Point3, waypoints: &[Point3]) {
+        let _ = (from, waypoints);
+    }
+
+    /// The ball centres of the positioning moves noted so far, oldest
+    /// first (the way the probe came in, [`Self::note_way`]).
+    fn way_in(&self) -> Vec<Point3> {
+        Vec::new()
+    }
 }
 
 /// Fewest halvings of the standoff tried by [`approach_standoff`].
@@ -179,6 +192,7 @@ pub fn direct_move(
     if clear {
         waypoints.extend(via_home.then_some(home));
         waypoints.push(target);
+        free.note_way(from, &waypoints[usize::from(away.is_some())..]);
     }
     tr.enter(cmm, Phase::Position);
     travel(cmm, &mut tr, &waypoints, opts.rapid_speed_mm_s, 0.0, opts)

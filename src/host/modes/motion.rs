@@ -446,6 +446,7 @@ pub fn reposition(
             let route =
                 route::plan_route_from(free, (here, tr.probe.probe_vector), target, approach, opts);
             let route = route.ok_or(Outcome::Blocked)?;
+            free.note_way(here, &route.waypoints);
             waypoints.extend(route.waypoints);
             let roomy = free.margin_mm().is_none_or(|m| m >= BLEND_ROOM_MM);
             if route.tight || !roomy {

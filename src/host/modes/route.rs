@@ -84,7 +84,9 @@ pub fn plan_route(
 /// legs are the same for every part of a batch whose probe comes free
 /// within the same grid cell; else from `here` itself; else, when `here`
 /// is too near the part for any route to start from it, out of the corner
-/// by a short escape leg first.
+/// by a short escape leg first; else back the way the probe came in (from
+/// under an overhang, where no route goes straight up) to where a route
+/// starts.
 pub fn plan_route_from(
     free: &dyn FreeSpace,
     (here, probe_vector): (Point3, Vec3),
@@ -105,6 +107,7 @@ pub fn plan_route_from(
         .flatten()
         .or_else(|| plan_route(free, (here, probe_vector), target, approach, opts))
         .or_else(|| escape::plan_route_out(free, (here, probe_vector), target, approach, opts))
+        .or_else(|| escape::plan_route_back(free, (here, probe_vector), target, approach, opts))
 }
 
 /// The point of the grid of spacing `grid` (mm) nearest to `p`; `p` itself

@@ -5,6 +5,7 @@
 //! the design, the placement, the probe and the query, so a remembered
 //! answer is the one the check would give (bit for bit: the keys are the
 //! inputs' bits), and reports do not depend on what was remembered.
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex};
 
@@ -59,12 +60,18 @@ impl FreeSpaceMemo {
     }
 }
 
-/// A free-space check that asks `inner` only what `memo` does not know.
+/// A free-space check that asks `inner` only what `memo` does not know,
+/// and that keeps the way its part's probe came in
+/// ([`FreeSpace::way_in`]).
 pub struct Remembering<'a> {
     inner: &'a PartClearance<'a>,
     setting: Vec<u64>,
     memo: &'a FreeSpaceMemo,
+    way: RefCell<Vec<Point3>>,
 }
+
+/// Ball centres of the way in that are kept (the latest).
+const WAY_POINTS: usize = 32;
 
 impl<'a> Remembering<'a> {
     /// `inner`, remembering its answers in `memo`.
@@ -73,6 +80,7 @@ impl<'a> Remembering<'a> {
             setting: setting_bits(inner),
             inner,
             memo,
+            way: RefCell::new(Vec::new()),
         }
     }
 
@@ -145,6 +153,21 @@ impl FreeSpace for Remembering<'_> {
 
     fn design_foot(&self, p: Point3) -> Option<(f64, Vec3)> {
         self.inner.design_foot(p)
+    }
+
+    fn note_way(&self, from: Point3, waypoints: &[Point3]) {
+        let mut way = self.way.borrow_mut();
+        for &p in std::iter::once(&from).chain(waypoints) {
+            if way.last().is_none_or(|&l| (l - p).norm() > 1e-9) {
+                way.push(p);
+            }
+        }
+        let extra = way.len().saturating_sub(WAY_POINTS);
+        way.drain(..extra);
+    }
+
+    fn way_in(&self) -> Vec<Point3> {
+        self.way.borrow().clone()
     }
 
     fn posture(&self, ball: Point3) -> Option<ProbePart> {

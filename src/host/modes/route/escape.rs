@@ -62,6 +62,43 @@ fn route_via(
     })
 }
 
+/// A route back the way the probe came in ([`FreeSpace::way_in`], newest
+/// first) to the first of its points from which a planned route starts:
+/// the first leg checked as an approach (the probe came to rest near the
+/// part), the others with the tight margin (a leg between the end of one
+/// positioning move and the start of the next was a measuring move, not
+/// a checked leg). The route counts as tight.
+pub(super) fn plan_route_back(
+    free: &dyn FreeSpace,
+    (here, probe_vector): (Point3, Vec3),
+    target: Point3,
+    approach: Vec3,
+    opts: &ModeOptions,
+) -> Option<Route> {
+    let mut back = Vec::new();
+    let mut at = here;
+    for w in free.way_in().into_iter().rev() {
+        let clear = if back.is_empty() {
+            free.approach_clear(at, w) && free.start_clear(w)
+        } else {
+            free.segment_clear_with(at, w, true)
+        };
+        if !clear || !mount_reachable(w - probe_vector, opts) {
+            return None;
+        }
+        back.push(w);
+        at = w;
+        if let Some(route) = plan_route(free, (w, probe_vector), target, approach, opts) {
+            back.extend(route.waypoints);
+            return Some(Route {
+                waypoints: back,
+                tight: true,
+            });
+        }
+    }
+    None
+}
+
 /// Steps (mm) at which a leg leaving the design is sampled.
 const LEAVE_STEP_MM: f64 = 0.1;
 
