@@ -74,6 +74,7 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
         pose: program.placement,
         probe,
         modes: &modes,
+        press_mm: 0.0,
     };
     let design = |point, normal| DesignPoint { point, normal };
     let mut out = Vec::new();
@@ -88,8 +89,13 @@ pub fn unreachable_features(program: &Program) -> Vec<(String, usize, Unreachabl
                 name,
                 curves,
                 plane,
+                settings,
                 ..
             } => {
+                let reach = Reach {
+                    press_mm: settings.deflection_mm,
+                    ..reach
+                };
                 for (k, c) in curves.iter().enumerate() {
                     let pts: Vec<DesignPoint> =
                         c.points.iter().map(|p| design(p.point, p.normal)).collect();

@@ -64,6 +64,7 @@ pub fn measure_feature(
         pose: program.placement,
         probe,
         modes,
+        press_mm: 0.0,
     });
     let (results, faces, tolerance, kind) = match feature {
         Feature::Section {
@@ -98,6 +99,10 @@ pub fn measure_feature(
                     // it). A probe that would strike the part on the way is
                     // noted and the scan runs: the machine's own collision
                     // stop ends it where it strikes.
+                    let reach = reach.map(|r| Reach {
+                        press_mm: settings.deflection_mm,
+                        ..r
+                    });
                     let (verdict, reversed) =
                         reach.map_or((Ok(()), false), |r| r.curve_either_way(&design, c.closed));
                     let warning = match verdict {

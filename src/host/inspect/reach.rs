@@ -80,6 +80,10 @@ pub struct Reach<'a> {
     pub probe: HostProbe,
     /// Standoff and clearance height.
     pub modes: &'a ModeOptions,
+    /// How far the stylus is pressed into the surface while a curve is
+    /// scanned (its deflection), mm: the ball centre stands that much
+    /// nearer the part than touching, and the shaft and body with it.
+    pub press_mm: f64,
 }
 
 impl Reach<'_> {
@@ -93,7 +97,7 @@ impl Reach<'_> {
         self.start(first)?;
         (self.posture_samples(design).into_iter())
             .filter_map(|k| design.get(k))
-            .try_for_each(|d| self.posture(self.ball(d)))
+            .try_for_each(|d| self.posture(self.pressed(d)))
     }
 
     /// [`Reach::curve`] of a scan that may run either way: an open curve
@@ -146,7 +150,7 @@ impl Reach<'_> {
     /// is clear when both are.
     fn clear_marks(&self, design: &[DesignPoint]) -> Vec<bool> {
         let verdicts: Vec<(usize, bool)> = (self.posture_samples(design).into_iter())
-            .filter_map(|k| Some((k, self.posture(self.ball(design.get(k)?)).is_ok())))
+            .filter_map(|k| Some((k, self.posture(self.pressed(design.get(k)?)).is_ok())))
             .collect();
         let mut marks = vec![verdicts.iter().all(|v| v.1); design.len()];
         for w in verdicts.windows(2) {
@@ -184,6 +188,12 @@ impl Reach<'_> {
     /// The ball centre touching the design at `d`, part coordinates.
     fn ball(&self, d: &DesignPoint) -> Point3 {
         d.point + d.normal * self.probe.tip_radius_mm
+    }
+
+    /// The ball centre scanning over `d` with the stylus pressed by
+    /// [`Reach::press_mm`], part coordinates.
+    fn pressed(&self, d: &DesignPoint) -> Point3 {
+        d.point + d.normal * (self.probe.tip_radius_mm - self.press_mm)
     }
 
     fn posture(&self, ball: Point3) -> Result<(), Unreachable> {
