@@ -445,6 +445,10 @@ impl FreeSpace for PartClearance<'_> {
         Some((pr.signed_distance, self.pose.dir_to_machine(pr.normal)))
     }
 
+    fn body_clear(&self, ball: Point3) -> bool {
+        self.standing_clear(ball, true)
+    }
+
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
         if !self.standing_clear(ball, false) {
             Some(ProbePart::Shaft)

@@ -97,7 +97,7 @@ impl Reach<'_> {
         self.start(first)?;
         (self.posture_samples(design).into_iter())
             .filter_map(|k| design.get(k))
-            .try_for_each(|d| self.posture(self.pressed(d)))
+            .try_for_each(|d| self.scanning_posture(d))
     }
 
     /// [`Reach::curve`] of a scan that may run either way: an open curve
@@ -150,7 +150,7 @@ impl Reach<'_> {
     /// is clear when both are.
     fn clear_marks(&self, design: &[DesignPoint]) -> Vec<bool> {
         let verdicts: Vec<(usize, bool)> = (self.posture_samples(design).into_iter())
-            .filter_map(|k| Some((k, self.posture(self.pressed(design.get(k)?)).is_ok())))
+            .filter_map(|k| Some((k, self.scanning_posture(design.get(k)?).is_ok())))
             .collect();
         let mut marks = vec![verdicts.iter().all(|v| v.1); design.len()];
         for w in verdicts.windows(2) {
@@ -190,10 +190,20 @@ impl Reach<'_> {
         d.point + d.normal * self.probe.tip_radius_mm
     }
 
-    /// The ball centre scanning over `d` with the stylus pressed by
-    /// [`Reach::press_mm`], part coordinates.
-    fn pressed(&self, d: &DesignPoint) -> Point3 {
-        d.point + d.normal * (self.probe.tip_radius_mm - self.press_mm)
+    /// The probe's posture scanning over `d`: the ball touching there
+    /// and the stylus bent by [`Reach::press_mm`] from the probe mount,
+    /// which stands that much nearer the part, the body with it.
+    fn scanning_posture(&self, d: &DesignPoint) -> Result<(), Unreachable> {
+        let ball = self.ball(d);
+        self.posture(ball)?;
+        let pressed = ball - d.normal * self.press_mm;
+        match self.free.body_clear(self.pose.to_machine(pressed)) {
+            true => Ok(()),
+            false => Err(Unreachable::Strikes {
+                probe_part: ProbePart::Body,
+                ball,
+            }),
+        }
     }
 
     fn posture(&self, ball: Point3) -> Result<(), Unreachable> {

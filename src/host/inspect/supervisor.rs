@@ -8,7 +8,7 @@ use super::record::{AttemptMode, CorrectionReport};
 use super::{CurveCtx, CurveResult};
 use crate::host::modes::{
     autonomous_scan, autonomous_start, design_value_scan, direct_move, move_through, recover,
-    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Collision, Measured,
+    scan_start, touch_point, touch_start, Attempt, AutonomousTask, Collision, EndPath, Measured,
     ModeOptions, Outcome, ScanKind, ScanTargets, Tracker, STALL_MOVE_SHARE,
 };
 use crate::host::path::SpeedOptions;
@@ -412,10 +412,31 @@ fn autonomous_task(ctx: &CurveCtx, design: &[DesignPoint], closed: bool) -> Opti
         direction: (m(second.point) - m(first.point)).try_normalize(1e-12)?,
         plane: (m(first.point), ctx.pose.dir_to_machine(ctx.plane_normal)),
         end: (!closed).then_some((m(last.point), end_tangent)),
+        end_path: end_path(ctx, design),
         nominal_length_mm: length,
         deflection_mm: ctx.settings.deflection_mm,
         pitch_mm: ctx.settings.pitch_mm.min(0.5),
     })
+}
+
+/// The design's points within [`ModeOptions::autonomous_end_reach_mm`]
+/// (and a pitch) of its end along it, machine coordinates.
+fn end_path(ctx: &CurveCtx, design: &[DesignPoint]) -> EndPath {
+    let reach = ctx.modes.autonomous_end_reach_mm + ctx.settings.pitch_mm;
+    let mut along = 0.0;
+    let mut stretch: Vec<Point3> = Vec::new();
+    for w in design.windows(2).rev() {
+        if stretch.is_empty() {
+            stretch.push(ctx.pose.to_machine(w[1].point));
+        }
+        along += (w[1].point - w[0].point).norm();
+        stretch.push(ctx.pose.to_machine(w[0].point));
+        if along > reach {
+            break;
+        }
+    }
+    stretch.reverse();
+    EndPath::new(&stretch)
 }
 
 fn autonomous_attempt(

@@ -21,12 +21,59 @@ pub struct AutonomousTask {
     pub plane: (Point3, Vec3),
     /// Nominal end point of an open section (`None` = closed section).
     pub end: Option<(Point3, Vec3)>,
+    /// The nominal section's last stretch, for the test of a ball rolled
+    /// over the part's end ([`EndPath`]).
+    pub end_path: EndPath,
     /// Nominal section length, mm (bounds the scan at three times it).
     pub nominal_length_mm: f64,
     /// Wanted deflection, mm.
     pub deflection_mm: f64,
     /// Reported point spacing, mm.
     pub pitch_mm: f64,
+}
+
+/// Most points an [`EndPath`] holds.
+const END_PATH_POINTS: usize = 16;
+
+/// Points of an open section's nominal path near its end (machine
+/// coordinates, mm) with the path's unit tangent there, in the scanning
+/// direction: a ball rolled over the part's end has a measured normal that
+/// leans towards the path's own tangent where it is, while on a floor
+/// that curves up into the wall the section ends on, the normal leans
+/// towards the end tangent but stays across the path's tangent.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct EndPath {
+    points: [(Point3, Vec3); END_PATH_POINTS],
+    len: usize,
+}
+
+impl EndPath {
+    /// The path through `points` (in scanning order, the last at the end),
+    /// each with its tangent from its neighbours; at most
+    /// [`END_PATH_POINTS`] of them, spread over the stretch.
+    pub fn new(points: &[Point3]) -> EndPath {
+        let mut out = EndPath::default();
+        let n = points.len();
+        let every = n.div_ceil(END_PATH_POINTS).max(1);
+        for k in (0..n).rev().step_by(every).take(END_PATH_POINTS) {
+            let (a, b) = (points[k.saturating_sub(1)], points[(k + 1).min(n - 1)]);
+            if let Some(t) = (b - a).try_normalize(1e-12) {
+                out.points[out.len] = (points[k], t);
+                out.len += 1;
+            }
+        }
+        out
+    }
+
+    /// The tangent at the path's point nearest `p`, if it has any.
+    fn tangent_near(&self, p: Point3) -> Option<Vec3> {
+        let near = |a: &&(Point3, Vec3), b: &&(Point3, Vec3)| {
+            (a.0 - p)
+                .norm_squared()
+                .total_cmp(&(b.0 - p).norm_squared())
+        };
+        self.points[..self.len].iter().min_by(near).map(|e| e.1)
+    }
 }
 
 impl AutonomousTask {
@@ -156,8 +203,9 @@ fn follow(
 /// Closed: back near the start after most of a loop. Open: past the end
 /// point's plane (perpendicular to the end tangent), or rolled over the
 /// part's end near it ([`ModeOptions::autonomous_end_reach_mm`]: the
-/// measured normal within 60 degrees of the end tangent, after most of
-/// the section, [`END_SHARE`]).
+/// measured normal within 60 degrees of the nominal path's tangent at the
+/// path point nearest, [`EndPath`], after most of the section,
+/// [`END_SHARE`]).
 fn finished(
     task: &AutonomousTask,
     tr: &Tracker,
@@ -176,7 +224,8 @@ fn finished(
             let length = task.nominal_length_mm;
             let round = travelled >= (length - reach).max(END_SHARE * length);
             let over_end = m.is_some_and(|m| {
-                round && (m.point - end).norm() <= reach && m.normal.dot(&tangent) >= END_FACE_COS
+                let along = task.end_path.tangent_near(m.point).unwrap_or(tangent);
+                round && (m.point - end).norm() <= reach && m.normal.dot(&along) >= END_FACE_COS
             });
             (past && dir.dot(&tangent) > 0.0) || over_end
         }
@@ -220,6 +269,7 @@ mod tests {
             direction: Vec3::y(),
             plane: (Point3::new(0.0, 0.0, 3.0), Vec3::z()),
             end: None,
+            end_path: EndPath::default(),
             nominal_length_mm: 31.4,
             deflection_mm: 0.3,
             pitch_mm: 0.5,

@@ -53,6 +53,14 @@ pub trait FreeSpace {
         None
     }
 
+    /// Whether the probe body keeps its margin from the part with the
+    /// ball centre at `ball` (machine coordinates), whatever the shaft
+    /// does. Without a finer check, when [`Self::posture`] names no body
+    /// strike.
+    fn body_clear(&self, ball: Point3) -> bool {
+        self.posture(ball) != Some(ProbePart::Body)
+    }
+
     /// Whether the point `p` (machine coordinates) lies inside the
     /// design's material. Without a finer check, never.
     fn in_material(&self, p: Point3) -> bool {

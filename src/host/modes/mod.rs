@@ -10,7 +10,9 @@ mod route;
 mod scan;
 mod touch;
 
-pub use autonomous::{autonomous_scan, autonomous_start, AutonomousTask, STALL_MOVE_SHARE};
+pub use autonomous::{
+    autonomous_scan, autonomous_start, AutonomousTask, EndPath, STALL_MOVE_SHARE,
+};
 pub use direct::{approach_standoff, direct_move, FreeSpace, MoveStop};
 pub use motion::{approach_to, move_through, move_to, recover, reposition, Tracker};
 pub use park::park;

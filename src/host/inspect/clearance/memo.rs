@@ -25,6 +25,8 @@ enum Query {
     },
     /// The probe standing with its ball centre here.
     Posture([u64; 3]),
+    /// The probe body alone standing with the ball centre here.
+    Body([u64; 3]),
     /// An approach starting with the ball centre here.
     Start([u64; 3]),
     /// An approach's measuring move of the ball centre (no margin).
@@ -168,6 +170,13 @@ impl FreeSpace for Remembering<'_> {
 
     fn way_in(&self) -> Vec<Point3> {
         self.way.borrow().clone()
+    }
+
+    fn body_clear(&self, ball: Point3) -> bool {
+        let a = self.answer(Query::Body(bits(ball)), || {
+            Answer::Clear(FreeSpace::body_clear(self.inner, ball))
+        });
+        a == Answer::Clear(true)
     }
 
     fn posture(&self, ball: Point3) -> Option<ProbePart> {
