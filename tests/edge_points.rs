@@ -124,3 +124,44 @@ fn points_on_a_seam_behind_the_nominal_wall_are_not_edge_points() {
         .unwrap();
     assert!((min + 1.2).abs() < 5e-4, "min {min}");
 }
+
+/// A 7 mm bolt hole made of two half cylinders, measured with a 3 mm
+/// ball on a part moved 2.01 mm across the hole's axis (1.8 and 0.9 mm):
+/// the ball's centre comes nearer the other half than its own, or the
+/// seam, and its measured normal turns 35 degrees from the design's
+/// (asin(2.01 / 3.5)), yet the seam is smooth and the ball rolls over no
+/// edge. Every point counts; the fitted circle's centre is off by the
+/// move, sqrt(1.8^2 + 0.9^2) = 2.0125 mm.
+#[test]
+fn a_small_hole_moved_across_its_seam_has_no_edge_points() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({ "format": "cmm-program/1", "name": "moved-hole",
+        "workpiece": common::arg(&repo("workpieces/io1-flange.stp")),
+        "placement": { "translate_mm": [350, 450, 100], "rotate_deg": [0, -90, 30] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 60, "deflection_mm": 0.3, "pitch_mm": 0.5 },
+        "as_machined": { "transform": { "translate_mm": [0.0, 1.8, 0.9] } },
+        "features": [ { "name": "bolt", "type": "section_scan",
+            "plane": { "origin_mm": [3, 0, 0], "normal": [1, 0, 0] },
+            "surfaces": ["face11", "face25"], "tolerance_mm": [-0.05, 0.05],
+            "fit": { "element": "circle", "position_mm": 0.05 } } ] });
+    let path = common::write_program(dir.path(), "p.json", &program);
+    let (code, report) = common::scan_ideal(&path, &dir.path().join("out"));
+    assert_eq!(code, Some(1), "{report}");
+    let feature = &report["features"][0];
+    let points = feature["points"].as_array().unwrap();
+    let edges = points
+        .iter()
+        .filter(|p| p["edge"] == Value::Bool(true))
+        .count();
+    assert_eq!(edges, 0, "{points:?}");
+    let circumference = std::f64::consts::PI * 7.0;
+    assert!(
+        points.len() as f64 * 0.5 >= 0.9 * circumference,
+        "{}",
+        points.len()
+    );
+    let moved = (1.8f64.powi(2) + 0.9f64.powi(2)).sqrt();
+    let position = feature["fit"]["position_deviation_mm"].as_f64().unwrap();
+    assert!((position - moved).abs() < 0.005, "{position}");
+}

@@ -94,6 +94,21 @@ fn ball_on_edge(
     off.is_some_and(|u| u.dot(&foot.projection.normal).abs() < EDGE_COS) && on_boundary(wp, &foot)
 }
 
+/// Whether the ball centre stands on the design's normal line at its
+/// nearest point of the whole design (within 10 degrees): the ball
+/// stands over a smooth stretch of the design, whatever its own face's
+/// edge (the seam of two half cylinders that continue each other, where
+/// the centre of a ball in a hole moved by more than the ball's radius
+/// comes nearer the other half or the seam itself). Over an edge the
+/// centre stands off the edge between the two faces' normals.
+fn over_a_face(wp: &Workpiece, ball: Point3) -> bool {
+    let Ok(foot) = wp.closest_point(ball) else {
+        return false;
+    };
+    let off = (ball - foot.projection.point).try_normalize(0.0);
+    off.is_some_and(|u| u.dot(&foot.projection.normal).abs() >= EDGE_COS)
+}
+
 /// Whether the foot lies within `d` (mm) of its face's edge (the trim,
 /// else the surface's boundary), the distance in the parameters taken
 /// times the larger of the surface's first derivatives there (exact to
@@ -217,9 +232,9 @@ fn point_report(
     let nominal = feature_foot(wp, p, faces, hints)?;
     let reach = 2.0 * (m.ball - m.point).norm() + EDGE_NEAR_MM;
     let ball = (&nominal, pose.to_part(m.ball), reach);
-    let edge = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
-        || beyond_edge(wp, &nominal, p)
+    let turned = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
         || ball_on_edge(wp, ball, ball_hint);
+    let edge = beyond_edge(wp, &nominal, p) || (turned && !over_a_face(wp, ball.1));
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),
