@@ -37,3 +37,25 @@ fn an_autonomous_scan_into_a_concave_end_runs_to_the_end() {
     let x = last[0].as_f64().unwrap();
     assert!((x + 152.4).abs() < 0.3, "{last}");
 }
+
+/// The autonomous scan holds the measured point in the section plane,
+/// not the ball centre: on the blade's twisted surface, inclined to the
+/// plane z = 60, the ball centre held in it puts the contact points off
+/// it by the radius times the normal's lean, and the rescan along the
+/// autonomous scan's points inherits that (0.078 mm). The reference is
+/// the plane itself.
+#[test]
+fn autonomous_points_and_the_rescan_on_them_stay_in_the_section_plane() {
+    let dir = tempfile::tempdir().unwrap();
+    let (code, report) = scan_ideal(&repo("part-programs/blade-gouge.json"), dir.path());
+    assert_eq!(code, Some(0), "{report}");
+    let feature = &report["features"][0];
+    let modes: Vec<&str> = (feature["attempts"].as_array().unwrap().iter())
+        .map(|a| a["mode"].as_str().unwrap())
+        .collect();
+    assert!(modes.contains(&"autonomous"), "{modes:?}");
+    for p in feature["points"].as_array().unwrap() {
+        let z = p["measured"][2].as_f64().unwrap();
+        assert!((z - 60.0).abs() < 0.02, "{p}");
+    }
+}

@@ -165,7 +165,12 @@ fn follow(
         dir = if t.dot(&dir) >= 0.0 { t } else { -t };
         speed = (speed + opts.tangential_accel_mm_s2 * dt).min(opts.autonomous_speed_mm_s);
         let a0 = tr.ball_undeflected();
-        let off_plane = (a0 - o).dot(&pn);
+        // The measured point held in the plane while the stylus touches
+        // (on a surface inclined to the plane the ball centre stands off
+        // it by the radius times the normal's lean), else the ball centre.
+        let touching = d.norm() >= opts.contact_mm;
+        let held = tr.measured().filter(|_| touching).map_or(a0, |m| m.point);
+        let off_plane = (held - o).dot(&pn);
         let v = dir * speed
             - n * ((task.deflection_mm - d.norm()) * opts.gain_deflection)
             - pn * (off_plane * PLANE_GAIN);
