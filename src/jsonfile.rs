@@ -30,7 +30,7 @@ pub struct JsonSyntaxError {
 /// ```
 pub fn parse_json<T: DeserializeOwned>(text: &str, file: &Path) -> Result<T, JsonSyntaxError> {
     let de = &mut serde_json::Deserializer::from_str(text);
-    serde_path_to_error::deserialize(de).map_err(|err| {
+    let value = serde_path_to_error::deserialize(&mut *de).map_err(|err| {
         let json_path = json_path(&err.path().to_string());
         let inner = err.into_inner();
         JsonSyntaxError {
@@ -40,7 +40,17 @@ pub fn parse_json<T: DeserializeOwned>(text: &str, file: &Path) -> Result<T, Jso
             column: inner.column(),
             reason: strip_position(&inner.to_string()),
         }
-    })
+    })?;
+    // Anything but white space after the value (a second object, a stray
+    // brace) is not the file's JSON.
+    de.end().map_err(|inner| JsonSyntaxError {
+        file: file.to_path_buf(),
+        json_path: "$".into(),
+        line: inner.line(),
+        column: inner.column(),
+        reason: strip_position(&inner.to_string()),
+    })?;
+    Ok(value)
 }
 
 /// `surfaces[0].degree` -> `$.surfaces[0].degree`; `.` -> `$`.

@@ -475,3 +475,22 @@ fn an_interrupt_leaves_no_output_behind() {
     let left: Vec<_> = std::fs::read_dir(dir.path()).unwrap().collect();
     assert!(left.is_empty(), "left behind: {left:?}");
 }
+
+/// A file holds one JSON value: a second object after the program (two
+/// files run together) or a stray brace is bad input, with its place,
+/// and nothing is measured or written.
+#[test]
+fn text_after_the_program_is_bad_input() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(repo("part-programs/sphere.json")).unwrap();
+    let workpiece = s(&repo("workpieces/sphere.json"));
+    let text = text.replace("../workpieces/sphere.json", &workpiece);
+    for (k, tail) in ["\n{}\n", "}", " 42"].iter().enumerate() {
+        let path = dir.path().join(format!("p{k}.json"));
+        std::fs::write(&path, format!("{text}{tail}")).unwrap();
+        let out = dir.path().join(format!("out{k}"));
+        let o = cmm(&["scan", &s(&path), "--quiet", "--out", &s(&out)]);
+        assert_bad_input(&o, &[&s(&path), "trailing characters"]);
+        assert!(!out.exists(), "{tail:?}");
+    }
+}
