@@ -634,11 +634,11 @@ pub(super) fn travel(
             return Ok(());
         };
         let err = w - here;
-        if k + 1 == waypoints.len() && arrived(err, v_prev, end_speed, cmm.cycle_s(), opts) {
+        let leg = leg_direction(start, waypoints, k).unwrap_or(err);
+        if k + 1 == waypoints.len() && arrived(err, (v_prev, leg), end_speed, cmm.cycle_s(), opts) {
             return Ok(());
         }
         let limit = speed_limit(here, ahead, corners.get(k..).unwrap_or(&[]), speed, a);
-        let leg = leg_direction(start, waypoints, k).unwrap_or(err);
         let want = along_leg(err, leg, limit.max(end_speed), a);
         let want = within_travel(want, tr.now.scales, v_prev, opts);
         // The travel's envelope holds whatever the acceleration budget
@@ -797,10 +797,14 @@ impl Guard {
     }
 }
 
-/// Whether a move with the last waypoint `err` away has ended.
-fn arrived(err: Vec3, v: Vec3, end_speed: f64, dt: f64, opts: &ModeOptions) -> bool {
+/// Whether a move with the last waypoint `err` away, the velocity `v`
+/// last commanded and the last leg's direction `leg`, has ended: one that
+/// ends moving, within a cycle's travel of it or past it along the leg
+/// (not against the velocity, which at the start of a leg is what is
+/// left of the leg before, turned away from it).
+fn arrived(err: Vec3, (v, leg): (Vec3, Vec3), end_speed: f64, dt: f64, opts: &ModeOptions) -> bool {
     if end_speed > 0.0 {
-        let passed = err.norm() <= WAYPOINT_PASS_MM && err.dot(&v) < 0.0;
+        let passed = err.norm() <= WAYPOINT_PASS_MM && err.dot(&leg) < 0.0;
         err.norm() <= (end_speed * dt).max(opts.arrive_tol_mm) || passed
     } else {
         err.norm() <= opts.arrive_tol_mm && v.norm() < ARRIVED_SPEED_MM_S
