@@ -99,6 +99,11 @@ pub fn autonomous_scan(
     let result = reposition(cmm, &mut tr, above, task.start_normal, opts)
         .and_then(|_| touch_down(cmm, &mut tr, task, opts))
         .and_then(|_| follow(cmm, &mut tr, task, opts, &mut stalled));
+    // A scan that followed a part lying off its design by more than the
+    // ball's radius ends where the design has material, however it ended.
+    if !matches!(result, Err(Outcome::Collision)) {
+        tr.back_out_of_design(cmm);
+    }
     (finish(tr, result), stalled)
 }
 

@@ -211,6 +211,24 @@ impl<'f> Tracker<'f> {
         }
     }
 
+    /// After a measuring move that stopped short with the ball centre
+    /// inside the design's material (the true part lies off the design by
+    /// more than the ball's radius, and the move went on through where
+    /// the design has material), backs out the way it came: off the
+    /// surface it touches ([`Self::escape`]), then back along its path to
+    /// where it left free air. Routes start there; from inside the design
+    /// none would.
+    pub fn back_out_of_design(&mut self, cmm: &mut dyn Machine) {
+        let inside = self
+            .free
+            .is_some_and(|f| f.in_material(self.ball_undeflected()));
+        if inside && self.has_trail() {
+            let moving = self.moving;
+            self.escape(cmm, moving);
+            self.retrace(cmm);
+        }
+    }
+
     /// Backs the probe out of the part after a collision: along the
     /// stylus's deflection when it is pressed against the part (away from
     /// the surface the ball struck), else against `moving` (the machine's

@@ -87,6 +87,12 @@ pub fn design_value_scan(
                 active(cmm, &mut tr, path, s.segments(), targets, opts, &mut max_dl)
             }
         });
+    if matches!(
+        result,
+        Err(Outcome::TrajectoryError | Outcome::LostContact | Outcome::OverDeflection)
+    ) {
+        tr.back_out_of_design(cmm);
+    }
     let mut attempt = finish(tr, result);
     attempt.max_trajectory_error_mm = max_dl;
     attempt
