@@ -204,7 +204,10 @@ impl<'f> Tracker<'f> {
                 speed_mm_s,
             } => {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
-                self.escape(cmm, self.moving);
+                // The shaft or the body struck: backing off the surface the
+                // ball is pressed on would drive them on into the part.
+                let off_ball = probe_part == ProbePart::Ball;
+                self.escape_with(cmm, self.moving, off_ball);
                 self.retrace(cmm);
                 Some(outcome)
             }
@@ -248,18 +251,27 @@ impl<'f> Tracker<'f> {
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
+        self.escape_with(cmm, moving, true);
+    }
+
+    /// [`Self::escape`], off the surface the ball is pressed on first only
+    /// when `off_ball` (else straight back the way it came).
+    fn escape_with(&mut self, cmm: &mut dyn Machine, moving: Vec3, off_ball: bool) {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came.
         let up = (-self.probe.probe_vector).try_normalize(1e-9);
         let pressed = (self.now.deflection.try_normalize(1e-9))
-            .filter(|_| self.deflection() >= self.modes.free_mm);
+            .filter(|_| off_ball && self.deflection() >= self.modes.free_mm);
         let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
             return;
         };
         // Coming free off the surface the ball was measuring belongs to the
         // measuring move (as its lift-off does); the retract starts free.
         let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
-        let mut lifting = measuring && pressed.is_some();
+        // (A stylus still pressed while the probe backs away from a
+        // shaft's or body's strike comes free within that move too.)
+        let still_pressed = self.deflection() >= self.modes.free_mm;
+        let mut lifting = measuring && (pressed.is_some() || (!off_ball && still_pressed));
         if !lifting {
             self.enter(cmm, Phase::Retract);
         }
