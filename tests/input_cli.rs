@@ -494,3 +494,20 @@ fn text_after_the_program_is_bad_input() {
         assert!(!out.exists(), "{tail:?}");
     }
 }
+
+/// A program's scan defaults are checked whatever features it holds: a
+/// 5 mm default deflection (the range is (0, 1] mm) is bad input in a
+/// program of touch points too.
+#[test]
+fn bad_scan_defaults_are_bad_input_in_a_touch_only_program() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = sphere_program(dir.path(), |v| {
+        v["defaults"]["deflection_mm"] = 5.0.into();
+        v["features"] = serde_json::json!([ { "name": "pole", "type": "touch_points",
+            "points_mm": [[0.0, 0.0, 12.5]], "tolerance_mm": [-0.05, 0.05] } ]);
+    });
+    let out = dir.path().join("out");
+    let o = cmm(&["scan", &s(&path), "--quiet", "--out", &s(&out)]);
+    assert_bad_input(&o, &[&s(&path), "$.defaults.deflection_mm", "(0, 1]"]);
+    assert!(!out.exists());
+}

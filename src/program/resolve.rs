@@ -123,6 +123,7 @@ pub fn resolve(
     let workpiece = load_workpiece(&cx, spec)?;
     let placement = placement(&cx, spec)?;
     let probe = probe(&cx, spec)?;
+    check_defaults(&cx, spec)?;
     let features = spec
         .features
         .iter()
@@ -479,6 +480,24 @@ fn nominal_point(
         point: pr.point,
         normal: pr.normal,
     })
+}
+
+/// The scan defaults are checked whether or not a feature takes them: a
+/// program is valid or not whatever features it holds. (The deflection's
+/// bound by the tip's size applies where a scan takes it: a touch-only
+/// program with a small tip need not set a scan deflection.)
+fn check_defaults(cx: &Ctx, spec: &ProgramFile) -> Result<(), ProgramError> {
+    let d = &spec.defaults;
+    let path = |key: &str| format!("$.defaults.{key}");
+    cx.positive(d.speed_mm_s, MAX_SPEED_MM_S, path("speed_mm_s"))?;
+    cx.positive(d.deflection_mm, MAX_DEFLECTION_MM, path("deflection_mm"))?;
+    cx.positive(d.pitch_mm, 100.0, path("pitch_mm"))?;
+    cx.positive(
+        d.trajectory_tolerance_mm,
+        100.0,
+        path("trajectory_tolerance_mm"),
+    )?;
+    Ok(())
 }
 
 fn settings(

@@ -204,9 +204,10 @@ impl<'f> Tracker<'f> {
                 speed_mm_s,
             } => {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
-                // The shaft or the body struck: backing off the surface the
-                // ball is pressed on would drive them on into the part.
-                let off_ball = probe_part == ProbePart::Ball;
+                // The shaft struck (beside the ball, the way the probe was
+                // going): backing off the surface the ball is pressed on
+                // drives it on into the part, straight back does not.
+                let off_ball = probe_part != ProbePart::Shaft;
                 self.escape_with(cmm, self.moving, off_ball);
                 self.retrace(cmm);
                 Some(outcome)
