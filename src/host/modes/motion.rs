@@ -269,8 +269,8 @@ impl<'f> Tracker<'f> {
         // Coming free off the surface the ball was measuring belongs to the
         // measuring move (as its lift-off does); the retract starts free.
         let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
-        // (A stylus still pressed while the probe backs away from a
-        // shaft's or body's strike comes free within that move too.)
+        // (A stylus still pressed while the probe backs straight out from
+        // a shaft's strike comes free within that move too.)
         let still_pressed = self.deflection() >= self.modes.free_mm;
         let mut lifting = measuring && (pressed.is_some() || (!off_ball && still_pressed));
         if !lifting {
