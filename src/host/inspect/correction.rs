@@ -103,6 +103,11 @@ struct Frame {
 }
 
 impl Frame {
+    /// The section plane's unit normal.
+    fn plane_normal(&self) -> Vec3 {
+        self.e1.cross(&self.e2)
+    }
+
     fn of(design: &[DesignPoint], plane_normal: Vec3) -> Frame {
         let n = design.len().max(1) as f64;
         let c = Point3::from(design.iter().map(|d| d.point.coords).sum::<Vec3>() / n);
@@ -150,30 +155,83 @@ fn any_perp(n: Vec3) -> Vec3 {
     (t - n * t.dot(&n)).normalize()
 }
 
+/// The touch points of a geometric correction: `design[i]` was touched at
+/// `measured[i]` along its normal, where the section bends by
+/// `curvature[i]` (1/mm; positive where it bends away from its normal, a
+/// convex outline, negative in a bore).
+#[derive(Debug, Clone, Copy)]
+pub struct Touches<'a> {
+    /// The design points touched (part frame).
+    pub design: &'a [DesignPoint],
+    /// The section's signed curvature at each, 1/mm.
+    pub curvature: &'a [f64],
+    /// Where each was measured (part frame), mm.
+    pub measured: &'a [Point3],
+}
+
+impl Touches<'_> {
+    fn len(&self) -> usize {
+        self.design.len()
+    }
+
+    /// The distance (signed as the gap along the normal) from touch `i`'s
+    /// measured point to the corrected section near it: the gap along the
+    /// corrected normal less the bend of the section over the measured
+    /// point's offset along it (a circle moved by `t` sideways to a
+    /// touch's normal leaves a gap of `t^2 / 2R` to its tangent, none to
+    /// itself).
+    fn gap(&self, c: &Correction, i: usize) -> Option<f64> {
+        let (d, m) = (self.design.get(i)?, self.measured.get(i)?);
+        let kappa = self.curvature.get(i).copied().unwrap_or(0.0);
+        let moved = c.apply(d);
+        let off = m - moved.point;
+        let along = off.dot(&c.frame.plane_normal().cross(&moved.normal));
+        Some(off.dot(&moved.normal) + 0.5 * kappa * along * along)
+    }
+}
+
+/// The signed curvature (1/mm) of the section through `design` at point
+/// `i`, from its neighbours (the point itself in place of one beyond an
+/// end): the turn of the normal along the chord between them over its
+/// length; 0 where the normal turns by more than 30 degrees between them
+/// (a corner, not a bend).
+pub fn section_curvature(design: &[DesignPoint], i: usize) -> f64 {
+    let here = design.get(i);
+    let before = i.checked_sub(1).and_then(|j| design.get(j)).or(here);
+    let (Some(a), Some(b)) = (before, design.get(i + 1).or(here)) else {
+        return 0.0;
+    };
+    let chord = b.point - a.point;
+    let (len, turn) = (chord.norm(), b.normal - a.normal);
+    if len <= 0.0 || a.normal.dot(&b.normal) < CORNER_COS {
+        return 0.0;
+    }
+    turn.dot(&(chord / len)) / len
+}
+
+/// Neighbouring design normals further apart than this (cos 30 degrees)
+/// stand across a corner.
+const CORNER_COS: f64 = 0.866_025_403_784_438_6;
+
 /// Fits the simplest model whose residuals are all within `threshold_mm`;
 /// with none, the simplest whose residuals are within it once the touch
 /// points it leaves off by more are left out ([`fit_inliers`]; the
-/// correction's `points` counts those it kept). `design[i]` was touched at
-/// `measured[i]` along its normal.
+/// correction's `points` counts those it kept).
 pub fn fit_correction(
-    design: &[DesignPoint],
-    measured: &[Point3],
+    touches: Touches,
     plane_normal: Vec3,
     threshold_mm: f64,
 ) -> Option<Correction> {
-    let frame = Frame::of(design, plane_normal);
+    let frame = Frame::of(touches.design, plane_normal);
     let fits = |menu: &[Model], keep: &dyn Fn(Model) -> Option<Correction>| {
         menu.iter().find_map(|&model| {
             let c = keep(model)?;
             (c.max_residual_mm <= threshold_mm).then_some(c)
         })
     };
-    fits(&Model::MENU, &|model| {
-        fit_model(design, measured, frame, model)
-    })
-    .or_else(|| {
+    fits(&Model::MENU, &|model| fit_model(touches, frame, model)).or_else(|| {
         fits(&INLIER_MODELS, &|model| {
-            fit_inliers(design, measured, frame, (model, threshold_mm))
+            fit_inliers(touches, frame, (model, threshold_mm))
         })
     })
 }
@@ -201,46 +259,61 @@ const INLIER_SHARE: f64 = 0.75;
 /// others agree on the move. Only a correction that moves the design by
 /// more than `threshold_mm` somewhere counts.
 fn fit_inliers(
-    design: &[DesignPoint],
-    measured: &[Point3],
+    touches: Touches,
     frame: Frame,
     (model, threshold_mm): (Model, f64),
 ) -> Option<Correction> {
-    let all = fit_model(design, measured, frame, model)?;
-    let (kept_design, kept_measured): (Vec<DesignPoint>, Vec<Point3>) = design
-        .iter()
-        .zip(measured)
-        .filter(|(d, m)| {
-            let moved = all.apply(d);
-            (**m - moved.point).dot(&moved.normal).abs() <= threshold_mm
+    let all = fit_model(touches, frame, model)?;
+    let kept: Vec<usize> = (0..touches.len())
+        .filter(|&i| {
+            touches
+                .gap(&all, i)
+                .is_some_and(|g| g.abs() <= threshold_mm)
         })
-        .map(|(d, m)| (*d, *m))
-        .unzip();
-    let enough = kept_design.len() as f64 >= INLIER_SHARE * design.len() as f64;
-    let fewer = kept_design.len() < design.len();
+        .collect();
+    let pick = |v: &[f64]| {
+        kept.iter()
+            .map(|&i| v.get(i).copied().unwrap_or(0.0))
+            .collect()
+    };
+    let design: Vec<DesignPoint> = kept
+        .iter()
+        .filter_map(|&i| touches.design.get(i))
+        .copied()
+        .collect();
+    let measured: Vec<Point3> = kept
+        .iter()
+        .filter_map(|&i| touches.measured.get(i))
+        .copied()
+        .collect();
+    let curvature: Vec<f64> = pick(touches.curvature);
+    let enough = kept.len() as f64 >= INLIER_SHARE * touches.len() as f64;
+    let fewer = kept.len() < touches.len();
+    let inliers = Touches {
+        design: &design,
+        curvature: &curvature,
+        measured: &measured,
+    };
     let c = (enough && fewer)
-        .then(|| fit_model(&kept_design, &kept_measured, frame, model))
+        .then(|| fit_model(inliers, frame, model))
         .flatten()?;
     // A correction that leaves the design where it was (a local gouge the
     // left-out points touched, on a part that has not moved) would leave
     // the rescan to stop where the scan stopped.
-    let moves = design
+    let moves = touches
+        .design
         .iter()
         .map(|d| (c.apply(d).point - d.point).norm())
         .fold(0.0, f64::max);
     (moves > threshold_mm).then_some(c)
 }
 
-/// Gauss-Newton on the point-to-plane gaps (three passes; the motions are
-/// small, so the linearisation converges at once).
-fn fit_model(
-    design: &[DesignPoint],
-    measured: &[Point3],
-    frame: Frame,
-    model: Model,
-) -> Option<Correction> {
+/// Gauss-Newton on the touch points' gaps to the corrected section
+/// ([`Touches::gap`]; three passes, the motions are small).
+fn fit_model(touches: Touches, frame: Frame, model: Model) -> Option<Correction> {
     let cols: Vec<usize> = (0..7).filter(|&k| model.uses()[k]).collect();
-    if design.len() < cols.len() + 1 || design.len() != measured.len() {
+    let design = touches.design;
+    if design.len() < cols.len() + 1 || design.len() != touches.measured.len() {
         return None;
     }
     let mut params = [0.0; 7];
@@ -256,9 +329,7 @@ fn fit_model(
         let a = DMatrix::from_fn(design.len(), cols.len(), |i, j| {
             frame.basis(moved[i].point, moved[i].normal)[cols[j]].dot(&moved[i].normal)
         });
-        let b = DVector::from_fn(design.len(), |i, _| {
-            (measured[i] - moved[i].point).dot(&moved[i].normal)
-        });
+        let b = DVector::from_fn(design.len(), |i, _| touches.gap(&c, i).unwrap_or(0.0));
         let step = visible_step(a, &b, |j| {
             let field = moved
                 .iter()
@@ -276,13 +347,9 @@ fn fit_model(
         frame,
         params,
     };
-    c.max_residual_mm = design
-        .iter()
-        .zip(measured)
-        .map(|(d, m)| {
-            let moved = c.apply(d);
-            (m - moved.point).dot(&moved.normal).abs()
-        })
+    c.max_residual_mm = (0..design.len())
+        .filter_map(|i| touches.gap(&c, i))
+        .map(f64::abs)
         .fold(0.0, f64::max);
     Some(c)
 }
@@ -368,8 +435,14 @@ mod tests {
     fn motions_the_gaps_cannot_see_are_not_fitted() {
         let (design, measured) = straight_wall();
         let frame = Frame::of(&design, Vec3::z());
+        let curvature = vec![0.0; design.len()];
+        let touches = Touches {
+            design: &design,
+            curvature: &curvature,
+            measured: &measured,
+        };
         for model in Model::MENU {
-            let c = fit_model(&design, &measured, frame, model).expect("fits");
+            let c = fit_model(touches, frame, model).expect("fits");
             // Every design point moves by the gap along its normal (0.3
             // mm, the spread evened out), not along the wall.
             for d in &design {
@@ -377,6 +450,69 @@ mod tests {
                 assert!(moved.norm() < 0.32, "{model:?}: {moved:?}");
                 assert!((moved.dot(&d.normal) - 0.3).abs() < 0.02, "{model:?}");
             }
+        }
+    }
+
+    /// A bore of radius 18 (material outside, the outward normals towards
+    /// its axis) and a boss of radius 31 (normals outwards) in the plane
+    /// z = 0, moved 4.5 mm along y, touched at 16 points along their
+    /// nominal normals: the measured points are where those normal lines
+    /// meet the moved circle (solved here in closed form). The correction
+    /// is the translation (0, 4.5) with residuals of micrometres, not the
+    /// t^2 / 2R a gap to each point's tangent would leave (0.56 mm on the
+    /// bore, past a 0.25 mm threshold).
+    #[test]
+    fn a_circle_moved_sideways_is_corrected_by_its_translation() {
+        let shift = Vec3::new(0.0, 4.5, 0.0);
+        for (radius, inward) in [(18.0f64, true), (31.0, false)] {
+            let n = 64;
+            let design: Vec<DesignPoint> = (0..n)
+                .map(|k| {
+                    let a = 2.0 * std::f64::consts::PI * k as f64 / n as f64;
+                    let radial = Vec3::new(a.cos(), a.sin(), 0.0);
+                    let normal = if inward { -radial } else { radial };
+                    DesignPoint {
+                        point: Point3::from(radial * radius),
+                        normal,
+                    }
+                })
+                .collect();
+            let picks: Vec<usize> = (0..16).map(|k| k * 4).collect();
+            let touched: Vec<DesignPoint> = picks.iter().map(|&i| design[i]).collect();
+            let curvature: Vec<f64> = picks
+                .iter()
+                .map(|&i| section_curvature(&design, i))
+                .collect();
+            // p + s n on the circle |x - shift| = radius: the root of
+            // s^2 + 2 s (p - shift).n + |p - shift|^2 - radius^2 = 0
+            // nearer zero.
+            let measured: Vec<Point3> = (touched.iter())
+                .map(|d| {
+                    let q = d.point.coords - shift;
+                    let b = q.dot(&d.normal);
+                    let c = q.norm_squared() - radius * radius;
+                    let root = (b * b - c).sqrt();
+                    let s = [-b + root, -b - root]
+                        .into_iter()
+                        .min_by(|x, y| x.abs().total_cmp(&y.abs()))
+                        .unwrap();
+                    d.point + d.normal * s
+                })
+                .collect();
+            let touches = Touches {
+                design: &touched,
+                curvature: &curvature,
+                measured: &measured,
+            };
+            let c = fit_correction(touches, Vec3::z(), 0.25).expect("a correction");
+            assert_eq!(c.model, Model::Translation, "radius {radius}: {c:?}");
+            assert!(
+                c.max_residual_mm < 0.02,
+                "radius {radius}: {}",
+                c.max_residual_mm
+            );
+            let moved = c.apply(&design[0]).point - design[0].point;
+            assert!((moved - shift).norm() < 0.02, "radius {radius}: {moved:?}");
         }
     }
 }

@@ -2,7 +2,7 @@
 //! active scanning; on a trajectory error a geometric correction from touch
 //! points (flag 0) or an autonomous correction (flag 1, or when no simple
 //! model fits); a bounded number of autonomous corrections.
-use super::correction::{fit_correction, DesignPoint};
+use super::correction::{fit_correction, section_curvature, DesignPoint, Touches};
 use super::prepared::{scan_speed, PreparedScan, ScanInputs};
 use super::record::{AttemptMode, CorrectionReport};
 use super::{CurveCtx, CurveResult};
@@ -262,6 +262,7 @@ fn geometric(
     let t0 = ctx.cmm.readings().time_s;
     let mut touched = Vec::new();
     let mut measured = Vec::new();
+    let mut curvature = Vec::new();
     let mut attempt = Attempt {
         outcome: Outcome::Completed,
         points: Vec::new(),
@@ -297,6 +298,7 @@ fn geometric(
         attempt.machine_time_s += a.machine_time_s;
         if let (Outcome::Completed, Some(m)) = (a.outcome, a.points.first()) {
             touched.push(d);
+            curvature.push(section_curvature(design, i));
             measured.push(ctx.pose.to_part(m.point));
             attempt.points.push(*m);
         } else if matches!(a.outcome, Outcome::AxisLimit | Outcome::Collision) {
@@ -307,9 +309,13 @@ fn geometric(
     }
     attempt.machine_time_s = ctx.cmm.readings().time_s - t0;
     res.record(AttemptMode::Points, attempt, &ctx.pose);
+    let touches = Touches {
+        design: &touched,
+        curvature: &curvature,
+        measured: &measured,
+    };
     let fit = fit_correction(
-        &touched,
-        &measured,
+        touches,
         ctx.plane_normal,
         ctx.supervisor.geometric_threshold_mm,
     );

@@ -204,11 +204,7 @@ impl<'f> Tracker<'f> {
                 speed_mm_s,
             } => {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
-                // The shaft struck (beside the ball, the way the probe was
-                // going): backing off the surface the ball is pressed on
-                // drives it on into the part, straight back does not.
-                let off_ball = probe_part != ProbePart::Shaft;
-                self.escape_with(cmm, self.moving, off_ball);
+                self.escape(cmm, self.moving);
                 self.retrace(cmm);
                 Some(outcome)
             }
@@ -252,27 +248,18 @@ impl<'f> Tracker<'f> {
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
-        self.escape_with(cmm, moving, true);
-    }
-
-    /// [`Self::escape`], off the surface the ball is pressed on first only
-    /// when `off_ball` (else straight back the way it came).
-    fn escape_with(&mut self, cmm: &mut dyn Machine, moving: Vec3, off_ball: bool) {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came.
         let up = (-self.probe.probe_vector).try_normalize(1e-9);
         let pressed = (self.now.deflection.try_normalize(1e-9))
-            .filter(|_| off_ball && self.deflection() >= self.modes.free_mm);
+            .filter(|_| self.deflection() >= self.modes.free_mm);
         let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
             return;
         };
         // Coming free off the surface the ball was measuring belongs to the
         // measuring move (as its lift-off does); the retract starts free.
         let measuring = !matches!(self.phase, Phase::Position | Phase::Retract);
-        // (A stylus still pressed while the probe backs straight out from
-        // a shaft's strike comes free within that move too.)
-        let still_pressed = self.deflection() >= self.modes.free_mm;
-        let mut lifting = measuring && (pressed.is_some() || (!off_ball && still_pressed));
+        let mut lifting = measuring && pressed.is_some();
         if !lifting {
             self.enter(cmm, Phase::Retract);
         }
