@@ -196,6 +196,10 @@ impl Reach<'_> {
     fn scanning_posture(&self, d: &DesignPoint) -> Result<(), Unreachable> {
         let ball = self.ball(d);
         self.posture(ball)?;
+        // Unpressed, the posture's own body check was this one.
+        if self.press_mm <= 0.0 {
+            return Ok(());
+        }
         let pressed = ball - d.normal * self.press_mm;
         match self.free.body_clear(self.pose.to_machine(pressed)) {
             true => Ok(()),
