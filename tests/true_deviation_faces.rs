@@ -93,7 +93,7 @@ fn points_on_the_true_surface_past_the_feature_s_faces_have_no_measurement_error
             ..*m
         })
         .collect();
-    let reports = point_reports(&wp, &pose, &[pressure], &to_machine);
+    let reports = point_reports(&wp, &pose, (&[pressure], None), &to_machine);
     assert_eq!(reports.len(), measured.len());
     let mut features = [feature(reports)];
     let frames = Frames {

@@ -24,7 +24,7 @@ use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
 use crate::program::limits::start_position;
-use crate::program::Program;
+use crate::program::{Feature, Program};
 use crate::report::{
     AlignmentReport, EndMoveReport, FeatureReport, PartToMachine, ProbeUsed, Report, Verdict,
     REPORT_FORMAT,
@@ -151,9 +151,19 @@ pub(super) fn run_variant(
     let faces: Vec<Vec<usize>> = m.measured.iter().map(|mf| mf.faces.clone()).collect();
     let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
         .map(|(f, mf)| {
+            // A section scan's fit is compared with the design's section.
+            let section = match f {
+                Feature::Section {
+                    plane,
+                    fit: Some(_),
+                    ..
+                } => Some(plane),
+                _ => None,
+            };
             let points = (mf.results.iter())
                 .flat_map(|r| {
-                    point_reports(&aligned.workpiece, &aligned.placement, &mf.faces, &r.points)
+                    let faces = (mf.faces.as_slice(), section);
+                    point_reports(&aligned.workpiece, &aligned.placement, faces, &r.points)
                 })
                 .collect();
             feature_report(f, mf, points)

@@ -170,6 +170,7 @@ mod tests {
             deviation_mm: 0.001,
             true_deviation_mm: 0.001,
             edge,
+            in_section: None,
         };
         let measured = || MeasuredFeature {
             results: vec![CurveResult {

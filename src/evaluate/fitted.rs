@@ -55,11 +55,16 @@ fn kind(e: FitElement) -> (ElementKind, &'static str) {
     (e.kind(), name)
 }
 
-/// Fits and checks; `None` when there are no points.
+/// Fits and checks; `None` when there are no points. The nominal element
+/// is fitted to the points' nominal points, or where a section scan's
+/// point has one, to the design section's point next to it
+/// ([`PointReport::in_section`]).
 pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> {
     let points: Vec<&PointReport> = points.iter().filter(|p| p.on_surface()).collect();
     let measured: Vec<Point3> = points.iter().map(|p| Point3::from(p.measured)).collect();
-    let nominal: Vec<Point3> = points.iter().map(|p| Point3::from(p.nominal)).collect();
+    let nominal: Vec<Point3> = (points.iter())
+        .map(|p| Point3::from(p.in_section.unwrap_or(p.nominal)))
+        .collect();
     if measured.is_empty() {
         return None;
     }
@@ -204,6 +209,7 @@ mod tests {
             deviation_mm: 0.0,
             true_deviation_mm: 0.0,
             edge,
+            in_section: None,
         }
     }
 
@@ -225,6 +231,7 @@ mod tests {
                 deviation_mm: 0.0,
                 true_deviation_mm: 0.0,
                 edge: false,
+                in_section: None,
             })
             .collect()
     }

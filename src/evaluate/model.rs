@@ -56,6 +56,11 @@ pub struct PointReport {
     /// out of the feature's deviations, verdict and fit.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub edge: bool,
+    /// For a section scan's point, the design section's point next to
+    /// `nominal` (in the section plane, [`super::section_point`]): the
+    /// fitted element's nominal is fitted to these. Not reported.
+    #[serde(skip)]
+    pub in_section: Option<[f64; 3]>,
 }
 
 impl PointReport {

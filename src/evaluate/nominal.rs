@@ -13,6 +13,8 @@
 use rayon::prelude::*;
 
 use super::model::PointReport;
+use super::section_point::onto_section;
+use crate::geometry::Plane;
 use crate::host::modes::Measured;
 use crate::math::{Point3, Vec3};
 use crate::program::Pose;
@@ -157,7 +159,7 @@ fn on_boundary(wp: &Workpiece, nominal: &FaceProjection) -> bool {
 pub fn point_reports(
     workpiece: &Workpiece,
     pose: &Pose,
-    faces: &[usize],
+    (faces, section): (&[usize], Option<&Plane>),
     points: &[Measured],
 ) -> Vec<PointReport> {
     let faces = FeatureFaces::new(workpiece, faces);
@@ -166,7 +168,7 @@ pub fn point_reports(
         .map(|chunk| {
             let mut hints = (Hints::default(), None);
             (chunk.iter())
-                .filter_map(|m| point_report(workpiece, pose, faces, m, &mut hints))
+                .filter_map(|m| point_report(workpiece, pose, (faces, section), m, &mut hints))
                 .collect()
         })
         .collect();
@@ -224,7 +226,7 @@ pub fn feature_foot(
 fn point_report(
     wp: &Workpiece,
     pose: &Pose,
-    faces: FeatureFaces,
+    (faces, section): (FeatureFaces, Option<&Plane>),
     m: &Measured,
     (hints, ball_hint): &mut (Hints, Option<FootHint>),
 ) -> Option<PointReport> {
@@ -235,6 +237,10 @@ fn point_report(
     let turned = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
         || ball_on_edge(wp, ball, ball_hint);
     let edge = beyond_edge(wp, &nominal, p) || (turned && !over_a_face(wp, ball.1));
+    let in_section = section.and_then(|s| {
+        let face = wp.faces.get(nominal.face)?;
+        onto_section(&face.surface, nominal.projection.uv, s).map(Into::into)
+    });
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),
@@ -243,5 +249,6 @@ fn point_report(
         deviation_mm: nominal.signed_distance,
         true_deviation_mm: f64::NAN,
         edge,
+        in_section,
     })
 }

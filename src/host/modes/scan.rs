@@ -13,6 +13,9 @@ use crate::host::path::{
 };
 use crate::math::{Point3, Vec3};
 
+mod settle;
+use settle::Settling;
+
 /// Passive or active design-value scanning.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ScanKind {
@@ -253,7 +256,7 @@ fn active(
     };
     let stall_cycles = (opts.stall_s / dt).ceil() as usize;
     let mut mark = (0.0f64, 0usize);
-    let mut settled_at = t.plane_normal.is_none().then_some(0.0f64);
+    let mut settling = Settling::new(t.plane_normal.is_some(), path.is_closed());
     for cycle in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
@@ -265,7 +268,7 @@ fn active(
         } else if cycle - mark.1 > stall_cycles {
             return Err(Outcome::TrajectoryError);
         }
-        let remaining = length + overrun(path, settled_at, progress) - progress;
+        let remaining = length + overrun(path, settling.at, progress) - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
         }
@@ -303,14 +306,12 @@ fn active(
         } else if progress - touched_at > opts.active_lost_contact_mm {
             return Err(Outcome::LostContact);
         }
-        if settled_at.is_none() {
-            let settles = progress >= SETTLE_WITHIN_MM
-                || (t.plane_normal)
-                    .and_then(|m| plane_offset(tr, (p, n_path), m, t.deflection_mm))
-                    .is_some_and(|e| e.abs() <= SETTLED_MM);
-            settled_at = settles.then_some(progress);
-        }
-        if settled_at.is_some() {
+        let offset = || {
+            let m = t.plane_normal?;
+            let e = plane_offset(tr, (p, n_path), m, t.deflection_mm)?;
+            Some((e, n_path.dot(&m).abs() >= HOLD_INCLINED_MIN))
+        };
+        if settling.update(progress, offset) {
             tr.sample(t.pitch_mm);
         }
     }
@@ -328,17 +329,6 @@ fn overrun(path: &BallPath, settled_at: Option<f64>, progress: f64) -> f64 {
         false => 0.0,
     }
 }
-
-/// A plane section's scan records points once the measured point has come
-/// within this of the design curve across the plane, mm (an approach
-/// along the design normal ends off the plane by the true surface's offset
-/// times the normal's slope across it; the plane hold takes that out
-/// within a few pitches).
-const SETTLED_MM: f64 = 0.005;
-
-/// ... or once the scan has gone this far along its path, mm (where the
-/// point cannot be held in the plane it is recorded as it comes).
-const SETTLE_WITHIN_MM: f64 = 2.0;
 
 /// The closest-point search's start for this cycle: the last location
 /// moved `ds` mm along its segment (chord-length parameters, so about `ds`

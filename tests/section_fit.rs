@@ -1,0 +1,67 @@
+//! A section scan's fitted circle is compared with the design's section
+//! in the section plane. On a sloped face (a sphere cut above its
+//! equator) a part made oversize has its measured points' nearest design
+//! points below the plane, on a smaller circle of the design than the one
+//! cut by the plane; the nominal element is the design section's.
+mod common;
+
+use std::process::Command;
+
+use common::repo;
+use serde_json::Value;
+
+/// The reference sphere (radius 12.5 mm about the part's origin), made
+/// 0.02 mm oversize and cut at z = 8 (the surface 40 degrees from the
+/// plane), measured on an ideal machine. References, from the sphere's
+/// sections: the design circle's diameter 2 sqrt(12.5^2 - 8^2) with its
+/// centre on the plane, the true circle's 2 sqrt(12.52^2 - 8^2).
+#[test]
+fn a_circle_on_a_sphere_cut_above_its_equator_is_compared_with_the_design_section() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({
+        "format": "cmm-program/1", "name": "sphere-z8",
+        "workpiece": repo("workpieces/sphere.json").to_str().unwrap(),
+        "placement": { "translate_mm": [500, 700, 100], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 20, "deflection_mm": 0.2, "pitch_mm": 0.5 },
+        "as_machined": { "form": [ { "kind": "offset", "mm": 0.02 } ] },
+        "features": [ { "name": "z8", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 8], "normal": [0, 0, 1] },
+            "surfaces": ["sphere"], "tolerance_mm": [-0.05, 0.05],
+            "fit": { "element": "circle", "size_mm": [-0.03, 0.03] } } ] });
+    let prog = common::write_program(dir.path(), "sphere-z8.json", &program);
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args([
+            "scan",
+            prog.to_str().unwrap(),
+            "--ideal",
+            "--quiet",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let fit = &report["features"][0]["fit"];
+    let design = 2.0 * (12.5_f64 * 12.5 - 64.0).sqrt();
+    let truth = 2.0 * (12.52_f64 * 12.52 - 64.0).sqrt();
+    let nominal = fit["nominal"]["diameter_mm"].as_f64().unwrap();
+    assert!((nominal - design).abs() < 1e-7, "{fit}");
+    let centre_z = fit["nominal"]["center"][2].as_f64().unwrap();
+    assert!((centre_z - 8.0).abs() < 1e-7, "{fit}");
+    // The points are held in the plane to a few hundredths of a
+    // micrometre (0.03 um below it moves this diameter by 0.05 um), and
+    // the swing past the plane as the hold takes over is not recorded.
+    let size = fit["size_deviation_mm"].as_f64().unwrap();
+    assert!((size - (truth - design)).abs() < 1e-4, "{fit}");
+    assert!(
+        fit["measured"]["form_mm"].as_f64().unwrap() < 0.002,
+        "{fit}"
+    );
+    // 0.0324 mm over the 0.03 allowed: the feature fails (compared with
+    // the design's circle 0.016 mm below the plane it passed, 0.0069).
+    assert_eq!(fit["status"], "fail", "{fit}");
+    assert_eq!(run.status.code(), Some(1), "{run:?}");
+}
