@@ -283,13 +283,17 @@ pub struct EscapeOptions {
     /// Once out, the probe goes back along the path of the measuring move
     /// to where it left free air (a scan that ran in under an overhang has
     /// no route out where it struck): the path's points are kept this far
-    /// apart, mm.
+    /// apart, mm (less for a small ball, see `Tracker::trail_step`).
     pub trail_step_mm: f64,
     /// The ball goes back this far (mm) off the surface it followed, on
     /// top of the deflection it had there.
     pub retrace_clear_mm: f64,
     /// Speed of the way back, mm/s.
     pub retrace_speed_mm_s: f64,
+    /// A ball pressed this much harder (mm of deflection) than when the
+    /// move out began has run into the part on the way out, and backs off
+    /// along its deflection instead.
+    pub press_mm: f64,
 }
 
 impl Default for EscapeOptions {
@@ -301,6 +305,7 @@ impl Default for EscapeOptions {
             trail_step_mm: 2.0,
             retrace_clear_mm: 0.5,
             retrace_speed_mm_s: 30.0,
+            press_mm: 0.1,
         }
     }
 }

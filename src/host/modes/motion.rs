@@ -14,6 +14,7 @@ use crate::host::probe_correction::DeflectionCorrection;
 use crate::math::{Point3, Vec3};
 use crate::seam::{Cmm, MachineStatus, ProbePart, Readings};
 
+mod strike;
 mod trail;
 
 /// Follows the machine cycle by cycle: ball centre, deflection, time, and
@@ -204,7 +205,8 @@ impl<'f> Tracker<'f> {
                 speed_mm_s,
             } => {
                 let outcome = self.struck(probe_part, at, speed_mm_s);
-                self.escape(cmm, self.moving);
+                let strike = (probe_part != ProbePart::Ball).then_some(at);
+                self.escape(cmm, self.moving, strike);
                 self.retrace(cmm);
                 Some(outcome)
             }
@@ -224,7 +226,7 @@ impl<'f> Tracker<'f> {
             .is_some_and(|f| f.in_material(self.ball_undeflected()));
         if inside && self.has_trail() {
             let moving = self.moving;
-            self.escape(cmm, moving);
+            self.escape(cmm, moving, None);
             self.retrace(cmm);
         }
     }
@@ -232,9 +234,15 @@ impl<'f> Tracker<'f> {
     /// Backs the probe out of the part after a collision: along the
     /// stylus's deflection when it is pressed against the part (away from
     /// the surface the ball struck), else against `moving` (the machine's
-    /// velocity when it struck, mm/s; up the stylus when it stood still)
-    /// at [`EscapeOptions::speed_mm_s`](super::EscapeOptions::speed_mm_s),
-    /// whatever the machine reports on the way, until it reports the probe
+    /// velocity when it struck, mm/s; up the stylus when it stood still);
+    /// after a strike of the shaft or the body at `strike` (machine
+    /// coordinates) in a scan, away from it across the stylus as well
+    /// ([`strike::out_of_strike`]). At
+    /// [`EscapeOptions::speed_mm_s`](super::EscapeOptions::speed_mm_s),
+    /// whatever the machine reports on the way (but out of a scan, a ball
+    /// pressed [`EscapeOptions::press_mm`](super::EscapeOptions::press_mm)
+    /// harder than when the move out began backs off along its deflection
+    /// instead: the way out ran into the part), until it reports the probe
     /// clear with the stylus free, [`EscapeOptions::clear_mm`](super::EscapeOptions::clear_mm) further and
     /// (with free space to ask) the tight clearance margin from the design
     /// data, then to rest; during a measuring move, only
@@ -247,13 +255,22 @@ impl<'f> Tracker<'f> {
     /// stops where the stylus, once free, touches the part again (backing
     /// out of a small hole towards its far wall): the probe is not driven
     /// on through the part.
-    pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3) {
+    pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3, strike: Option<Point3>) {
         // Off the surface the stylus is pressed against, if it is; else
-        // back the way it came.
+        // back the way it came; off a struck shaft or body, away from it.
         let up = (-self.probe.probe_vector).try_normalize(1e-9);
         let pressed = (self.now.deflection.try_normalize(1e-9))
             .filter(|_| self.deflection() >= self.modes.free_mm);
-        let Some(dir) = pressed.or((-moving).try_normalize(1e-9)).or(up) else {
+        // A scan runs along the part, so back the way it came runs along
+        // it too; any other move came from free air the way it leads back.
+        let scanning = matches!(self.phase, Phase::Scan | Phase::Autonomous);
+        let away = (strike.filter(|_| scanning).zip(up))
+            .and_then(|(at, up)| strike::off_the_strike(self.ball_undeflected(), up, at));
+        let dir = match away {
+            Some(a) => Some(strike::out_of_strike(a, pressed)),
+            None => pressed.or((-moving).try_normalize(1e-9)).or(up),
+        };
+        let Some(dir) = dir else {
             return;
         };
         // Coming free off the surface the ball was measuring belongs to the
@@ -273,6 +290,7 @@ impl<'f> Tracker<'f> {
         let mut turned = false;
         let start = self.ball_undeflected();
         let mut clear_since: Option<Point3> = None;
+        let mut pressed_at = self.deflection().max(self.modes.free_mm);
         // Twice the cycles the longest move out takes at its speed.
         let cycles =
             2.0 * self.modes.escape.max_mm / (self.modes.escape.speed_mm_s * cmm.cycle_s());
@@ -287,6 +305,14 @@ impl<'f> Tracker<'f> {
                 self.enter(cmm, Phase::Retract);
             }
             let here = self.ball_undeflected();
+            let pressing = self.deflection() > pressed_at + self.modes.escape.press_mm;
+            if scanning && clear_since.is_none() && pressing {
+                // The way out runs into the part: off it instead.
+                pressed_at = self.deflection();
+                if let Some(d) = self.now.deflection.try_normalize(1e-9) {
+                    v = d * self.modes.escape.speed_mm_s;
+                }
+            }
             match self.now.status {
                 MachineStatus::AxisLimit { .. } => break,
                 MachineStatus::Ok if self.deflection() < self.modes.free_mm => {
@@ -807,7 +833,7 @@ impl Guard {
             // last cycle), not the one commanded.
             let moving = tr.moving;
             let outcome = tr.struck(ProbePart::Ball, at, moving.norm());
-            tr.escape(cmm, moving);
+            tr.escape(cmm, moving, None);
             return Err(outcome);
         }
         self.free |= !touching;
