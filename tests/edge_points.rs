@@ -165,3 +165,47 @@ fn a_small_hole_moved_across_its_seam_has_no_edge_points() {
     let position = feature["fit"]["position_deviation_mm"].as_f64().unwrap();
     assert!((position - moved).abs() < 0.005, "{position}");
 }
+
+/// The flange lying on its side, cut through its axis (y = 0) with a
+/// 2 mm ball over its outline: the section runs over the flange's top (z
+/// = 44), round its square corner onto the flange face (x = 6), and round
+/// the hub's corner at x = 19. Just past such a corner the ball stands
+/// over the next face while its deflection still leans from rolling round
+/// it; the point measured then lay 23 um off the face and was counted as
+/// a face point. Every point left as a face point carries the error of a
+/// point on a face.
+#[test]
+fn a_ball_just_past_a_square_corner_gives_an_edge_point() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = serde_json::json!({
+        "format": "cmm-program/1", "name": "flange-lying",
+        "workpiece": repo("workpieces/io1-flange.stp").to_str().unwrap(),
+        "placement": { "translate_mm": [300, 450, 80], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 2.0, "stylus_length_mm": 50 },
+        "defaults": { "speed_mm_s": 50, "deflection_mm": 0.25, "pitch_mm": 0.4 },
+        "as_machined": { "form": [ { "kind": "offset", "mm": 0.005 },
+            { "kind": "bump", "center_mm": [12, 0, 31], "radius_mm": 6, "height_mm": -0.04 } ],
+            "roughness_um": 0.2 },
+        "features": [ { "name": "top-line", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 0], "normal": [0, 1, 0] },
+            "surfaces": ["face20", "face10", "face19", "face8", "face21", "face6",
+                         "face27", "face17", "face4"],
+            "tolerance_mm": [-0.05, 0.05] } ] });
+    let prog = common::write_program(dir.path(), "flange-lying.json", &program);
+    let out = dir.path().join("out");
+    let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
+        .args(["scan", prog.to_str().unwrap(), "--quiet", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(run.status.code().is_some(), "{run:?}");
+    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
+    let report: Value = serde_json::from_str(&text).unwrap();
+    let points = report["features"][0]["points"].as_array().unwrap();
+    assert!(points.len() > 100, "{} points", points.len());
+    let edge = |p: &Value| p["edge"].as_bool().unwrap_or(false);
+    for p in points.iter().filter(|p| !edge(p)) {
+        let e = p["deviation_mm"].as_f64().unwrap() - p["true_deviation_mm"].as_f64().unwrap();
+        assert!(e.abs() <= FACE_POINT_ERROR_MM, "{e} mm at {p}");
+    }
+}

@@ -80,20 +80,22 @@ fn rolled_over_edge(wp: &Workpiece, nominal: &FaceProjection, measured_normal: V
 /// round the edge, tens of micrometres off either face. Looked at only
 /// for a point whose own foot lies within `reach` of its face's edge (a
 /// ball on an edge measures a point at most its radius from the edge).
+/// The ball centre's foot on that edge, when it stands on one.
 fn ball_on_edge(
     wp: &Workpiece,
     (nominal, ball, reach): (&FaceProjection, Point3, f64),
     hint: &mut Option<FootHint>,
-) -> bool {
+) -> Option<FaceProjection> {
     if !within_edge_mm(wp, nominal, reach) {
-        return false;
+        return None;
     }
     let face = [nominal.face];
-    let Ok(foot) = wp.closest_point_tracked(ball, face.iter().copied(), hint) else {
-        return false;
-    };
+    let foot = wp
+        .closest_point_tracked(ball, face.iter().copied(), hint)
+        .ok()?;
     let off = (ball - foot.projection.point).try_normalize(0.0);
-    off.is_some_and(|u| u.dot(&foot.projection.normal).abs() < EDGE_COS) && on_boundary(wp, &foot)
+    let turned = off.is_some_and(|u| u.dot(&foot.projection.normal).abs() < EDGE_COS);
+    (turned && on_boundary(wp, &foot)).then_some(foot)
 }
 
 /// Whether the ball centre stands on the design's normal line at its
@@ -109,6 +111,26 @@ fn over_a_face(wp: &Workpiece, ball: Point3) -> bool {
     };
     let off = (ball - foot.projection.point).try_normalize(0.0);
     off.is_some_and(|u| u.dot(&foot.projection.normal).abs() >= EDGE_COS)
+}
+
+/// Whether the face of the foot `nominal` (on or near its face's edge)
+/// continues smoothly into the face nearest to it beside its own (within [`EDGE_NEAR_MM`], their
+/// normals within 10 degrees): a seam between two faces that continue
+/// each other (a cylinder's halves), not an edge the ball rolls over. A
+/// ball standing over a face next to a sharp edge, its deflection still
+/// turned from rolling round the edge, measures its point tens of
+/// micrometres off (the lag of the deflection's direction), and that
+/// point is an edge point.
+fn continues_smoothly(wp: &Workpiece, nominal: &FaceProjection) -> bool {
+    let q = nominal.projection.point;
+    let mut near = Vec::new();
+    wp.faces_within(q, EDGE_NEAR_MM, &mut near);
+    let others = near.into_iter().filter(|&f| f != nominal.face);
+    let Ok(other) = wp.closest_point_among(q, others) else {
+        return false;
+    };
+    let normals = other.projection.normal.dot(&nominal.projection.normal);
+    other.projection.distance <= EDGE_NEAR_MM && normals >= EDGE_COS
 }
 
 /// Whether the foot lies within `d` (mm) of its face's edge (the trim,
@@ -234,9 +256,14 @@ fn point_report(
     let nominal = feature_foot(wp, p, faces, hints)?;
     let reach = 2.0 * (m.ball - m.point).norm() + EDGE_NEAR_MM;
     let ball = (&nominal, pose.to_part(m.ball), reach);
-    let turned = rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal)
-        || ball_on_edge(wp, ball, ball_hint);
-    let edge = beyond_edge(wp, &nominal, p) || (turned && !over_a_face(wp, ball.1));
+    let on_edge = ball_on_edge(wp, ball, ball_hint);
+    let turned =
+        on_edge.is_some() || rolled_over_edge(wp, &nominal, pose.rotation.transpose() * m.normal);
+    // Where the ball stands over an edge, that edge (else the point's own
+    // foot's) decides whether it is a seam.
+    let at = on_edge.as_ref().unwrap_or(&nominal);
+    let seam = || over_a_face(wp, ball.1) && continues_smoothly(wp, at);
+    let edge = beyond_edge(wp, &nominal, p) || (turned && !seam());
     let in_section = section.and_then(|s| {
         let face = wp.faces.get(nominal.face)?;
         onto_section(&face.surface, nominal.projection.uv, s).map(Into::into)
