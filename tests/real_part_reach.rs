@@ -686,3 +686,33 @@ fn a_translation_is_corrected_when_a_touch_at_a_fillet_edge_disagrees() {
     assert!(c["points"].as_u64().unwrap() < 16, "{c}");
     points_within_the_2mm_move(&f);
 }
+
+/// The linkage's small ring bore (1.5 mm across, 2 mm deep) tilted 8
+/// degrees, scanned at half its depth with a 0.3 mm ball on a 10 mm
+/// stylus: the shaft (0.075 mm inside the ball's outline) leans 1 mm x
+/// tan 8 = 0.14 mm over the bore's top edge, so it strikes. The ball's
+/// path is 2.6 mm round; checked every 2 mm it was passed by `cmm check`,
+/// and `cmm scan` then reported the collision.
+#[test]
+fn a_small_bore_tilted_under_a_small_ball_is_checked_all_round() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = json!({
+        "format": "cmm-program/1", "name": "linkrods-tilt8",
+        "workpiece": workpiece("linkrods.step"),
+        "placement": { "translate_mm": [300, 400, 100], "rotate_deg": [8, 0, 45] },
+        "probe": { "tip_diameter_mm": 0.3, "stylus_length_mm": 10 },
+        "defaults": { "speed_mm_s": 5, "deflection_mm": 0.05, "pitch_mm": 0.02 },
+        "clearance": { "tight_margin_mm": 0.1 },
+        "features": [ { "name": "ringA-bore", "type": "section_scan",
+            "plane": { "origin_mm": [0, 0, 1.0], "normal": [0, 0, 1] },
+            "surfaces": ["face11"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let prog = write_program(dir.path(), &program);
+    let check = cmm(&["check", &prog]);
+    let text = String::from_utf8_lossy(&check.stdout).to_string()
+        + &String::from_utf8_lossy(&check.stderr);
+    assert_eq!(check.status.code(), Some(3), "{text}");
+    assert!(
+        text.contains("ringA-bore [0]: not reachable: the probe's shaft"),
+        "{text}"
+    );
+}

@@ -13,8 +13,14 @@ use crate::math::Point3;
 use crate::program::Pose;
 use crate::seam::ProbePart;
 
-/// Spacing of the ball-path points whose posture is checked, mm.
+/// Spacing of the ball-path points whose posture is checked, mm (at
+/// most: see [`POSTURE_STEP_RADII`]).
 const POSTURE_STEP_MM: f64 = 2.0;
+
+/// ... and at most this many ball radii: a small ball's path round a
+/// small feature (a 0.3 mm ball in a 1.5 mm bore, its path 2.6 mm round)
+/// is checked at more than its two ends.
+const POSTURE_STEP_RADII: f64 = 2.0;
 
 /// Why a feature cannot be measured.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -162,14 +168,16 @@ impl Reach<'_> {
     }
 
     /// The indices of the design points whose posture is checked: the
-    /// first, each one [`POSTURE_STEP_MM`] along the ball path from the
+    /// first, each one [`POSTURE_STEP_MM`] (or [`POSTURE_STEP_RADII`] ball
+    /// radii, if less) along the ball path from the
     /// one checked before it, and the last.
     fn posture_samples(&self, design: &[DesignPoint]) -> Vec<usize> {
         let mut out: Vec<usize> = Vec::new();
         let mut last: Option<Point3> = None;
+        let step = POSTURE_STEP_MM.min(POSTURE_STEP_RADII * self.probe.tip_radius_mm);
         for (k, d) in design.iter().enumerate() {
             let ball = self.ball(d);
-            if last.is_none_or(|l| (ball - l).norm() >= POSTURE_STEP_MM) {
+            if last.is_none_or(|l| (ball - l).norm() >= step) {
                 out.push(k);
                 last = Some(ball);
             }
