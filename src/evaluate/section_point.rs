@@ -9,8 +9,9 @@
 //! its diameter by 0.04 mm). The design's element is the one through the
 //! design's section, in the plane.
 use crate::geometry::nurbs::surface::NurbsSurface;
+use crate::geometry::Jet2;
 use crate::geometry::Plane;
-use crate::math::{Point3, Vec2};
+use crate::math::{Point3, Vec2, Vec3};
 
 /// A section point lies this close (mm) to the plane.
 pub const ON_PLANE_MM: f64 = 1e-10;
@@ -39,8 +40,12 @@ pub fn onto_section(surface: &NurbsSurface, uv: Vec2, plane: &Plane) -> Option<P
     let start = surface.point(uv.x, uv.y);
     let farthest = plane.signed_distance(start).abs() / MIN_SECTION_SLOPE + ON_PLANE_MM;
     let mut uv = uv;
+    // The power-basis jet: the fast evaluation the contact search uses.
+    let mut d = Jet2 {
+        d: [Vec3::zeros(); 6],
+    };
     for _ in 0..MAX_SECTION_STEPS {
-        let d = surface.derivs(uv.x, uv.y, 1);
+        surface.jet2_into(uv.x, uv.y, &mut d);
         let g = plane.signed_distance(d.point());
         if g.abs() <= ON_PLANE_MM {
             return ((d.point() - start).norm() <= farthest).then(|| d.point());
