@@ -264,7 +264,8 @@ fn point_report(
     let at = on_edge.as_ref().unwrap_or(&nominal);
     let seam = || over_a_face(wp, ball.1) && continues_smoothly(wp, at);
     let edge = beyond_edge(wp, &nominal, p) || (turned && !seam());
-    let in_section = section.and_then(|s| {
+    // Only points on the surface take part in the fit.
+    let in_section = section.filter(|_| !edge).and_then(|s| {
         let face = wp.faces.get(nominal.face)?;
         onto_section(&face.surface, nominal.projection.uv, s).map(Into::into)
     });

@@ -37,15 +37,15 @@ pub const MAX_SECTION_STEPS: usize = 8;
 pub fn onto_section(surface: &NurbsSurface, uv: Vec2, plane: &Plane) -> Option<Point3> {
     let ((u0, u1), (v0, v1)) = surface.domain();
     let n = plane.normal();
-    let start = surface.point(uv.x, uv.y);
-    let farthest = plane.signed_distance(start).abs() / MIN_SECTION_SLOPE + ON_PLANE_MM;
     let mut uv = uv;
     // The power-basis jet: the fast evaluation the contact search uses.
     let mut d = Jet2 {
         d: [Vec3::zeros(); 6],
     };
+    surface.jet2_into(uv.x, uv.y, &mut d);
+    let start = d.point();
+    let farthest = plane.signed_distance(start).abs() / MIN_SECTION_SLOPE + ON_PLANE_MM;
     for _ in 0..MAX_SECTION_STEPS {
-        surface.jet2_into(uv.x, uv.y, &mut d);
         let g = plane.signed_distance(d.point());
         if g.abs() <= ON_PLANE_MM {
             return ((d.point() - start).norm() <= farthest).then(|| d.point());
@@ -64,6 +64,7 @@ pub fn onto_section(surface: &NurbsSurface, uv: Vec2, plane: &Plane) -> Option<P
         if uv.x < u0 || uv.x > u1 || uv.y < v0 || uv.y > v1 {
             return None;
         }
+        surface.jet2_into(uv.x, uv.y, &mut d);
     }
     None
 }

@@ -283,7 +283,7 @@ pub struct EscapeOptions {
     /// Once out, the probe goes back along the path of the measuring move
     /// to where it left free air (a scan that ran in under an overhang has
     /// no route out where it struck): the path's points are kept this far
-    /// apart, mm (less for a small ball, see `Tracker::trail_step`).
+    /// apart, mm (less for a small ball, see `Tracker::trail_step_squared`).
     pub trail_step_mm: f64,
     /// The ball goes back this far (mm) off the surface it followed, on
     /// top of the deflection it had there.

@@ -42,7 +42,7 @@ impl Tracker<'_> {
             return;
         };
         let here = self.ball_undeflected();
-        if (here - last).norm_squared() < self.trail_step().powi(2) {
+        if (here - last).norm_squared() < self.trail_step_squared() {
             return;
         }
         let d = self.now.deflection;
@@ -55,17 +55,18 @@ impl Tracker<'_> {
         self.trail.push(here + lift);
     }
 
-    /// How far apart the trail's points are kept, mm:
-    /// [`super::EscapeOptions::trail_step_mm`], or for a small ball less,
+    /// The square of how far apart the trail's points are kept, mm^2
+    /// (asked every cycle, so no root): at most
+    /// [`super::EscapeOptions::trail_step_mm`], and for a small ball less,
     /// so that a chord between two points of the ball centre's path (which
     /// bends round a convex edge on a radius no less than the ball's, `r`)
     /// sags from it by at most half the retrace's clearance `c`: `sqrt(4 r
     /// c)` (0.55 mm for a 0.3 mm ball; on 2 mm chords a ring of 0.75 mm
     /// radius was cut through).
-    fn trail_step(&self) -> f64 {
+    fn trail_step_squared(&self) -> f64 {
         let e = &self.modes.escape;
-        let sag_bound = (4.0 * self.probe_radius() * e.retrace_clear_mm).sqrt();
-        e.trail_step_mm.min(sag_bound)
+        let sag_bound = 4.0 * self.probe_radius() * e.retrace_clear_mm;
+        e.trail_step_mm.powi(2).min(sag_bound)
     }
 
     /// Moves the probe back along the trail to its start (see the module
