@@ -31,24 +31,6 @@ fn section(name: &str, origin: [f64; 3], normal: [f64; 3], face: &str) -> Value 
             "surfaces": [face], "tolerance_mm": [-0.1, 0.1] })
 }
 
-/// The trace's rows as (phase, deflection magnitude).
-fn deflections(trace: &str) -> Vec<(String, f64)> {
-    let mut lines = trace.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
-    lines
-        .map(|line| {
-            let f: Vec<&str> = line.split(',').collect();
-            let d: f64 = [dx, dy, dz]
-                .iter()
-                .map(|&k| f[k].parse::<f64>().unwrap().powi(2))
-                .sum();
-            (f[phase].to_string(), d.sqrt())
-        })
-        .collect()
-}
-
 #[test]
 fn features_after_a_collision_under_an_overhang_are_measured() {
     let dir = tempfile::tempdir().unwrap();
@@ -81,7 +63,7 @@ fn features_after_a_collision_under_an_overhang_are_measured() {
     // No cycle of a move that does not measure has the stylus deflected:
     // coming free off the surface belongs to the scan the strike stopped,
     // and the way back follows the scan off the surface.
-    let rows = deflections(&trace);
+    let rows = trace_deflections(&trace);
     for (k, (p, d)) in rows.iter().enumerate() {
         if p == "retract" || p == "position" {
             assert!(*d == 0.0, "row {k}: {p} deflected {d}");

@@ -308,3 +308,21 @@ fn scan_ideal_with(
         .unwrap_or_else(|e| panic!("{e}: {o:?}"));
     (o.status.code(), serde_json::from_str(&text).unwrap())
 }
+
+/// A trace's rows as (phase, deflection magnitude in mm).
+pub fn trace_deflections(trace: &str) -> Vec<(String, f64)> {
+    let mut lines = trace.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (phase, dx, dy, dz) = (col("phase"), col("dx_mm"), col("dy_mm"), col("dz_mm"));
+    lines
+        .map(|line| {
+            let f: Vec<&str> = line.split(',').collect();
+            let d: f64 = [dx, dy, dz]
+                .iter()
+                .map(|&k| f[k].parse::<f64>().unwrap().powi(2))
+                .sum();
+            (f[phase].to_string(), d.sqrt())
+        })
+        .collect()
+}

@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 
-use crate::math::{Point3, Vec3};
+use crate::math::{Mat3, Point3, Vec3};
 
 /// One design point of a section: position and outward normal (part frame).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -383,6 +383,19 @@ fn visible_step(
 }
 
 impl Correction {
+    /// The rigid part of the correction in the part frame, `(R, t)`: its
+    /// turn about the section plane's normal and its translation, so that
+    /// a point `p` moves to `R p + t` but for the scales and the offset
+    /// (which change the section's size, not where it stands).
+    pub fn rigid(&self) -> (Mat3, Vec3) {
+        let [_, tx, ty, rot, ..] = self.params;
+        let f = &self.frame;
+        let axis = nalgebra::Unit::new_normalize(f.plane_normal());
+        let r = *nalgebra::Rotation3::from_axis_angle(&axis, rot).matrix();
+        let shift = f.e1 * tx + f.e2 * ty;
+        (r, f.c.coords - r * f.c.coords + shift)
+    }
+
     /// The corrected design point.
     pub fn apply(&self, d: &DesignPoint) -> DesignPoint {
         let [h, tx, ty, rot, s, sx, sy] = self.params;
@@ -514,5 +527,39 @@ mod tests {
             let moved = c.apply(&design[0]).point - design[0].point;
             assert!((moved - shift).norm() < 0.02, "radius {radius}: {moved:?}");
         }
+    }
+
+    /// A turn of 3 degrees about a tilted section plane's normal and a
+    /// translation in it: the rigid part moves every design point where
+    /// the correction does (no scale, no offset), and keeps points on the
+    /// plane's normal through the centroid turning about it.
+    #[test]
+    fn the_rigid_part_moves_points_as_the_correction_does() {
+        let normal = Vec3::new(0.2, -0.1, 1.0).normalize();
+        let e = any_perp(normal);
+        let design: Vec<DesignPoint> = (0..12)
+            .map(|k| {
+                let a = k as f64 * 0.5;
+                let radial = e * a.cos() + normal.cross(&e) * (2.0 * a).sin();
+                DesignPoint {
+                    point: Point3::new(5.0, -3.0, 7.0) + radial * 20.0,
+                    normal: radial.normalize(),
+                }
+            })
+            .collect();
+        let c = Correction {
+            model: Model::Rigid,
+            max_residual_mm: 0.0,
+            points: design.len(),
+            frame: Frame::of(&design, normal),
+            params: [0.0, 0.7, -1.3, 3f64.to_radians(), 0.0, 0.0, 0.0],
+        };
+        let (r, t) = c.rigid();
+        for d in &design {
+            let by_rigid = r * d.point.coords + t;
+            assert!((by_rigid - c.apply(d).point.coords).norm() < 1e-12);
+        }
+        let turn = r * normal;
+        assert!((turn - normal).norm() < 1e-12, "{turn:?}");
     }
 }

@@ -11,6 +11,7 @@ pub mod correction;
 pub mod design_memo;
 pub mod feature;
 pub mod learned;
+pub mod moved;
 pub mod prepared;
 pub mod reach;
 pub mod record;
@@ -48,6 +49,23 @@ pub struct CurveCtx<'c> {
     pub free: Option<&'c dyn FreeSpace>,
 }
 
+impl CurveCtx<'_> {
+    /// This context with the free space `free` in place of its own.
+    pub fn with_free<'d>(&'d mut self, free: Option<&'d dyn FreeSpace>) -> CurveCtx<'d> {
+        CurveCtx {
+            cmm: &mut *self.cmm,
+            probe: self.probe,
+            pose: self.pose,
+            plane_normal: self.plane_normal,
+            settings: self.settings,
+            modes: self.modes,
+            supervisor: self.supervisor,
+            learned: self.learned.clone(),
+            free,
+        }
+    }
+}
+
 /// Corrections learned per (feature name, curve index), carried from part
 /// to part.
 pub type LearnedSet = Vec<((String, usize), Learned)>;
@@ -68,6 +86,15 @@ impl Learned {
         match self {
             Learned::Geometric(c) => design.iter().map(|d| c.apply(d)).collect(),
             Learned::Replaced(pts) => pts.clone(),
+        }
+    }
+
+    /// The rigid part of the correction (part frame, see
+    /// [`Correction::rigid`]); `None` for design data replaced.
+    pub fn rigid(&self) -> Option<(crate::math::Mat3, Vec3)> {
+        match self {
+            Learned::Geometric(c) => Some(c.rigid()),
+            Learned::Replaced(_) => None,
         }
     }
 

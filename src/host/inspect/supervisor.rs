@@ -3,6 +3,7 @@
 //! points (flag 0) or an autonomous correction (flag 1, or when no simple
 //! model fits); a bounded number of autonomous corrections.
 use super::correction::{fit_correction, section_curvature, DesignPoint, Touches};
+use super::moved::{in_moved, leave_moved, moved_by, RigidMap};
 use super::prepared::{scan_speed, PreparedScan, ScanInputs};
 use super::record::{AttemptMode, CorrectionReport};
 use super::{CurveCtx, CurveResult};
@@ -31,6 +32,11 @@ pub struct SupervisorOptions {
     /// points further apart than this many pitches lost contact in
     /// between (the stretch is unmeasured), dimensionless.
     pub max_gap_pitches: f64,
+    /// A section that its corrections found moved by more than this (mm)
+    /// is left by rising to the clearance height through its moved free
+    /// space: a route from inside it planned round the design's section
+    /// could strike its walls.
+    pub leave_moved_mm: f64,
 }
 
 impl Default for SupervisorOptions {
@@ -41,6 +47,7 @@ impl Default for SupervisorOptions {
             touch_points: 16,
             touch_search_mm: 6.0,
             max_gap_pitches: 4.0,
+            leave_moved_mm: 0.25,
         }
     }
 }
@@ -79,27 +86,50 @@ pub fn scan_curve(
     res
 }
 
+/// [`corrections`], then out of the section when they found it moved.
 fn correcting(
     ctx: &mut CurveCtx,
-    mut design: Vec<DesignPoint>,
+    design: Vec<DesignPoint>,
     closed: bool,
     kind: ScanKind,
     res: &mut CurveResult,
 ) {
+    // Where the corrections found the section standing: the free space
+    // of the moves to its scans goes with it.
+    let mut moved = None;
+    let design = corrections(ctx, (design, &mut moved), closed, kind, res);
+    if let Some(map) = moved {
+        leave_moved(ctx, (map, &design), res);
+    }
+}
+
+/// The attempts and corrections of the method; returns the design data
+/// of the last attempt, and leaves in `moved` the motion the corrections
+/// found.
+fn corrections(
+    ctx: &mut CurveCtx,
+    (mut design, moved): (Vec<DesignPoint>, &mut Option<RigidMap>),
+    closed: bool,
+    kind: ScanKind,
+    res: &mut CurveResult,
+) -> Vec<DesignPoint> {
     let mut flag = 0;
     let mut autonomous = 0;
     if let Some(learned) = ctx.learned.clone() {
         design = learned.apply(&design);
         res.corrections.push(learned.report());
+        *moved = moved_by(ctx, &learned, *moved);
     }
     // Whether the design in hand is the points of an autonomous scan of
     // this part that completed (and are the feature's points until a
     // design-value scan completes).
     let mut measured_autonomously = false;
     loop {
-        let outcome = design_attempt(ctx, &design, closed, kind, res);
+        let outcome = in_moved(ctx, *moved, |c| {
+            design_attempt(c, &design, closed, kind, res)
+        });
         if outcome == Outcome::Completed || !correctable(outcome) {
-            return;
+            return design;
         }
         if measured_autonomously {
             // The design-value scan cannot follow even the surface as
@@ -111,11 +141,14 @@ fn correcting(
                 "measured by the autonomous scan: the design-value scan failed on its points too"
                     .into(),
             );
-            return;
+            return design;
         }
         if flag == 0 {
-            if let Some(corrected) = geometric(ctx, &design, res) {
+            if let Some(corrected) = in_moved(ctx, *moved, |c| geometric(c, &design, res)) {
                 design = corrected;
+                if let Some(learned) = res.learned.clone() {
+                    *moved = moved_by(ctx, &learned, *moved);
+                }
                 flag = 1;
                 continue;
             }
@@ -123,15 +156,15 @@ fn correcting(
         if autonomous >= ctx.supervisor.max_autonomous {
             res.notes
                 .push(format!("gave up after {autonomous} autonomous corrections"));
-            return;
+            return design;
         }
         autonomous += 1;
-        match autonomous_design(ctx, &design, closed, res) {
+        match in_moved(ctx, *moved, |c| autonomous_design(c, &design, closed, res)) {
             Some(new_design) => {
                 design = new_design;
                 measured_autonomously = true;
             }
-            None => return,
+            None => return design,
         }
         flag = 0;
     }
