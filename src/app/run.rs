@@ -8,7 +8,7 @@ use std::time::Instant;
 
 use super::SimulatedPart;
 use crate::evaluate::feature::feature_report;
-use crate::evaluate::nominal::point_reports;
+use crate::evaluate::nominal::{point_reports, Section};
 use crate::evaluate::truth::{fill_true_deviations_on, Frames, Truth};
 use crate::host::calibrate::file::{ProbeCalError, ProbeCalibration};
 use crate::host::compensated::Compensated;
@@ -151,13 +151,13 @@ pub(super) fn run_variant(
     let faces: Vec<Vec<usize>> = m.measured.iter().map(|mf| mf.faces.clone()).collect();
     let mut features: Vec<FeatureReport> = (aligned.features.iter().zip(m.measured))
         .map(|(f, mf)| {
-            // A section scan's fit is compared with the design's section.
+            // A section scan's points lie in its plane, and its fit is
+            // compared with the design's section.
             let section = match f {
-                Feature::Section {
+                Feature::Section { plane, fit, .. } => Some(Section {
                     plane,
-                    fit: Some(_),
-                    ..
-                } => Some(plane),
+                    fitted: fit.is_some(),
+                }),
                 _ => None,
             };
             let points = (mf.results.iter())

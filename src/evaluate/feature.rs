@@ -59,11 +59,20 @@ fn deviation_report(
         .iter()
         .flat_map(|r| r.notes.iter().cloned())
         .collect();
-    if status == Verdict::Incomplete && on_surface == 0 && !points.is_empty() {
+    let off_section = points.iter().filter(|p| p.off_section).count();
+    if status == Verdict::Incomplete && on_surface == 0 && off_section == 0 && !points.is_empty() {
         notes.push(format!(
             "not evaluated: each of the {} measured points lies on an edge of the design \
              (the ball rolled over it), so none has a deviation",
             points.len()
+        ));
+    }
+    if off_section > 0 {
+        notes.push(format!(
+            "{off_section} of the {} points lie off the section plane by more than {} mm \
+             (the probe's contact could not be held in the plane there): left out",
+            points.len(),
+            crate::evaluate::nominal::OFF_SECTION_MM
         ));
     }
     if status == Verdict::Incomplete && notes.is_empty() {
@@ -170,6 +179,7 @@ mod tests {
             deviation_mm: 0.001,
             true_deviation_mm: 0.001,
             edge,
+            off_section: false,
             in_section: None,
         };
         let measured = || MeasuredFeature {

@@ -209,6 +209,7 @@ mod tests {
             deviation_mm: 0.0,
             true_deviation_mm: 0.0,
             edge,
+            off_section: false,
             in_section: None,
         }
     }
@@ -231,6 +232,7 @@ mod tests {
                 deviation_mm: 0.0,
                 true_deviation_mm: 0.0,
                 edge: false,
+                off_section: false,
                 in_section: None,
             })
             .collect()

@@ -56,6 +56,14 @@ pub struct PointReport {
     /// out of the feature's deviations, verdict and fit.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub edge: bool,
+    /// A section scan's point that lies off the section plane by more than
+    /// [`super::nominal::OFF_SECTION_MM`]: a point of the surface, but not
+    /// of the section (the ball touching a wall beyond a concave corner
+    /// it could not reach in the plane, or where the stylus could not
+    /// hold its contact in the plane): left out of the feature's
+    /// deviations, verdict and fit as an edge point is.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub off_section: bool,
     /// For a section scan's point, the design section's point next to
     /// `nominal` (in the section plane, [`super::section_point`]): the
     /// fitted element's nominal is fitted to these. Not reported.
@@ -66,7 +74,7 @@ pub struct PointReport {
 impl PointReport {
     /// Whether the point counts for the feature's deviations and fit.
     pub fn on_surface(&self) -> bool {
-        !self.edge
+        !self.edge && !self.off_section
     }
 }
 

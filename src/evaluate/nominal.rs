@@ -25,6 +25,12 @@ use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 /// points of one scan between threads.
 pub const CHUNK_POINTS: usize = 32;
 
+/// A section scan's point farther than this (mm) from the section plane
+/// is not a point of the section ([`PointReport::off_section`]): the
+/// plane hold keeps a scanning contact within a few micrometres of the
+/// plane, swinging up to 10 um past it as it takes over.
+pub const OFF_SECTION_MM: f64 = 0.01;
+
 /// Deviation of every measured point (machine frame, `pose` maps the part
 /// to the machine) from the nominal surfaces `faces`. A point whose foot
 /// cannot be found is left out.
@@ -181,7 +187,7 @@ fn on_boundary(wp: &Workpiece, nominal: &FaceProjection) -> bool {
 pub fn point_reports(
     workpiece: &Workpiece,
     pose: &Pose,
-    (faces, section): (&[usize], Option<&Plane>),
+    (faces, section): (&[usize], Option<Section>),
     points: &[Measured],
 ) -> Vec<PointReport> {
     let faces = FeatureFaces::new(workpiece, faces);
@@ -195,6 +201,17 @@ pub fn point_reports(
         })
         .collect();
     chunks.concat()
+}
+
+/// The plane of a section scan's points (part frame), and whether the
+/// feature fits an element to them (its points then get their design
+/// section points, [`PointReport::in_section`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Section<'a> {
+    /// The section plane.
+    pub plane: &'a Plane,
+    /// Whether the feature fits an element.
+    pub fitted: bool,
 }
 
 /// The faces a feature's points are measured against.
@@ -248,7 +265,7 @@ pub fn feature_foot(
 fn point_report(
     wp: &Workpiece,
     pose: &Pose,
-    (faces, section): (FeatureFaces, Option<&Plane>),
+    (faces, section): (FeatureFaces, Option<Section>),
     m: &Measured,
     (hints, ball_hint): &mut (Hints, Option<FootHint>),
 ) -> Option<PointReport> {
@@ -264,10 +281,12 @@ fn point_report(
     let at = on_edge.as_ref().unwrap_or(&nominal);
     let seam = || over_a_face(wp, ball.1) && continues_smoothly(wp, at);
     let edge = beyond_edge(wp, &nominal, p) || (turned && !seam());
+    let off_section = section.is_some_and(|s| s.plane.signed_distance(p).abs() > OFF_SECTION_MM);
     // Only points on the surface take part in the fit.
-    let in_section = section.filter(|_| !edge).and_then(|s| {
+    let fitted = section.filter(|s| s.fitted && !edge && !off_section);
+    let in_section = fitted.and_then(|s| {
         let face = wp.faces.get(nominal.face)?;
-        onto_section(&face.surface, nominal.projection.uv, s).map(Into::into)
+        onto_section(&face.surface, nominal.projection.uv, s.plane).map(Into::into)
     });
     let nominal = nominal.projection;
     Some(PointReport {
@@ -277,6 +296,7 @@ fn point_report(
         deviation_mm: nominal.signed_distance,
         true_deviation_mm: f64::NAN,
         edge,
+        off_section,
         in_section,
     })
 }

@@ -65,6 +65,7 @@ mod tests {
             deviation_mm: 0.1,
             true_deviation_mm: -2.5e-7,
             edge: false,
+            off_section: false,
             in_section: None,
         };
         let mut fields = String::new();

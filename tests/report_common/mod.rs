@@ -33,6 +33,7 @@ fn point(nominal: [f64; 3], normal: [f64; 3], dev: f64, true_dev: f64) -> PointR
         deviation_mm: dev,
         true_deviation_mm: true_dev,
         edge: false,
+        off_section: false,
         in_section: None,
     }
 }
