@@ -60,7 +60,7 @@ fn deviation_report(
         .flat_map(|r| r.notes.iter().cloned())
         .collect();
     let off_section = points.iter().filter(|p| p.off_section).count();
-    if status == Verdict::Incomplete && on_surface == 0 && off_section == 0 && !points.is_empty() {
+    if status == Verdict::Incomplete && on_surface == 0 && !points.is_empty() {
         notes.push(format!(
             "not evaluated: each of the {} measured points lies on an edge of the design \
              (the ball rolled over it), so none has a deviation",
@@ -70,7 +70,7 @@ fn deviation_report(
     if off_section > 0 {
         notes.push(format!(
             "{off_section} of the {} points lie off the section plane by more than {} mm \
-             (the probe's contact could not be held in the plane there): left out",
+             (the probe's contact could not be held in the plane there): fits leave them out",
             points.len(),
             crate::evaluate::nominal::OFF_SECTION_MM
         ));

@@ -60,7 +60,7 @@ fn kind(e: FitElement) -> (ElementKind, &'static str) {
 /// point has one, to the design section's point next to it
 /// ([`PointReport::in_section`]).
 pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> {
-    let points: Vec<&PointReport> = points.iter().filter(|p| p.on_surface()).collect();
+    let points: Vec<&PointReport> = points.iter().filter(|p| p.in_fit()).collect();
     let measured: Vec<Point3> = points.iter().map(|p| Point3::from(p.measured)).collect();
     let nominal: Vec<Point3> = (points.iter())
         .map(|p| Point3::from(p.in_section.unwrap_or(p.nominal)))

@@ -60,8 +60,8 @@ pub struct PointReport {
     /// [`super::nominal::OFF_SECTION_MM`]: a point of the surface, but not
     /// of the section (the ball touching a wall beyond a concave corner
     /// it could not reach in the plane, or where the stylus could not
-    /// hold its contact in the plane): left out of the feature's
-    /// deviations, verdict and fit as an edge point is.
+    /// hold its contact in the plane): its deviation is the surface's
+    /// there and counts, but it is left out of the feature's fit.
     #[serde(skip_serializing_if = "std::ops::Not::not")]
     pub off_section: bool,
     /// For a section scan's point, the design section's point next to
@@ -74,7 +74,13 @@ pub struct PointReport {
 impl PointReport {
     /// Whether the point counts for the feature's deviations and fit.
     pub fn on_surface(&self) -> bool {
-        !self.edge && !self.off_section
+        !self.edge
+    }
+
+    /// Whether the point takes part in the feature's fit: on the surface
+    /// and, for a section scan, in the section.
+    pub fn in_fit(&self) -> bool {
+        self.on_surface() && !self.off_section
     }
 }
 

@@ -26,7 +26,8 @@ use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 pub const CHUNK_POINTS: usize = 32;
 
 /// A section scan's point farther than this (mm) from the section plane
-/// is not a point of the section ([`PointReport::off_section`]): the
+/// is not a point of the section ([`PointReport::off_section`], left out
+/// of the fit; its deviation is the surface's there and counts): the
 /// plane hold keeps a scanning contact within a few micrometres of the
 /// plane, swinging up to 10 um past it as it takes over.
 pub const OFF_SECTION_MM: f64 = 0.01;
