@@ -175,24 +175,9 @@ fn corner_arc(a: &DesignPoint, b: &DesignPoint, axis: Vec3, step_deg: f64) -> Ve
     // neighbour lies on the edge already.
     let first = ((c - a.point).norm() > EDGE_SAME_MM).then(|| on_edge(a.normal));
     let last = ((c - b.point).norm() > EDGE_SAME_MM).then(|| on_edge(b.normal));
-    // The normals turn from one face's to the other's on the great
-    // circle between them: with faces inclined to the plane (a fillet's,
-    // a chamfer's) the ball centre leaves the one face's height above the
-    // plane for the other's along the arc, not in a step at its end.
-    let (ua, ub) = (
-        nalgebra::Unit::new_normalize(a.normal),
-        nalgebra::Unit::new_normalize(b.normal),
-    );
-    let inner = (1..steps).map(move |i| {
-        let t = i as f64 / steps as f64;
-        let n = ua.try_slerp(&ub, t, 1e-12).map_or_else(
-            || {
-                let rot = nalgebra::Rotation3::from_axis_angle(&axis, turn * t);
-                rot * a.normal
-            },
-            |u| u.into_inner(),
-        );
-        on_edge(n)
+    let inner = (1..steps).map(|i| {
+        let rot = nalgebra::Rotation3::from_axis_angle(&axis, turn * i as f64 / steps as f64);
+        on_edge(rot * a.normal)
     });
     first.into_iter().chain(inner).chain(last).collect()
 }
