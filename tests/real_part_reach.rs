@@ -716,3 +716,32 @@ fn a_small_bore_tilted_under_a_small_ball_is_checked_all_round() {
         "{text}"
     );
 }
+
+/// CTC 05 placed 266 mm along x, touched on its end face at part x =
+/// -263.5 with a 3 mm ball: the approach starts 5 mm out, at machine x =
+/// -4, beyond the travel's 0. `cmm check` says so, not that the part is
+/// in the way; placed 9 mm further along x, the same touch is
+/// reachable.
+#[test]
+fn a_touch_whose_approach_starts_beyond_the_travel_says_so() {
+    let dir = tempfile::tempdir().unwrap();
+    let program = |x: f64| {
+        json!({
+            "format": "cmm-program/1", "name": "end-face",
+            "workpiece": arg(&repo("workpieces/nist-ctc05.stp")),
+            "placement": { "translate_mm": [x, 400, 0], "rotate_deg": [0, 0, 0] },
+            "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 100 },
+            "features": [ { "name": "end-face", "type": "touch_points",
+                "points_mm": [[-263.525, 0, 40]], "tolerance_mm": [-0.05, 0.05] } ] })
+    };
+    let near = write_program(dir.path(), &program(266.0));
+    let check = cmm(&["check", &near]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(3), "{text}");
+    assert!(text.contains("lies outside the machine's travel"), "{text}");
+    assert!(!text.contains("clear of the part"), "{text}");
+    let inside = write_program(dir.path(), &program(275.0));
+    let check = cmm(&["check", &inside]);
+    let text = String::from_utf8_lossy(&check.stdout);
+    assert_eq!(check.status.code(), Some(0), "{text}");
+}

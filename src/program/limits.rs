@@ -167,7 +167,7 @@ pub(super) fn check_start(
         return Ok(());
     }
     let reason = format!(
-        "the run would start with the ball at ({:.1}, {:.1}, {:.1}) mm and the stylus top at z = {:.1} mm \
+        "the run would start with the ball at ({:.3}, {:.3}, {:.3}) mm and the stylus top at z = {:.3} mm \
          ({START_CLEARANCE_MM} mm over the part), outside the machine's travel {lo:?} .. {hi:?} mm: \
          move the part or use a shorter stylus ($.probe.stylus_length_mm = {} mm)",
         ball.x, ball.y, ball.z, stylus_top.z, program.probe.stylus_length_mm

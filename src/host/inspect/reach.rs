@@ -8,7 +8,9 @@
 use std::fmt;
 
 use super::correction::DesignPoint;
-use crate::host::modes::{approach_standoff, route_from_above, FreeSpace, HostProbe, ModeOptions};
+use crate::host::modes::{
+    approach_standoff, mount_reachable, route_from_above, FreeSpace, HostProbe, ModeOptions,
+};
 use crate::math::Point3;
 use crate::program::Pose;
 use crate::seam::ProbePart;
@@ -42,6 +44,10 @@ pub enum Unreachable {
         /// centre at the start, when one would (a stylus too short for a
         /// deep hole: the body stands in the part there).
         blocked_by: Option<ProbePart>,
+        /// Whether the probe mount would stand outside the machine's
+        /// travel with the ball centre at the start (no route can reach
+        /// it, whatever the part).
+        out_of_travel: bool,
     },
     /// No point of the section can be touched: the stretch is narrower
     /// than the ball, or walls beside it stand in the ball's way.
@@ -59,7 +65,18 @@ impl fmt::Display for Unreachable {
                 ball.y,
                 ball.z
             ),
-            Unreachable::NoRoute { start, blocked_by } => {
+            Unreachable::NoRoute {
+                start,
+                out_of_travel: true,
+                ..
+            } => write!(
+                f,
+                "the start ({:.3}, {:.3}, {:.3}) lies outside the machine's travel (the probe mount would stand beyond it)",
+                start.x, start.y, start.z
+            ),
+            Unreachable::NoRoute {
+                start, blocked_by, ..
+            } => {
                 write!(
                     f,
                     "no route from the clearance height to the start ({:.3}, {:.3}, {:.3}) is clear of the part",
@@ -238,6 +255,7 @@ impl Reach<'_> {
             false => Err(Unreachable::NoRoute {
                 start,
                 blocked_by: self.free.posture(at),
+                out_of_travel: !mount_reachable(at - self.probe.probe_vector, self.modes),
             }),
         }
     }

@@ -16,7 +16,7 @@ pub use autonomous::{
 pub use direct::{approach_standoff, direct_move, FreeSpace, MoveStop};
 pub use motion::{approach_to, move_through, move_to, recover, reposition, Tracker};
 pub use park::park;
-pub use route::route_from_above;
+pub use route::{mount_reachable, route_from_above};
 pub use scan::{design_value_scan, scan_start, ScanKind, ScanPlan, ScanTargets};
 pub use touch::{touch_point, touch_start};
 

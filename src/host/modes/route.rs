@@ -124,7 +124,7 @@ pub fn grid_point(p: Point3, grid: f64) -> Point3 {
 /// Whether the probe mount at `mount` (machine coordinates) lies inside
 /// the machine's travel ([`ModeOptions::travel_mm`]; anywhere when it is
 /// not known): a route whose waypoint the machine cannot reach is no route.
-fn mount_reachable(mount: Point3, opts: &ModeOptions) -> bool {
+pub fn mount_reachable(mount: Point3, opts: &ModeOptions) -> bool {
     opts.travel_mm
         .is_none_or(|(lo, hi)| (0..3).all(|k| (lo[k]..=hi[k]).contains(&mount[k])))
 }
