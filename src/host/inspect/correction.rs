@@ -220,13 +220,18 @@ const CORNER_COS: f64 = 0.866_025_403_784_438_6;
 pub fn fit_correction(
     touches: Touches,
     plane_normal: Vec3,
-    threshold_mm: f64,
+    (threshold_mm, residual_share): (f64, f64),
 ) -> Option<Correction> {
     let frame = Frame::of(touches.design, plane_normal);
+    // A model must leave at most `residual_share` of the largest gap it
+    // corrects: one that leaves the error where it was (an offset fitted
+    // to a hole moved sideways by less than the threshold) explains
+    // nothing, and the rescan would stop where the scan stopped.
+    let limit = threshold_mm.min(residual_share * largest_gap(touches, frame));
     let fits = |menu: &[Model], keep: &dyn Fn(Model) -> Option<Correction>| {
         menu.iter().find_map(|&model| {
             let c = keep(model)?;
-            (c.max_residual_mm <= threshold_mm).then_some(c)
+            (c.max_residual_mm <= limit).then_some(c)
         })
     };
     fits(&Model::MENU, &|model| fit_model(touches, frame, model)).or_else(|| {
@@ -234,6 +239,21 @@ pub fn fit_correction(
             fit_inliers(touches, frame, (model, threshold_mm))
         })
     })
+}
+
+/// The largest gap of the touch points to the design data before any
+/// correction, mm.
+fn largest_gap(touches: Touches, frame: Frame) -> f64 {
+    let none = Correction {
+        model: Model::Offset,
+        max_residual_mm: 0.0,
+        points: touches.len(),
+        frame,
+        params: [0.0; 7],
+    };
+    (0..touches.len())
+        .filter_map(|i| touches.gap(&none, i))
+        .fold(0.0, |m, g| m.max(g.abs()))
 }
 
 /// The models fitted without outliers: the part moved as a whole (a
@@ -473,11 +493,19 @@ mod tests {
     /// meet the moved circle (solved here in closed form). The correction
     /// is the translation (0, 4.5) with residuals of micrometres, not the
     /// t^2 / 2R a gap to each point's tangent would leave (0.56 mm on the
-    /// bore, past a 0.25 mm threshold).
+    /// bore, past a 0.25 mm threshold). Moved 0.2 mm, less than the
+    /// threshold, the offset (which leaves all 0.2 mm of the error) is no
+    /// correction: the translation is.
     #[test]
     fn a_circle_moved_sideways_is_corrected_by_its_translation() {
-        let shift = Vec3::new(0.0, 4.5, 0.0);
-        for (radius, inward) in [(18.0f64, true), (31.0, false)] {
+        let cases = [
+            (4.5, 18.0f64, true),
+            (4.5, 31.0, false),
+            (0.2, 18.0, true),
+            (0.2, 3.5, true),
+        ];
+        for (shift_y, radius, inward) in cases {
+            let shift = Vec3::new(0.0, shift_y, 0.0);
             let n = 64;
             let design: Vec<DesignPoint> = (0..n)
                 .map(|k| {
@@ -517,7 +545,7 @@ mod tests {
                 curvature: &curvature,
                 measured: &measured,
             };
-            let c = fit_correction(touches, Vec3::z(), 0.25).expect("a correction");
+            let c = fit_correction(touches, Vec3::z(), (0.25, 0.5)).expect("a correction");
             assert_eq!(c.model, Model::Translation, "radius {radius}: {c:?}");
             assert!(
                 c.max_residual_mm < 0.02,

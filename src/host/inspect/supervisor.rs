@@ -22,6 +22,11 @@ pub struct SupervisorOptions {
     /// A geometric correction is accepted when every touch point lies within
     /// this distance of the corrected design data, mm.
     pub geometric_threshold_mm: f64,
+    /// ... and its largest residual is at most this share of the touch
+    /// points' largest gap to the design data before it (a correction
+    /// that leaves the error where it was explains nothing),
+    /// dimensionless.
+    pub geometric_residual_share: f64,
     /// Autonomous corrections allowed per curve before giving up.
     pub max_autonomous: usize,
     /// Touch points per geometric correction (spread by arc length).
@@ -43,6 +48,7 @@ impl Default for SupervisorOptions {
     fn default() -> Self {
         SupervisorOptions {
             geometric_threshold_mm: 0.25,
+            geometric_residual_share: 0.5,
             max_autonomous: 2,
             touch_points: 16,
             touch_search_mm: 6.0,
@@ -347,11 +353,9 @@ fn geometric(
         curvature: &curvature,
         measured: &measured,
     };
-    let fit = fit_correction(
-        touches,
-        ctx.plane_normal,
-        ctx.supervisor.geometric_threshold_mm,
-    );
+    let sup = &ctx.supervisor;
+    let limits = (sup.geometric_threshold_mm, sup.geometric_residual_share);
+    let fit = fit_correction(touches, ctx.plane_normal, limits);
     let Some(c) = fit else {
         res.notes.push(if touched.is_empty() {
             format!("none of the {} touch points could be measured", picks.len())
