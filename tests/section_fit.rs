@@ -51,15 +51,13 @@ fn a_circle_on_a_sphere_cut_above_its_equator_is_compared_with_the_design_sectio
     assert!((nominal - design).abs() < 1e-7, "{fit}");
     let centre_z = fit["nominal"]["center"][2].as_f64().unwrap();
     assert!((centre_z - 8.0).abs() < 1e-7, "{fit}");
-    // The points are held in the plane to a few hundredths of a
-    // micrometre (0.03 um below it moves this diameter by 0.05 um), and
-    // the swing past the plane as the hold takes over is not recorded.
+    // The points wander across the plane by micrometres as the hold
+    // follows the sphere (1 um below it moves this diameter by 1.6 um);
+    // the fit takes each along the surface into the plane, so the fitted
+    // circle is the true section's to a few nanometres.
     let size = fit["size_deviation_mm"].as_f64().unwrap();
-    assert!((size - (truth - design)).abs() < 1e-4, "{fit}");
-    assert!(
-        fit["measured"]["form_mm"].as_f64().unwrap() < 0.002,
-        "{fit}"
-    );
+    assert!((size - (truth - design)).abs() < 1e-5, "{fit}");
+    assert!(fit["measured"]["form_mm"].as_f64().unwrap() < 1e-4, "{fit}");
     // 0.0324 mm over the 0.03 allowed: the feature fails (compared with
     // the design's circle 0.016 mm below the plane it passed, 0.0069).
     assert_eq!(fit["status"], "fail", "{fit}");

@@ -181,6 +181,7 @@ mod tests {
             edge,
             off_section: false,
             in_section: None,
+            measured_in_section: None,
         };
         let measured = || MeasuredFeature {
             results: vec![CurveResult {

@@ -61,7 +61,9 @@ fn kind(e: FitElement) -> (ElementKind, &'static str) {
 /// ([`PointReport::in_section`]).
 pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> {
     let points: Vec<&PointReport> = points.iter().filter(|p| p.in_fit()).collect();
-    let measured: Vec<Point3> = points.iter().map(|p| Point3::from(p.measured)).collect();
+    let measured: Vec<Point3> = (points.iter())
+        .map(|p| Point3::from(p.measured_in_section.unwrap_or(p.measured)))
+        .collect();
     let nominal: Vec<Point3> = (points.iter())
         .map(|p| Point3::from(p.in_section.unwrap_or(p.nominal)))
         .collect();
@@ -211,6 +213,7 @@ mod tests {
             edge,
             off_section: false,
             in_section: None,
+            measured_in_section: None,
         }
     }
 
@@ -234,6 +237,7 @@ mod tests {
                 edge: false,
                 off_section: false,
                 in_section: None,
+                measured_in_section: None,
             })
             .collect()
     }

@@ -69,6 +69,11 @@ pub struct PointReport {
     /// fitted element's nominal is fitted to these. Not reported.
     #[serde(skip)]
     pub in_section: Option<[f64; 3]>,
+    /// For a section scan's point, `measured` taken along the surface
+    /// into the section plane ([`super::section_point::slide_into`]): the
+    /// measured element is fitted to these. Not reported.
+    #[serde(skip)]
+    pub measured_in_section: Option<[f64; 3]>,
 }
 
 impl PointReport {

@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::model::PointReport;
-use super::section_point::onto_section;
+use super::section_point::{onto_section, slide_into};
 use crate::geometry::Plane;
 use crate::host::modes::Measured;
 use crate::math::{Point3, Vec3};
@@ -289,6 +289,10 @@ fn point_report(
         let face = wp.faces.get(nominal.face)?;
         onto_section(&face.surface, nominal.projection.uv, s.plane).map(Into::into)
     });
+    let measured_in_section = fitted
+        .filter(|_| in_section.is_some())
+        .and_then(|s| slide_into(p, nominal.projection.normal, s.plane))
+        .map(Into::into);
     let nominal = nominal.projection;
     Some(PointReport {
         measured: p.into(),
@@ -299,5 +303,6 @@ fn point_report(
         edge,
         off_section,
         in_section,
+        measured_in_section,
     })
 }

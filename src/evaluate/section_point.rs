@@ -23,6 +23,22 @@ pub const ON_PLANE_MM: f64 = 1e-10;
 /// point is kept.
 pub const MIN_SECTION_SLOPE: f64 = 0.1;
 
+/// The point of a surface through `p` (outward unit normal `normal`
+/// there) in `plane`, reached from `p` along the surface: the step along
+/// the plane normal's share of the tangent plane, `t = m - (m . n) n`,
+/// that zeroes the plane distance `e`, `p - t e / |t|^2` (first order: off
+/// the surface by the curvature times the step squared, nanometres for
+/// the micrometres a scan's point lies off its plane). A fitted element
+/// then sees the section, not a scan's wander across the plane on a
+/// sloped face. `None` where the surface runs along the plane
+/// ([`MIN_SECTION_SLOPE`]).
+pub fn slide_into(p: Point3, normal: Vec3, plane: &Plane) -> Option<Point3> {
+    let m = plane.normal();
+    let t = m - normal * m.dot(&normal);
+    let k = t.norm_squared();
+    (k >= MIN_SECTION_SLOPE * MIN_SECTION_SLOPE).then(|| p - t * (plane.signed_distance(p) / k))
+}
+
 /// Newton steps allowed to reach the plane (each at least doubles the
 /// correct digits from a start micrometres off it).
 pub const MAX_SECTION_STEPS: usize = 8;

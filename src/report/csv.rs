@@ -67,6 +67,7 @@ mod tests {
             edge: false,
             off_section: false,
             in_section: None,
+            measured_in_section: None,
         };
         let mut fields = String::new();
         push_point_fields(&mut fields, &point);

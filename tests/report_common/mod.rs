@@ -35,6 +35,7 @@ fn point(nominal: [f64; 3], normal: [f64; 3], dev: f64, true_dev: f64) -> PointR
         edge: false,
         off_section: false,
         in_section: None,
+        measured_in_section: None,
     }
 }
 
