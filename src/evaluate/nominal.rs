@@ -32,9 +32,6 @@ pub const CHUNK_POINTS: usize = 32;
 /// plane, swinging up to 10 um past it as it takes over.
 pub const OFF_SECTION_MM: f64 = 0.01;
 
-/// Deviation of every measured point (machine frame, `pose` maps the part
-/// to the machine) from the nominal surfaces `faces`. A point whose foot
-/// cannot be found is left out.
 /// A point whose nominal point lies on an edge of its face (the trim or
 /// the surface's boundary) and whose measured normal (the ball's
 /// deflection, part frame) turns from the face's normal there by more than
@@ -185,6 +182,11 @@ fn on_boundary(wp: &Workpiece, nominal: &FaceProjection) -> bool {
             .is_some_and(|t| t.distance(uv) <= ON_BOUNDARY_UV)
 }
 
+/// Deviation of every measured point (machine frame, `pose` maps the part
+/// to the machine) from the nominal surfaces `faces`; for a section scan
+/// (`section`), which points lie off its plane and, when the feature fits
+/// an element, each point's design and measured section points. A point
+/// whose foot cannot be found is left out.
 pub fn point_reports(
     workpiece: &Workpiece,
     pose: &Pose,
