@@ -95,21 +95,8 @@ fn points_on_a_seam_behind_the_nominal_wall_are_not_edge_points() {
             "points_mm": [[5, 18, 0], [5, -18, 0], [27, 18, 0], [27, -18, 0]],
             "surfaces": ["face3", "face18"], "tolerance_mm": [-1.0, 1.3] } ] });
     let prog = common::write_program(dir.path(), "flange-seam.json", &program);
-    let out = dir.path().join("out");
-    let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
-        .args([
-            "scan",
-            prog.to_str().unwrap(),
-            "--ideal",
-            "--quiet",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    assert_eq!(run.status.code(), Some(1), "{run:?}");
-    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let (code, report) = common::scan_ideal(&prog, &dir.path().join("out"));
+    assert_eq!(code, Some(1), "{report}");
     let points = report["features"][0]["points"].as_array().unwrap();
     assert_eq!(points.len(), 4);
     for p in points {

@@ -5,8 +5,6 @@
 //! cut by the plane; the nominal element is the design section's.
 mod common;
 
-use std::process::Command;
-
 use common::repo;
 use serde_json::Value;
 
@@ -30,20 +28,7 @@ fn a_circle_on_a_sphere_cut_above_its_equator_is_compared_with_the_design_sectio
             "surfaces": ["sphere"], "tolerance_mm": [-0.05, 0.05],
             "fit": { "element": "circle", "size_mm": [-0.03, 0.03] } } ] });
     let prog = common::write_program(dir.path(), "sphere-z8.json", &program);
-    let out = dir.path().join("out");
-    let run = Command::new(env!("CARGO_BIN_EXE_cmm"))
-        .args([
-            "scan",
-            prog.to_str().unwrap(),
-            "--ideal",
-            "--quiet",
-            "--out",
-        ])
-        .arg(&out)
-        .output()
-        .unwrap();
-    let text = std::fs::read_to_string(out.join("report.json")).unwrap();
-    let report: Value = serde_json::from_str(&text).unwrap();
+    let (code, report) = common::scan_ideal(&prog, &dir.path().join("out"));
     let fit = &report["features"][0]["fit"];
     let design = 2.0 * (12.5_f64 * 12.5 - 64.0).sqrt();
     let truth = 2.0 * (12.52_f64 * 12.52 - 64.0).sqrt();
@@ -61,7 +46,7 @@ fn a_circle_on_a_sphere_cut_above_its_equator_is_compared_with_the_design_sectio
     // 0.0324 mm over the 0.03 allowed: the feature fails (compared with
     // the design's circle 0.016 mm below the plane it passed, 0.0069).
     assert_eq!(fit["status"], "fail", "{fit}");
-    assert_eq!(run.status.code(), Some(1), "{run:?}");
+    assert_eq!(code, Some(1), "{report}");
 }
 
 /// The sphere set up 0.6 mm off its design place along x (past the 0.3
