@@ -289,6 +289,7 @@ impl<'a> SimulatedCmm<'a> {
             status
         };
         self.servo.read_scales_into(&mut self.rng, &mut self.scales);
+        let d = self.probe.within_range(d);
         // The sensor turns with the head: its gain acts in the probe's frame.
         let deflection = if self.turned {
             let turn = self.mount.rotation;

@@ -26,7 +26,10 @@ pub struct TrueProbe {
     /// Friction coefficient: tangential drag = mu x normal deflection,
     /// against the motion.
     pub friction: f64,
-    /// Mechanical range of the stylus, mm; beyond it the machine halts.
+    /// Mechanical range of the stylus, mm: beyond it the machine reports
+    /// the probe over its range, and the stylus, held at its stop, gives
+    /// way on its crash protection (a kinematic seat), so the sensor reads
+    /// no more than the range however far the machine runs on.
     pub max_deflection_mm: f64,
     /// The stylus shaft and the probe body.
     pub shape: ProbeShape,
@@ -116,6 +119,19 @@ impl TrueProbe {
             .try_normalize(1e-9)
             .map_or(Vec3::zeros(), |t| -t * (self.friction * depth));
         n * depth + drag
+    }
+
+    /// The deflection `d` the sensor sees: `d` itself within the stylus's
+    /// mechanical range, else `d` shortened to the range (the stylus at
+    /// its stop, its seat given way).
+    #[inline]
+    pub fn within_range(&self, d: Vec3) -> Vec3 {
+        let range = self.max_deflection_mm;
+        if d.norm_squared() <= range * range {
+            d
+        } else {
+            d * (range / d.norm())
+        }
     }
 
     /// The sensor's noise-free response to a true deflection `d` (gain,

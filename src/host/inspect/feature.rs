@@ -103,17 +103,14 @@ pub fn measure_feature(
                         press_mm: settings.deflection_mm,
                         ..r
                     });
-                    let (verdict, reversed) =
-                        reach.map_or((Ok(()), false), |r| r.curve_either_way(&design, c.closed));
+                    let (verdict, order) =
+                        reach.map_or((Ok(()), None), |r| r.curve_either_way(&design, c.closed));
                     let warning = match verdict {
                         Err(u @ Unreachable::NoRoute { .. }) => return not_measured(u),
                         Err(u) => Some(format!("{u}")),
                         Ok(()) => None,
                     };
-                    let mut design = design.to_vec();
-                    if reversed {
-                        design.reverse();
-                    }
+                    let mut design = order.unwrap_or_else(|| design.to_vec());
                     // A probe that strikes the part somewhere along the
                     // curve: the scan starts where it measures the
                     // longest clear stretch before the collision stop.

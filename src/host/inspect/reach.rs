@@ -123,25 +123,38 @@ impl Reach<'_> {
             .try_for_each(|d| self.scanning_posture(d))
     }
 
-    /// [`Reach::curve`] of a scan that may run either way: an open curve
+    /// [`Reach::curve`] of a scan that may start elsewhere: an open curve
     /// whose start has no clear route (it begins in a concave corner, the
     /// ball a few tenths of a millimetre from the wall it meets) while its
-    /// end has one is scanned from its end. The verdict, and whether the
-    /// curve is to be scanned reversed.
+    /// end has one is scanned from its end; a closed curve whose start has
+    /// none (under an overhang that covers part of it) from the first of
+    /// [`CLOSED_STARTS`] points evenly round it that has one. The verdict,
+    /// and the design points in the order to scan them when that is not
+    /// their own.
     pub fn curve_either_way(
         &self,
         design: &[DesignPoint],
         closed: bool,
-    ) -> (Result<(), Unreachable>, bool) {
+    ) -> (Result<(), Unreachable>, Option<Vec<DesignPoint>>) {
         let forward = self.curve(design);
-        if closed || !matches!(forward, Err(Unreachable::NoRoute { .. })) {
-            return (forward, false);
+        if !matches!(forward, Err(Unreachable::NoRoute { .. })) {
+            return (forward, None);
         }
-        let back: Vec<DesignPoint> = design.iter().rev().copied().collect();
-        match self.curve(&back) {
-            Err(Unreachable::NoRoute { .. }) => (forward, false),
-            other => (other, true),
+        let others: Vec<Vec<DesignPoint>> = match closed {
+            true => (1..CLOSED_STARTS)
+                .map(|k| k * design.len() / CLOSED_STARTS)
+                .filter(|&i| i > 0 && i < design.len())
+                .map(|i| rotated(design, i))
+                .collect(),
+            false => vec![design.iter().rev().copied().collect()],
+        };
+        for order in others {
+            match self.curve(&order) {
+                Err(Unreachable::NoRoute { .. }) => continue,
+                other => return (other, Some(order)),
+            }
         }
+        (forward, None)
     }
 
     /// Where a scan along `design` whose probe strikes the part somewhere
@@ -154,12 +167,7 @@ impl Reach<'_> {
     pub fn clearest_order(&self, design: &[DesignPoint], closed: bool) -> Option<Vec<DesignPoint>> {
         let clear = self.clear_marks(design);
         let order: Vec<DesignPoint> = if closed {
-            let start = longest_circular_run(&clear)?;
-            design[start..]
-                .iter()
-                .chain(&design[..start])
-                .copied()
-                .collect()
+            rotated(design, longest_circular_run(&clear)?)
         } else {
             let ahead = clear.iter().take_while(|c| **c).count();
             let back = clear.iter().rev().take_while(|c| **c).count();
@@ -259,6 +267,17 @@ impl Reach<'_> {
             }),
         }
     }
+}
+
+/// How many starts round a closed curve are tried for one with a clear
+/// route (its own first and the points dividing it into this many
+/// stretches).
+const CLOSED_STARTS: usize = 16;
+
+/// The closed curve `design` started at its point `start`.
+fn rotated(design: &[DesignPoint], start: usize) -> Vec<DesignPoint> {
+    let (a, b) = design.split_at(start.min(design.len()));
+    b.iter().chain(a).copied().collect()
 }
 
 /// The first index of the longest run of `true` in `marks` taken as a

@@ -181,6 +181,12 @@ pub struct ModeOptions {
     pub trigger_mm: f64,
     /// Below this deflection the stylus counts as out of contact, mm.
     pub contact_mm: f64,
+    /// In a move that does not measure (positioning, retract), a
+    /// deflection above this is the ball striking the part, mm: about 20
+    /// times what a free probe reads (its noise, about 0.1 um), so a ball
+    /// that grazes a wall by a few micrometres is reported as a collision,
+    /// as a controller's unexpected-contact check does.
+    pub strike_mm: f64,
     /// A retract off the surface ends once the deflection reads below
     /// this, mm: the stylus has left the surface (a free probe reads its
     /// noise only, about 0.1 um), so the move that follows starts clear.
@@ -320,6 +326,7 @@ impl Default for ModeOptions {
             min_standoff_mm: 0.01,
             trigger_mm: 0.3,
             contact_mm: 0.02,
+            strike_mm: 0.002,
             free_mm: 5e-4,
             free_travel_mm: 5.0,
             over_deflection_mm: 0.8,

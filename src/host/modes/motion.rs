@@ -805,7 +805,7 @@ fn inside_travel(mount: Point3, opts: &ModeOptions) -> Point3 {
 
 /// The ball's collision watch of a move that does not measure: once the
 /// stylus is free (at the start, or after backing off a surface), any
-/// deflection above the contact threshold is a collision of the ball.
+/// deflection above [`ModeOptions::strike_mm`] is a collision of the ball.
 /// Approaches (contact expected) are not watched.
 struct Guard {
     free: bool,
@@ -814,7 +814,7 @@ struct Guard {
 impl Guard {
     fn new(tr: &Tracker, opts: &ModeOptions) -> Guard {
         Guard {
-            free: tr.deflection() < opts.contact_mm,
+            free: tr.deflection() < opts.strike_mm,
         }
     }
 
@@ -824,7 +824,7 @@ impl Guard {
         tr: &mut Tracker,
         opts: &ModeOptions,
     ) -> Result<(), Outcome> {
-        let touching = tr.deflection() >= opts.contact_mm;
+        let touching = tr.deflection() >= opts.strike_mm;
         // Watched from the cycle a lift-off turns into a retract.
         let watching = matches!(tr.phase, Phase::Position | Phase::Retract);
         if watching && self.free && touching {

@@ -78,7 +78,11 @@ pub fn plan_route(
 }
 
 /// [`plan_route`] from where the probe came free, `here` (a point the
-/// measurement decides): first from the nearest point of the planning grid
+/// measurement decides): straight to a target within the standoff when
+/// that is clear (between the touch points of a hole, a detour by the
+/// grid or an entry point would take the ball towards the wall, where a
+/// part set up off its design meets it); else first from the nearest
+/// point of the planning grid
 /// ([`ModeOptions::plan_grid_mm`]) with a first leg to it from `here`
 /// (clear with the route's margin), so that the checks of the route's
 /// legs are the same for every part of a batch whose probe comes free
@@ -94,6 +98,9 @@ pub fn plan_route_from(
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Option<Route> {
+    if let Some(route) = straight(free, here, target, opts) {
+        return Some(route);
+    }
     let home = grid_point(here, opts.plan_grid_mm);
     let via_home = (home != here).then(|| {
         let route = plan_route(free, (home, probe_vector), target, approach, opts)?;
@@ -108,6 +115,25 @@ pub fn plan_route_from(
         .or_else(|| plan_route(free, (here, probe_vector), target, approach, opts))
         .or_else(|| escape::plan_route_out(free, (here, probe_vector), target, approach, opts))
         .or_else(|| escape::plan_route_back(free, (here, probe_vector), target, approach, opts))
+}
+
+/// The straight move from `here` to a `target` within the standoff, when
+/// it is clear (with the full margin, else the tight one).
+fn straight(
+    free: &dyn FreeSpace,
+    here: Point3,
+    target: Point3,
+    opts: &ModeOptions,
+) -> Option<Route> {
+    if (here - target).norm() > opts.standoff_mm {
+        return None;
+    }
+    [false, true].into_iter().find_map(|tight| {
+        free.segment_clear_with(here, target, tight).then(|| Route {
+            waypoints: vec![target],
+            tight,
+        })
+    })
 }
 
 /// The point of the grid of spacing `grid` (mm) nearest to `p`; `p` itself
@@ -359,5 +385,21 @@ mod tests {
         let route =
             plan(&free, (here, Vec3::zeros()), target, Vec3::x(), &opts()).expect("a route");
         assert_eq!(route.len(), 2, "{route:?}");
+    }
+
+    /// Between two touch points inside a hole (their starts 0.2 mm apart,
+    /// 2 mm from the axis of a 3 mm hole), the move is the straight one:
+    /// by the grid point (1 mm from the axis here the nearest is 2.24 mm
+    /// from it) or an entry point the ball would swing towards the wall.
+    #[test]
+    fn goes_straight_between_near_starts_in_a_hole() {
+        let free = Slab { r_hole: 3.0 };
+        let here = Point3::new(2.0, 0.3, 5.3);
+        let target = Point3::new(1.95, 0.5, 5.3);
+        let approach = Vec3::new(-1.0, -0.25, 0.0).normalize();
+        let route = plan_route_from(&free, (here, Vec3::zeros()), target, approach, &opts())
+            .expect("a route");
+        assert_eq!(route.waypoints, vec![target]);
+        assert!(!route.tight);
     }
 }

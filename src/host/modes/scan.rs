@@ -9,11 +9,14 @@ use super::touch::{finish, line_start, LINE_GAIN};
 use super::{reposition, Attempt, FreeSpace, HostProbe, ModeOptions, Outcome, Tracker};
 use crate::host::observe::{Machine, Phase};
 use crate::host::path::{
-    BallPath, PathLocation, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan,
+    round_the_loop, BallPath, PathLocation, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions,
+    SpeedPlan,
 };
 use crate::math::{Point3, Vec3};
 
+mod closed;
 mod settle;
+use closed::closed_run;
 use settle::Settling;
 
 /// Passive or active design-value scanning.
@@ -256,7 +259,15 @@ fn active(
     };
     let stall_cycles = (opts.stall_s / dt).ceil() as usize;
     let mut mark = (0.0f64, 0usize);
-    let mut settling = Settling::new(t.plane_normal.is_some(), path.is_closed());
+    let closed = path.is_closed();
+    let (ramp, run_out) = if closed {
+        closed_run(speeds, a)
+    } else {
+        (0.0, 0.0)
+    };
+    let seamless = closed.then(|| round_the_loop(speeds, a));
+    let speeds = seamless.as_deref().unwrap_or(speeds);
+    let mut settling = Settling::new(t.plane_normal.is_some(), closed, ramp);
     for cycle in 0..opts.max_cycles {
         let a0 = tr.ball_undeflected();
         here = path
@@ -268,7 +279,8 @@ fn active(
         } else if cycle - mark.1 > stall_cycles {
             return Err(Outcome::TrajectoryError);
         }
-        let remaining = length + overrun(path, settling.at, progress) - progress;
+        let recorded_end = length + overrun(path, settling.at, progress);
+        let remaining = recorded_end + run_out - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
             return Ok(());
         }
@@ -280,8 +292,8 @@ fn active(
             return Err(Outcome::TrajectoryError);
         }
         let brake = (2.0 * a * remaining.max(0.0)).sqrt();
-        let s_plan = if progress > length {
-            progress - length
+        let s_plan = if closed {
+            progress.rem_euclid(length.max(f64::MIN_POSITIVE))
         } else {
             progress
         };
@@ -311,7 +323,11 @@ fn active(
             let e = plane_offset(tr, (p, n_path), m, t.deflection_mm)?;
             Some((e, n_path.dot(&m).abs() >= HOLD_INCLINED_MIN))
         };
-        if settling.update(progress, offset) {
+        // A closed scan's loop ends where it began recording: its last
+        // point lies at least half a pitch before its first (one nearer
+        // would all but repeat it).
+        let recording = !closed || progress < recorded_end - 0.5 * t.pitch_mm;
+        if settling.update(progress, offset) && recording {
             tr.sample(t.pitch_mm);
         }
     }

@@ -46,7 +46,7 @@ pub use options::{ClosestOptions, EndCondition, PathOptions};
 pub use pcc::{CubicSegment, MAX_QUAD_PANELS};
 pub use profile::{MotionProfile, MotionSample};
 pub use radius::chord_angle_radius;
-pub use speed::{SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan};
+pub use speed::{round_the_loop, SegmentSpeed, SegmentSpeeds, SpeedError, SpeedOptions, SpeedPlan};
 
 /// Why a ball-centre path could not be built or queried.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]

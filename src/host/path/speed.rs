@@ -263,6 +263,43 @@ fn joint_speeds(path: &BallPath, v_max: &[f64], a_tan: f64) -> Vec<f64> {
     w
 }
 
+/// The segment speeds `segments` of a closed path run round and round:
+/// the joint where the path closes at the smaller top speed of the
+/// segments that meet there (not at rest, as a plan that starts and ends
+/// there has it), and the tangential-acceleration passes (`a_tan`,
+/// mm/s^2) carried on across it. What a scan that passes its start at
+/// speed follows; the machine's own speed still starts from rest.
+pub fn round_the_loop(segments: &[SegmentSpeed], a_tan: f64) -> Vec<SegmentSpeed> {
+    let n = segments.len();
+    let top = |i: usize| segments.get(i % n).map_or(0.0, |g| g.v_max_mm_s);
+    let ds = |i: usize| segments.get(i % n).map_or(0.0, |g| g.s_end - g.s_start);
+    // Joint j is the start of segment j (mod n).
+    let mut w: Vec<f64> = (0..n).map(|j| top(j + n - 1).min(top(j))).collect();
+    let reach = |from: f64, i: usize| (from * from + 2.0 * a_tan * ds(i)).sqrt();
+    // Twice round each way carries every limit across the seam.
+    for k in 0..2 * n {
+        let (j, next) = (k % n, (k + 1) % n);
+        let limit = w.get(j).map_or(0.0, |&v| reach(v, j));
+        if let Some(v) = w.get_mut(next) {
+            *v = v.min(limit);
+        }
+    }
+    for k in (0..2 * n).rev() {
+        let (j, next) = (k % n, (k + 1) % n);
+        let limit = w.get(next).map_or(0.0, |&v| reach(v, j));
+        if let Some(v) = w.get_mut(j) {
+            *v = v.min(limit);
+        }
+    }
+    (segments.iter().enumerate())
+        .map(|(i, g)| SegmentSpeed {
+            v_start_mm_s: w.get(i).copied().unwrap_or(0.0),
+            v_end_mm_s: w.get((i + 1) % n).copied().unwrap_or(0.0),
+            ..*g
+        })
+        .collect()
+}
+
 fn segment_speed(
     path: &BallPath,
     i: usize,
