@@ -102,7 +102,8 @@ fn the_first_strike_ends_a_geometric_correction() {
 }
 
 /// The measured speed (mm/s) of the first trace row of a positioning move
-/// whose deflection reaches the ball guard's contact threshold (0.02 mm).
+/// whose deflection reaches the ball guard's strike threshold (0.002 mm,
+/// `ModeOptions::strike_mm`).
 fn strike_speed(trace: &str) -> Option<f64> {
     let mut lines = trace.lines();
     let header: Vec<&str> = lines.next()?.split(',').collect();
@@ -120,5 +121,5 @@ fn strike_speed(trace: &str) -> Option<f64> {
     };
     lines
         .map(|l| l.split(',').collect::<Vec<_>>())
-        .find_map(|f| (f[phase] == "position" && norm(&f, d) >= 0.02).then(|| norm(&f, v)))
+        .find_map(|f| (f[phase] == "position" && norm(&f, d) >= 0.002).then(|| norm(&f, v)))
 }

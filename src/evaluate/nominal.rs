@@ -13,7 +13,7 @@
 use rayon::prelude::*;
 
 use super::model::PointReport;
-use super::section_point::{onto_section, slide_into};
+use super::section_point::{onto_section, slide_error, slide_into, SLIDE_ERROR_MM};
 use crate::geometry::Plane;
 use crate::host::modes::Measured;
 use crate::math::{Point3, Vec3};
@@ -25,11 +25,15 @@ use crate::workpiece::{FaceProjection, FootHint, Workpiece};
 /// points of one scan between threads.
 pub const CHUNK_POINTS: usize = 32;
 
-/// A section scan's point farther than this (mm) from the section plane
-/// is not a point of the section ([`PointReport::off_section`], left out
-/// of the fit; its deviation is the surface's there and counts): the
-/// plane hold keeps a scanning contact within a few micrometres of the
-/// plane, swinging up to 10 um past it as it takes over.
+/// A section scan's point farther than this (mm) from the section plane,
+/// whose slide along the surface into the plane would leave the surface
+/// by more than [`SLIDE_ERROR_MM`], is not a point of the section
+/// ([`PointReport::off_section`], left out of the fit; its deviation is
+/// the surface's there and counts): the plane hold keeps a scanning
+/// contact within a few micrometres of the plane, swinging up to 10 um
+/// past it as it takes over. A wall square to the plane of a part set up
+/// off its design is touched off the plane by the ball's radius times
+/// the tilt, and slides into it exactly.
 pub const OFF_SECTION_MM: f64 = 0.01;
 
 /// A point whose nominal point lies on an edge of its face (the trim or
@@ -265,6 +269,21 @@ pub fn feature_foot(
     wp.closest_point_tracked(p, listed, &mut hints.faces).ok()
 }
 
+/// Whether the section scan's point `p` (part frame, its nominal point
+/// `nominal`) lies off `plane` farther than [`OFF_SECTION_MM`] and than
+/// its slide along the surface into the plane can take it.
+fn off_the_section(wp: &Workpiece, nominal: &FaceProjection, p: Point3, plane: &Plane) -> bool {
+    let e = plane.signed_distance(p);
+    if e.abs() <= OFF_SECTION_MM {
+        return false;
+    }
+    let Some(face) = wp.faces.get(nominal.face) else {
+        return true;
+    };
+    let at = (nominal.projection.uv, nominal.projection.normal);
+    slide_error(&face.surface, at.0, at.1, (plane, e)).is_none_or(|err| err > SLIDE_ERROR_MM)
+}
+
 fn point_report(
     wp: &Workpiece,
     pose: &Pose,
@@ -284,7 +303,7 @@ fn point_report(
     let at = on_edge.as_ref().unwrap_or(&nominal);
     let seam = || over_a_face(wp, ball.1) && continues_smoothly(wp, at);
     let edge = beyond_edge(wp, &nominal, p) || (turned && !seam());
-    let off_section = section.is_some_and(|s| s.plane.signed_distance(p).abs() > OFF_SECTION_MM);
+    let off_section = section.is_some_and(|s| off_the_section(wp, &nominal, p, s.plane));
     // Only points on the surface take part in the fit.
     let fitted = section.filter(|s| s.fitted && !edge && !off_section);
     let in_section = fitted.and_then(|s| {
