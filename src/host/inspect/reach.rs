@@ -140,15 +140,16 @@ impl Reach<'_> {
         if !matches!(forward, Err(Unreachable::NoRoute { .. })) {
             return (forward, None);
         }
-        let others: Vec<Vec<DesignPoint>> = match closed {
-            true => (1..CLOSED_STARTS)
-                .map(|k| k * design.len() / CLOSED_STARTS)
-                .filter(|&i| i > 0 && i < design.len())
-                .map(|i| rotated(design, i))
-                .collect(),
-            false => vec![design.iter().rev().copied().collect()],
+        let starts = match closed {
+            true => 1..CLOSED_STARTS,
+            false => 0..1,
         };
-        for order in others {
+        let n = design.len();
+        for k in starts.filter(|&k| !closed || k * n / CLOSED_STARTS > 0) {
+            let order: Vec<DesignPoint> = match closed {
+                true => rotated(design, k * n / CLOSED_STARTS),
+                false => design.iter().rev().copied().collect(),
+            };
             match self.curve(&order) {
                 Err(Unreachable::NoRoute { .. }) => continue,
                 other => return (other, Some(order)),

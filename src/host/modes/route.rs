@@ -98,7 +98,7 @@ pub fn plan_route_from(
     approach: Vec3,
     opts: &ModeOptions,
 ) -> Option<Route> {
-    if let Some(route) = straight(free, here, target, opts) {
+    if let Some(route) = straight(free, (here, probe_vector), target, opts) {
         return Some(route);
     }
     let home = grid_point(here, opts.plan_grid_mm);
@@ -117,15 +117,17 @@ pub fn plan_route_from(
         .or_else(|| escape::plan_route_back(free, (here, probe_vector), target, approach, opts))
 }
 
-/// The straight move from `here` to a `target` within the standoff, when
-/// it is clear (with the full margin, else the tight one).
+/// The straight move from `here` to a `target` within the standoff and
+/// the machine's travel, when it is clear (with the full margin, else the
+/// tight one).
 fn straight(
     free: &dyn FreeSpace,
-    here: Point3,
+    (here, probe_vector): (Point3, Vec3),
     target: Point3,
     opts: &ModeOptions,
 ) -> Option<Route> {
-    if (here - target).norm() > opts.standoff_mm {
+    let near = (here - target).norm() <= opts.standoff_mm;
+    if !near || !mount_reachable(target - probe_vector, opts) {
         return None;
     }
     [false, true].into_iter().find_map(|tight| {

@@ -271,6 +271,9 @@ fn joint_speeds(path: &BallPath, v_max: &[f64], a_tan: f64) -> Vec<f64> {
 /// speed follows; the machine's own speed still starts from rest.
 pub fn round_the_loop(segments: &[SegmentSpeed], a_tan: f64) -> Vec<SegmentSpeed> {
     let n = segments.len();
+    if n == 0 {
+        return Vec::new();
+    }
     let top = |i: usize| segments.get(i % n).map_or(0.0, |g| g.v_max_mm_s);
     let ds = |i: usize| segments.get(i % n).map_or(0.0, |g| g.s_end - g.s_start);
     // Joint j is the start of segment j (mod n).
@@ -417,5 +420,45 @@ mod tests {
             }
         }
         assert!(limited > 500, "{limited} limited segments");
+    }
+
+    /// Four segments round a loop, the first slow (a tight corner after
+    /// the seam): the seam's joint takes the first segment's top speed,
+    /// the last segment brakes into it over its own length
+    /// (`sqrt(v^2 + 2 a ds)` before it), and no joint asks for more than
+    /// the tangential acceleration allows between its neighbours.
+    #[test]
+    fn a_loop_runs_through_its_seam_at_speed() {
+        let seg = |s0: f64, s1: f64, v: f64| SegmentSpeed {
+            s_start: s0,
+            s_end: s1,
+            r_curv_mm: 1.0,
+            r_angle_mm: 1.0,
+            r_eff_mm: 1.0,
+            v_max_mm_s: v,
+            v_start_mm_s: 0.0,
+            v_end_mm_s: 0.0,
+        };
+        let a = 500.0;
+        let segs = [
+            seg(0.0, 2.0, 20.0),
+            seg(2.0, 12.0, 60.0),
+            seg(12.0, 22.0, 60.0),
+            seg(22.0, 23.0, 60.0),
+        ];
+        let out = round_the_loop(&segs, a);
+        assert_eq!(out[0].v_start_mm_s, 20.0);
+        assert_eq!(out[3].v_end_mm_s, 20.0);
+        let before = (20.0f64 * 20.0 + 2.0 * a * 1.0).sqrt();
+        assert!((out[3].v_start_mm_s - before).abs() < 1e-9, "{out:?}");
+        assert!((out[2].v_end_mm_s - before).abs() < 1e-9);
+        for (g, next) in out.iter().zip(out.iter().cycle().skip(1)) {
+            let ds = g.s_end - g.s_start;
+            assert!(g.v_end_mm_s <= (g.v_start_mm_s.powi(2) + 2.0 * a * ds).sqrt() + 1e-9);
+            assert!(g.v_start_mm_s <= (g.v_end_mm_s.powi(2) + 2.0 * a * ds).sqrt() + 1e-9);
+            assert!(g.v_start_mm_s <= g.v_max_mm_s && g.v_end_mm_s <= g.v_max_mm_s);
+            assert_eq!(g.v_end_mm_s, next.v_start_mm_s);
+        }
+        assert!(round_the_loop(&[], a).is_empty());
     }
 }
