@@ -156,10 +156,12 @@ fn a_closed_section_records_neither_its_run_up_nor_its_braking() {
 /// The bore (radius 25 mm) set up turned 1 degree about x and cut at
 /// z = 10 with a 6 mm ball: the ball centre runs in the plane, so it
 /// touches the leaning wall up to 3 sin 1 = 0.052 mm above or below it.
-/// Those points slide along the wall's straight lines into the plane
-/// exactly, so none is left out of the fit, and the circle fitted is the
-/// one through the true section, an ellipse of half-axes 25 and
-/// 25 / cos 1: diameter 25 + 25 / cos 1 within a micrometre.
+/// Those points slide along the design wall's straight lines into the
+/// plane (their error from the true wall's lean, the offset times the
+/// tilt, under a micrometre), so none is left out of the fit, and the
+/// circle fitted is the one through the true section, an ellipse of
+/// half-axes 25 and 25 / cos 1: diameter 25 + 25 / cos 1 within a
+/// micrometre.
 #[test]
 fn a_leaning_wall_touched_off_the_plane_stays_in_the_fit() {
     let dir = tempfile::tempdir().unwrap();

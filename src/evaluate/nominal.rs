@@ -33,7 +33,8 @@ pub const CHUNK_POINTS: usize = 32;
 /// contact within a few micrometres of the plane, swinging up to 10 um
 /// past it as it takes over. A wall square to the plane of a part set up
 /// off its design is touched off the plane by the ball's radius times
-/// the tilt, and slides into it exactly.
+/// the tilt, and slides into it along the design's wall (off the true
+/// section by that offset times the tilt).
 pub const OFF_SECTION_MM: f64 = 0.01;
 
 /// A point whose nominal point lies on an edge of its face (the trim or

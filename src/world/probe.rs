@@ -28,7 +28,7 @@ pub struct TrueProbe {
     pub friction: f64,
     /// Mechanical range of the stylus, mm: beyond it the machine reports
     /// the probe over its range, and the stylus, held at its stop, gives
-    /// way on its crash protection (a kinematic seat), so the sensor reads
+    /// way on its crash protection (a kinematic seat), so the sensor sees
     /// no more than the range however far the machine runs on.
     pub max_deflection_mm: f64,
     /// The stylus shaft and the probe body.

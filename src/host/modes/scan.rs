@@ -16,7 +16,7 @@ use crate::math::{Point3, Vec3};
 
 mod closed;
 mod settle;
-use closed::closed_run;
+use closed::{close_the_loop, closed_run};
 use settle::Settling;
 
 /// Passive or active design-value scanning.
@@ -282,6 +282,9 @@ fn active(
         let recorded_end = length + overrun(path, settling.at, progress);
         let remaining = recorded_end + run_out - progress;
         if remaining <= 1e-3 || (remaining < 0.05 && speed < CREEP_MM_S) {
+            if closed {
+                close_the_loop(&mut tr.points, t.pitch_mm);
+            }
             return Ok(());
         }
         let (p, tan, n_path) = path.frame(&here);
@@ -323,10 +326,8 @@ fn active(
             let e = plane_offset(tr, (p, n_path), m, t.deflection_mm)?;
             Some((e, n_path.dot(&m).abs() >= HOLD_INCLINED_MIN))
         };
-        // A closed scan's loop ends where it began recording: its last
-        // point lies at least half a pitch before its first (one nearer
-        // would all but repeat it).
-        let recording = !closed || progress < recorded_end - 0.5 * t.pitch_mm;
+        // A closed scan's loop ends where it began recording.
+        let recording = !closed || progress < recorded_end;
         if settling.update(progress, offset) && recording {
             tr.sample(t.pitch_mm);
         }
