@@ -64,8 +64,8 @@ fn deflected_runs(trace: &str) -> usize {
 /// supervisor to a geometric correction whose touch points lie in the
 /// misplaced hole's wall. The first strike ends the correction's attempt
 /// (a machine stops there): no touch after it runs into the wall again,
-/// so every deflection outside a measuring move is the one collision
-/// reported.
+/// so every deflection outside a measuring move is a collision reported
+/// (an attempt's, or the end move's out of the misplaced hole).
 #[test]
 fn the_first_strike_ends_a_geometric_correction() {
     let program = json!({
@@ -84,11 +84,19 @@ fn the_first_strike_ends_a_geometric_correction() {
     let file = write_program(dir.path(), "misplaced.json", &program);
     let (code, report, trace) = scan_ideal_traced(&file, dir.path());
     assert!(matches!(code, Some(1 | 3)), "{report}");
+    // Later routes keep off where the ball struck, so the autonomous
+    // scan reaches the misplaced hole (its route ran into the wall at the
+    // same place before) and the feature is measured, out of tolerance.
+    let f = &report["features"][0];
+    assert_eq!(f["status"], "fail", "{f}");
+    assert!(f["points"].as_array().unwrap().len() > 40, "{f}");
     let attempts = report["features"][0]["attempts"].as_array().unwrap();
-    let struck = attempts
-        .iter()
-        .filter(|a| a["outcome"] == "collision")
-        .count();
+    let ended_struck = usize::from(report["end_move"]["outcome"] == "collision");
+    let struck = ended_struck
+        + attempts
+            .iter()
+            .filter(|a| a["outcome"] == "collision")
+            .count();
     let touches = attempts.iter().find(|a| a["mode"] == "points").unwrap();
     assert_eq!(touches["outcome"], "collision", "{attempts:?}");
     assert_eq!(deflected_runs(&trace), struck, "{attempts:?}");
@@ -122,4 +130,37 @@ fn strike_speed(trace: &str) -> Option<f64> {
     lines
         .map(|l| l.split(',').collect::<Vec<_>>())
         .find_map(|f| (f[phase] == "position" && norm(&f, d) >= 0.002).then(|| norm(&f, v)))
+}
+
+/// Four touch points on CTC 05's 19.05 mm counterbore wall at z = 6 with a
+/// 12 mm stylus: the probe body (25 mm across) strikes the counterbore's
+/// top at the first. A machine stops at a crash, so the feature ends
+/// there: one attempt, a collision of the body, and a note that the three
+/// points after it were not measured (each was driven into the part in
+/// turn before).
+#[test]
+fn a_touch_that_strikes_ends_the_features_touches() {
+    let program = json!({
+        "format": "cmm-program/1", "name": "cbore-short",
+        "workpiece": arg(&repo("workpieces/nist-ctc05.stp")),
+        "placement": { "translate_mm": [400, 400, 0], "rotate_deg": [0, 0, 0] },
+        "probe": { "tip_diameter_mm": 3.0, "stylus_length_mm": 12 },
+        "features": [ { "name": "hole-z6", "type": "touch_points",
+            "points_mm": [[9.525, 222.25, 6], [0, 231.775, 6], [-9.525, 222.25, 6],
+                          [0, 212.725, 6]],
+            "surfaces": ["face25", "face26"], "tolerance_mm": [-0.05, 0.05] } ] });
+    let dir = tempfile::tempdir().unwrap();
+    let file = write_program(dir.path(), "cbore.json", &program);
+    let (code, report) = scan_ideal(&file, &dir.path().join("out"));
+    assert_eq!(code, Some(3), "{report}");
+    let f = &report["features"][0];
+    let attempts = f["attempts"].as_array().unwrap();
+    assert_eq!(attempts.len(), 1, "{attempts:?}");
+    assert_eq!(attempts[0]["outcome"], "collision");
+    assert_eq!(attempts[0]["collision"]["probe_part"], "body");
+    let notes = f["notes"].to_string();
+    assert!(
+        notes.contains("3 touch points after the collision not measured"),
+        "{notes}"
+    );
 }

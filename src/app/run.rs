@@ -19,7 +19,7 @@ use crate::host::inspect::clearance::ClearanceOptions;
 use crate::host::inspect::feature::{measure_feature, MeasuredFeature, Run};
 use crate::host::inspect::supervisor::SupervisorOptions;
 use crate::host::inspect::LearnedSet;
-use crate::host::modes::{park, FreeSpace, HostProbe, ModeOptions};
+use crate::host::modes::{park, FreeSpace, HostProbe, ModeOptions, Outcome};
 use crate::host::observe::Machine;
 use crate::host::trace::{TraceRow, TracingCmm};
 use crate::machine::{MachineModel, MachineProfile};
@@ -184,10 +184,7 @@ pub(super) fn run_variant(
         format: REPORT_FORMAT,
         program: program.name.clone(),
         seed: opts.seed,
-        status: match m.alignment.as_ref().and_then(|a| a.failed) {
-            Some(_) => Verdict::Incomplete,
-            None => overall(&features),
-        },
+        status: program_verdict(&features, m.alignment.as_ref(), &m.end_move),
         machine_time_s: m.machine_time_s,
         wall_time_s: if opts.count_load { part.load_s } else { 0.0 }
             + started.elapsed().as_secs_f64(),
@@ -436,6 +433,21 @@ fn part_to_machine(program: &Program) -> PartToMachine {
 }
 
 #[allow(clippy::too_many_arguments)]
+/// The program's verdict: incomplete when its alignment failed or its end
+/// move struck the part (a crash a batch script must see, though every
+/// feature was measured before it), else that of its features.
+fn program_verdict(
+    features: &[FeatureReport],
+    alignment: Option<&AlignmentReport>,
+    end_move: &EndMoveReport,
+) -> Verdict {
+    let failed = alignment.and_then(|a| a.failed).is_some();
+    if failed || end_move.outcome == Outcome::Collision {
+        return Verdict::Incomplete;
+    }
+    overall(features)
+}
+
 fn overall(features: &[FeatureReport]) -> Verdict {
     if features.iter().any(|f| f.status == Verdict::Incomplete) {
         Verdict::Incomplete

@@ -224,10 +224,13 @@ impl<'a> SimulatedCmm<'a> {
                 let (s, push) = self.pressed.follow(y, c.distance, c.push);
                 self.touch(s, push, velocity)
             }
-            Ok(None) => {
-                self.pressed.release();
-                Vec3::zeros()
-            }
+            Ok(None) => match self.pressed.beyond_reach(y) {
+                Some((s, push)) => self.touch(s, push, velocity),
+                None => {
+                    self.pressed.release();
+                    Vec3::zeros()
+                }
+            },
             Err(_) => {
                 self.search.reset();
                 self.pressed.release();

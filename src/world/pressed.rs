@@ -66,6 +66,20 @@ impl PressedContact {
         (distance, push)
     }
 
+    /// The signed distance and push for an undeflected ball centre
+    /// `centre` whose nearest true surface point lies beyond the contact
+    /// search's reach, when the last contact had the centre in the
+    /// material: the last contact's plane continued, while that keeps the
+    /// centre in the material. A ball cannot come out of the material by
+    /// more than the reach in one cycle, so it went deeper (a crash, the
+    /// stylus given way on its protection): a stylus driven on through
+    /// the part is not free, whatever lies beyond the search's reach.
+    pub fn beyond_reach(&self, centre: Point3) -> Option<(f64, Vec3)> {
+        let h = self.last.filter(|h| h.distance < 0.0)?;
+        let s = h.distance + (centre - h.centre).dot(&h.push);
+        (s < 0.0).then_some((s, h.push))
+    }
+
     /// Whether the last contact followed was a held one.
     pub fn holding(&self) -> bool {
         self.holding
@@ -111,6 +125,21 @@ mod tests {
         let (s, n) = web(centre);
         assert_eq!(c.follow(centre, s, n), (s, n));
         assert!(!c.holding());
+    }
+
+    /// A ball driven 0.5 mm into a wall (top at z = 0) and on, beyond the
+    /// search's reach: the wall's plane goes on (-0.5 - 3 = -3.5 mm); one
+    /// that left the material (the plane says outside), or one that was
+    /// outside when last found, is free.
+    #[test]
+    fn a_ball_driven_on_through_the_part_stays_in_it() {
+        let mut c = PressedContact::default();
+        c.follow(Point3::new(1.0, 0.0, -0.5), -0.5, Vec3::z());
+        let deeper = c.beyond_reach(Point3::new(1.0, 2.0, -3.5));
+        assert_eq!(deeper, Some((-3.5, Vec3::z())));
+        assert_eq!(c.beyond_reach(Point3::new(1.0, 0.0, 4.0)), None);
+        c.follow(Point3::new(1.0, 0.0, 0.1), 0.1, Vec3::z());
+        assert_eq!(c.beyond_reach(Point3::new(1.0, 0.0, -3.5)), None);
     }
 
     #[test]

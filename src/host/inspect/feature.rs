@@ -150,7 +150,7 @@ pub fn measure_feature(
                 complete: true,
                 ..CurveResult::default()
             };
-            for p in points {
+            for (k, p) in points.iter().enumerate() {
                 let d = DesignPoint {
                     point: p.point,
                     normal: p.normal,
@@ -169,11 +169,23 @@ pub fn measure_feature(
                     program.placement.dir_to_machine(p.normal),
                 );
                 let a = touch_point(cmm, (probe, free), m, n, 6.0, modes);
-                let ok = a.outcome == Outcome::Completed;
+                let (ok, struck) = (
+                    a.outcome == Outcome::Completed,
+                    a.outcome == Outcome::Collision,
+                );
                 let pts = a.points.clone();
                 res.record(AttemptMode::Points, a, &program.placement);
                 res.complete &= ok;
                 res.points.extend(pts);
+                // A machine stops at a crash: the points after it are not
+                // driven into the part one by one.
+                let left = points.len() - k - 1;
+                if struck && left > 0 {
+                    res.notes.push(format!(
+                        "{left} touch points after the collision not measured"
+                    ));
+                    break;
+                }
             }
             (
                 vec![res],

@@ -52,9 +52,10 @@ pub struct Tracker<'f> {
     /// free ([`ModeOptions::free_mm`]), and the options the way back
     /// after a collision moves with.
     modes: ModeOptions,
-    /// The ball's path since the measuring move left free air
-    /// ([`trail`]).
+    /// The ball's path since the measuring move left free air or the
+    /// positioning move began ([`trail`]), and the speed back along it.
     trail: Vec<Point3>,
+    trail_speed: f64,
     /// A retract asked for while the ball still touched the surface it
     /// measured: the phase turns to retract once the stylus is free.
     lift_off: bool,
@@ -80,6 +81,7 @@ impl<'f> Tracker<'f> {
             free: None,
             modes: ModeOptions::default(),
             trail: Vec::new(),
+            trail_speed: 0.0,
             lift_off: false,
         }
     }
@@ -112,9 +114,15 @@ impl<'f> Tracker<'f> {
             Phase::Approach | Phase::Touch
                 if self.phase != phase && self.deflection() < self.modes.free_mm =>
             {
-                self.start_trail(true)
+                self.start_trail(Some(self.modes.escape.retrace_speed_mm_s))
             }
-            Phase::Idle | Phase::Position => self.start_trail(false),
+            // A positioning move keeps its way too: after a strike (a
+            // part set up off its design by more than the clearance) the
+            // probe goes back along it to where the move began, not up
+            // from the strike, where the design data are no guide.
+            // At the speed it came: it ran in free air all the way.
+            Phase::Position => self.start_trail(Some(self.modes.rapid_speed_mm_s)),
+            Phase::Idle => self.start_trail(None),
             _ => {}
         }
         self.phase = phase;
@@ -152,6 +160,11 @@ impl<'f> Tracker<'f> {
             speed_mm_s,
             phase,
         });
+        if probe_part == ProbePart::Ball {
+            if let Some(free) = self.free {
+                free.note_strike(self.ball_undeflected());
+            }
+        }
         Outcome::Collision
     }
 
@@ -247,14 +260,17 @@ impl<'f> Tracker<'f> {
     /// (with free space to ask) the tight clearance margin from the design
     /// data, then to rest; during a measuring move, only
     /// [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and then back along the
-    /// move's path to where it left free air ([`trail`]). A stylus pressed
-    /// against the part in a move that does not measure comes free along
+    /// move's path to where it left free air ([`trail`]); so too during a
+    /// positioning move, back to where it began. A stylus pressed
+    /// against the part in a retract comes free along
     /// its deflection, [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and
     /// then backs out up the stylus (routes come in from above). Gives up
     /// after [`EscapeOptions::max_mm`](super::EscapeOptions::max_mm), and
     /// stops where the stylus, once free, touches the part again (backing
-    /// out of a small hole towards its far wall): the probe is not driven
-    /// on through the part.
+    /// out of a small hole towards its far wall), or out of a scan presses
+    /// [`EscapeOptions::press_mm`](super::EscapeOptions::press_mm) harder
+    /// than when the move out began without having come free (a hole the
+    /// ball all but fills): the probe is not driven on through the part.
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3, strike: Option<Point3>) {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came; off a struck shaft or body, away from it.
@@ -298,6 +314,7 @@ impl<'f> Tracker<'f> {
             if (self.ball_undeflected() - start).norm() >= self.modes.escape.max_mm {
                 break;
             }
+            let before = self.ball_undeflected();
             self.now = cmm.step(v);
             self.command = v;
             if lifting && self.deflection() < self.modes.free_mm {
@@ -305,6 +322,11 @@ impl<'f> Tracker<'f> {
                 self.enter(cmm, Phase::Retract);
             }
             let here = self.ball_undeflected();
+            if !scanning && (here - before).dot(&v) <= 0.0 {
+                // Still carried on into the part by the move that struck:
+                // pressing harder is its run-on, not the way out.
+                pressed_at = pressed_at.max(self.deflection());
+            }
             let pressing = self.deflection() > pressed_at + self.modes.escape.press_mm;
             if scanning && clear_since.is_none() && pressing {
                 // The way out runs into the part: off it instead.
@@ -312,6 +334,10 @@ impl<'f> Tracker<'f> {
                 if let Some(d) = self.now.deflection.try_normalize(1e-9) {
                     v = d * self.modes.escape.speed_mm_s;
                 }
+            } else if pressing {
+                // Off a strike in free air, into the part again (the far
+                // wall of a hole the ball all but fills): no further.
+                break;
             }
             match self.now.status {
                 MachineStatus::AxisLimit { .. } => break,
@@ -351,7 +377,7 @@ impl<'f> Tracker<'f> {
 
     /// Commands zero velocity until the scales stop moving (at most
     /// [`REST_CYCLES`] cycles).
-    fn come_to_rest(&mut self, cmm: &mut dyn Machine) {
+    pub(crate) fn come_to_rest(&mut self, cmm: &mut dyn Machine) {
         for _ in 0..REST_CYCLES {
             let before = self.now.scales;
             self.now = cmm.step(Vec3::zeros());
@@ -834,6 +860,7 @@ impl Guard {
             let moving = tr.moving;
             let outcome = tr.struck(ProbePart::Ball, at, moving.norm());
             tr.escape(cmm, moving, None);
+            tr.retrace(cmm);
             return Err(outcome);
         }
         self.free |= !touching;

@@ -97,6 +97,11 @@ pub fn design_value_scan(
         result,
         Err(Outcome::TrajectoryError | Outcome::LostContact | Outcome::OverDeflection)
     ) {
+        // The machine brakes to rest within the scan: a scan that lost
+        // the surface was pressing towards it, and its run-on (0.2 mm at
+        // 30 mm/s) belongs to the measuring move, not to the next move's
+        // collision watch.
+        tr.come_to_rest(cmm);
         tr.back_out_of_design(cmm);
     }
     let mut attempt = finish(tr, result);
@@ -370,8 +375,12 @@ fn ahead(path: &BallPath, here: &PathLocation, ds: f64) -> PathLocation {
 /// offset times `n . m` (a shifted sphere's cap: 0.1 mm). There the
 /// correction slides the ball along `q` (the contact slides along the
 /// surface) by the measured point's offset `e` across the plane from its
-/// design point, `Vc2 = -e / (q . m) q`, and carries away what
-/// `Gf Vf + Ge Ve` moves across the plane ([`plane_hold`] says when).
+/// design point, `Vc2 = -e / (q . m) q`, and carries away what `Ge Ve`
+/// moves across the plane ([`plane_hold`] says when). `Gf Vf` moves the
+/// ball along its path, whose contact stays in the plane: its part across
+/// the plane (a freeform face whose slope changes along the section) is
+/// the path's, and held back it would leave the point off the plane by
+/// that speed over `Gc` (75 um at 3 mm/s).
 fn control(
     tr: &Tracker,
     (p, a0): (Point3, Point3),
@@ -392,7 +401,11 @@ fn control(
     let vc2 = held
         .and_then(|m| {
             let e = plane_offset(tr, (p, n_path), m, ep)?;
-            let drift = along.dot(&m) / opts.gain_correction;
+            // Only the deflection loop moves the point across the plane:
+            // following the path (which climbs or falls where the
+            // surface's slope changes along the section) slides the
+            // contact along the design's section, in the plane.
+            let drift = (ve * opts.gain_deflection).dot(&m) / opts.gain_correction;
             Some(q * (-(e + drift) / q.dot(&m)))
         })
         .unwrap_or_else(|| q * (p - a0).dot(&q));
