@@ -70,33 +70,3 @@ fn a_crash_reads_no_more_than_the_stylus_range() {
     assert!(run_on > 5.0, "ran on {run_on} mm");
     assert!(widest <= 1.0 + 1e-9, "read {widest} mm");
 }
-
-/// A positioning move that strikes the part (here straight down into the
-/// pocket's floor at 100 mm/s, as a part set up off its design would be
-/// struck) goes back the way it came to where it began, where the design
-/// data's routes start from again: not up from the strike by a few
-/// millimetres, inside a hole of the true part that the design puts
-/// elsewhere, where the next route grazed its wall.
-#[test]
-fn a_strike_while_positioning_goes_back_to_where_the_move_began() {
-    let wp = block_with_pocket(25.0, 75.0, 30.0);
-    let am = AsMachined::nominal();
-    let pv = Vec3::new(0.0, 0.0, -50.0);
-    let start = Point3::new(50.0, 50.0, 60.0);
-    let mut sim = pocket_machine((&wp, &am), (pv, 1.5, 0.75), start);
-    let opts = ModeOptions::default();
-    let probe = HostProbe::nominal(pv, 1.5);
-    let mut m = Unobserved(&mut sim);
-    let mut tr = Tracker::new(&m, probe);
-    let into_floor = POCKET_POSE.to_machine(Point3::new(50.0, 50.0, 25.0));
-    let moved = move_to(&mut m, &mut tr, into_floor, 100.0, &opts);
-    assert!(moved.is_err(), "the floor was not struck");
-    assert_eq!(tr.collision.map(|c| c.probe_part), Some(ProbePart::Ball));
-    let back = POCKET_POSE.to_part(tr.ball_undeflected());
-    assert!((back - start).norm() < 0.1, "ended at {back}");
-    assert!(
-        tr.deflection() < opts.free_mm,
-        "pressed {}",
-        tr.deflection()
-    );
-}

@@ -181,8 +181,9 @@ pub fn measure_feature(
                 // driven into the part one by one.
                 let left = points.len() - k - 1;
                 if struck && left > 0 {
+                    let points = if left == 1 { "point" } else { "points" };
                     res.notes.push(format!(
-                        "{left} touch points after the collision not measured"
+                        "{left} touch {points} after the collision not measured"
                     ));
                     break;
                 }

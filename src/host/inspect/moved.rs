@@ -118,12 +118,6 @@ impl FreeSpace for Moved<'_> {
     fn way_in(&self) -> Vec<Point3> {
         self.inner.way_in()
     }
-
-    /// A strike is kept where the checks ask: in the unmoved design's
-    /// frame, as every point checked is mapped back.
-    fn note_strike(&self, ball: Point3) {
-        self.inner.note_strike(self.map.back(ball));
-    }
 }
 
 /// The motion `before` followed by the rigid part of `learned`, in

@@ -88,14 +88,6 @@ pub trait FreeSpace {
     fn way_in(&self) -> Vec<Point3> {
         Vec::new()
     }
-
-    /// Notes that the ball struck the part with its centre at `ball`
-    /// (machine coordinates) on a move the design data called clear (a
-    /// part set up off its design by more than the clearance): later
-    /// moves keep off that place. Without a memory of strikes, nothing.
-    fn note_strike(&self, ball: Point3) {
-        let _ = ball;
-    }
 }
 
 /// Fewest halvings of the standoff tried by [`approach_standoff`].

@@ -294,15 +294,8 @@ pub struct EscapeOptions {
     /// The ball goes back this far (mm) off the surface it followed, on
     /// top of the deflection it had there.
     pub retrace_clear_mm: f64,
-    /// Speed of the way back along a measuring move, mm/s; along a
-    /// positioning move, within [`Self::retrace_near_mm`] of where it
-    /// began.
+    /// Speed of the way back, mm/s.
     pub retrace_speed_mm_s: f64,
-    /// Along a positioning move the way back runs at the retrace speed
-    /// this far (mm, from where it begins: near the strike, where the way
-    /// in may have passed a wall by little), then at the rapid speed the
-    /// move came at.
-    pub retrace_near_mm: f64,
     /// A ball pressed this much harder (mm of deflection) than when the
     /// move out began has run into the part on the way out, and backs off
     /// along its deflection instead.
@@ -318,7 +311,6 @@ impl Default for EscapeOptions {
             trail_step_mm: 2.0,
             retrace_clear_mm: 0.5,
             retrace_speed_mm_s: 30.0,
-            retrace_near_mm: 10.0,
             press_mm: 0.1,
         }
     }

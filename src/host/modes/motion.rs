@@ -52,10 +52,9 @@ pub struct Tracker<'f> {
     /// free ([`ModeOptions::free_mm`]), and the options the way back
     /// after a collision moves with.
     modes: ModeOptions,
-    /// The ball's path since the measuring move left free air or the
-    /// positioning move began ([`trail`]), and the speed back along it.
+    /// The ball's path since the measuring move left free air
+    /// ([`trail`]).
     trail: Vec<Point3>,
-    trail_speed: f64,
     /// A retract asked for while the ball still touched the surface it
     /// measured: the phase turns to retract once the stylus is free.
     lift_off: bool,
@@ -81,7 +80,6 @@ impl<'f> Tracker<'f> {
             free: None,
             modes: ModeOptions::default(),
             trail: Vec::new(),
-            trail_speed: 0.0,
             lift_off: false,
         }
     }
@@ -114,15 +112,9 @@ impl<'f> Tracker<'f> {
             Phase::Approach | Phase::Touch
                 if self.phase != phase && self.deflection() < self.modes.free_mm =>
             {
-                self.start_trail(Some(self.modes.escape.retrace_speed_mm_s))
+                self.start_trail(true)
             }
-            // A positioning move keeps its way too: after a strike (a
-            // part set up off its design by more than the clearance) the
-            // probe goes back along it to where the move began, not up
-            // from the strike, where the design data are no guide.
-            // At the speed it came: it ran in free air all the way.
-            Phase::Position => self.start_trail(Some(self.modes.rapid_speed_mm_s)),
-            Phase::Idle => self.start_trail(None),
+            Phase::Idle | Phase::Position => self.start_trail(false),
             _ => {}
         }
         self.phase = phase;
@@ -160,11 +152,6 @@ impl<'f> Tracker<'f> {
             speed_mm_s,
             phase,
         });
-        if probe_part == ProbePart::Ball {
-            if let Some(free) = self.free {
-                free.note_strike(self.ball_undeflected());
-            }
-        }
         Outcome::Collision
     }
 
@@ -226,17 +213,19 @@ impl<'f> Tracker<'f> {
         }
     }
 
-    /// After a measuring move that stopped short with the ball centre
-    /// inside the design's material (the true part lies off the design by
-    /// more than the ball's radius, and the move went on through where
-    /// the design has material), backs out the way it came: off the
-    /// surface it touches ([`Self::escape`]), then back along its path to
-    /// where it left free air. Routes start there; from inside the design
-    /// none would.
+    /// After a measuring move that stopped short with the ball in the
+    /// design's material (its centre inside, or nearer the design's
+    /// surface than its radius: the true part lies off the design, and
+    /// the move went on through where the design has material, as an
+    /// approach that finds no surface does), backs out the way it came:
+    /// off the surface it touches ([`Self::escape`]), then back along its
+    /// path to where it left free air. Routes start there; from inside
+    /// the design none would.
     pub fn back_out_of_design(&mut self, cmm: &mut dyn Machine) {
+        let (b, r) = (self.ball_undeflected(), self.probe_radius());
         let inside = self
             .free
-            .is_some_and(|f| f.in_material(self.ball_undeflected()));
+            .is_some_and(|f| f.in_material(b) || f.design_foot(b).is_some_and(|(s, _)| s < r));
         if inside && self.has_trail() {
             let moving = self.moving;
             self.escape(cmm, moving, None);
@@ -252,25 +241,23 @@ impl<'f> Tracker<'f> {
     /// coordinates) in a scan, away from it across the stylus as well
     /// ([`strike::out_of_strike`]). At
     /// [`EscapeOptions::speed_mm_s`](super::EscapeOptions::speed_mm_s),
-    /// whatever the machine reports on the way (but out of a scan, a ball
-    /// pressed [`EscapeOptions::press_mm`](super::EscapeOptions::press_mm)
-    /// harder than when the move out began backs off along its deflection
-    /// instead: the way out ran into the part), until it reports the probe
+    /// whatever the machine reports on the way (but a ball pressed
+    /// [`EscapeOptions::press_mm`](super::EscapeOptions::press_mm) harder
+    /// than when the move out began, once the machine no longer runs on
+    /// from the strike, backs off along its deflection instead: the way
+    /// out ran into the part), until it reports the probe
     /// clear with the stylus free, [`EscapeOptions::clear_mm`](super::EscapeOptions::clear_mm) further and
     /// (with free space to ask) the tight clearance margin from the design
     /// data, then to rest; during a measuring move, only
     /// [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and then back along the
-    /// move's path to where it left free air ([`trail`]); so too during a
-    /// positioning move, back to where it began. A stylus pressed
-    /// against the part in a retract comes free along
+    /// move's path to where it left free air ([`trail`]). A stylus pressed
+    /// against the part in a move that does not measure comes free along
     /// its deflection, [`EscapeOptions::retrace_clear_mm`](super::EscapeOptions::retrace_clear_mm) further, and
     /// then backs out up the stylus (routes come in from above). Gives up
     /// after [`EscapeOptions::max_mm`](super::EscapeOptions::max_mm), and
     /// stops where the stylus, once free, touches the part again (backing
-    /// out of a small hole towards its far wall), or out of a scan presses
-    /// [`EscapeOptions::press_mm`](super::EscapeOptions::press_mm) harder
-    /// than when the move out began without having come free (a hole the
-    /// ball all but fills): the probe is not driven on through the part.
+    /// out of a small hole towards its far wall): the probe is not driven
+    /// on through the part.
     pub fn escape(&mut self, cmm: &mut dyn Machine, moving: Vec3, strike: Option<Point3>) {
         // Off the surface the stylus is pressed against, if it is; else
         // back the way it came; off a struck shaft or body, away from it.
@@ -328,16 +315,14 @@ impl<'f> Tracker<'f> {
                 pressed_at = pressed_at.max(self.deflection());
             }
             let pressing = self.deflection() > pressed_at + self.modes.escape.press_mm;
-            if scanning && clear_since.is_none() && pressing {
-                // The way out runs into the part: off it instead.
+            if clear_since.is_none() && pressing {
+                // The way out runs into the part (along a scanned surface,
+                // or across a hole the ball all but fills to its far
+                // wall): off it instead.
                 pressed_at = self.deflection();
                 if let Some(d) = self.now.deflection.try_normalize(1e-9) {
                     v = d * self.modes.escape.speed_mm_s;
                 }
-            } else if pressing {
-                // Off a strike in free air, into the part again (the far
-                // wall of a hole the ball all but fills): no further.
-                break;
             }
             match self.now.status {
                 MachineStatus::AxisLimit { .. } => break,
@@ -860,7 +845,6 @@ impl Guard {
             let moving = tr.moving;
             let outcome = tr.struck(ProbePart::Ball, at, moving.norm());
             tr.escape(cmm, moving, None);
-            tr.retrace(cmm);
             return Err(outcome);
         }
         self.free |= !touching;

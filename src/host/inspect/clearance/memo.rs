@@ -70,8 +70,6 @@ pub struct Remembering<'a> {
     setting: Vec<u64>,
     memo: &'a FreeSpaceMemo,
     way: RefCell<Vec<Point3>>,
-    /// Ball centres where the ball struck the part ([`FreeSpace::note_strike`]).
-    struck: RefCell<Vec<Point3>>,
 }
 
 /// Ball centres of the way in that are kept (the latest).
@@ -85,21 +83,7 @@ impl<'a> Remembering<'a> {
             inner,
             memo,
             way: RefCell::new(Vec::new()),
-            struck: RefCell::new(Vec::new()),
         }
-    }
-
-    /// Whether the ball centre's straight move from `from` to `to` keeps
-    /// off every place the ball struck the part: it comes no nearer to
-    /// one than twice the ball's radius plus the tight margin (where the
-    /// true part may stand, whatever the design says), or than it starts,
-    /// when it starts nearer (a move away from a strike is always clear).
-    fn keeps_off_strikes(&self, from: Point3, to: Point3) -> bool {
-        let keep = 2.0 * self.inner.tip_radius_mm + self.inner.opts.tight_margin_mm;
-        self.struck.borrow().iter().all(|&s| {
-            let start = (from - s).norm();
-            segment_distance(from, to, s) >= keep.min(start) - STRIKE_ROUNDING_MM
-        })
     }
 
     /// The remembered answer to `q`, else `ask`'s (then remembered).
@@ -122,21 +106,6 @@ impl<'a> Remembering<'a> {
         }
         a
     }
-}
-
-/// Slack of the strike keep-out's comparison, mm (a move that starts at
-/// its distance and runs along its sphere's tangent is not refused by
-/// rounding).
-const STRIKE_ROUNDING_MM: f64 = 1e-9;
-
-/// Least distance from `p` to the segment from `a` to `b`, mm.
-fn segment_distance(a: Point3, b: Point3, p: Point3) -> f64 {
-    let ab = b - a;
-    let t = match ab.norm_squared() {
-        l2 if l2 > 0.0 => ((p - a).dot(&ab) / l2).clamp(0.0, 1.0),
-        _ => 0.0,
-    };
-    (a + ab * t - p).norm()
 }
 
 fn bits(p: Point3) -> [u64; 3] {
@@ -170,7 +139,7 @@ impl FreeSpace for Remembering<'_> {
         let a = self.answer(q, || {
             Answer::Clear(self.inner.segment_clear_with(from, to, tight))
         });
-        a == Answer::Clear(true) && self.keeps_off_strikes(from, to)
+        a == Answer::Clear(true)
     }
 
     fn start_clear(&self, at: Point3) -> bool {
@@ -201,10 +170,6 @@ impl FreeSpace for Remembering<'_> {
 
     fn way_in(&self) -> Vec<Point3> {
         self.way.borrow().clone()
-    }
-
-    fn note_strike(&self, ball: Point3) {
-        self.struck.borrow_mut().push(ball);
     }
 
     fn body_clear(&self, ball: Point3) -> bool {
@@ -244,20 +209,4 @@ fn setting_bits(c: &PartClearance<'_>) -> Vec<u64> {
         ])
         .map(f64::to_bits)
         .collect()
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A segment along x from (0,0,0) to (10,0,0): a point over its middle
-    /// 3 away, one beyond its end (the end is nearest), a degenerate
-    /// segment (a point).
-    #[test]
-    fn distance_to_a_segment_is_to_its_nearest_point() {
-        let (a, b) = (Point3::origin(), Point3::new(10.0, 0.0, 0.0));
-        assert_eq!(segment_distance(a, b, Point3::new(5.0, 3.0, 0.0)), 3.0);
-        assert_eq!(segment_distance(a, b, Point3::new(13.0, 4.0, 0.0)), 5.0);
-        assert_eq!(segment_distance(a, a, Point3::new(0.0, 0.0, 2.0)), 2.0);
-    }
 }

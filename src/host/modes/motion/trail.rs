@@ -1,7 +1,6 @@
-//! The way back out of a measuring or positioning move after a collision:
-//! the ball's path since the move left free air (or began), kept every
-//! [`super::EscapeOptions::trail_step_mm`], each point lifted off the
-//! surface the ball then touched.
+//! The way back out of a measuring move after a collision: the ball's path
+//! since the move left free air, kept every [`super::EscapeOptions::trail_step_mm`],
+//! each point lifted off the surface the ball then touched.
 //!
 //! A scan that runs in under an overhang (the probe body under a lamp's
 //! shade, the shaft under a flange) until the probe strikes it may end
@@ -19,14 +18,12 @@ use crate::math::Point3;
 
 impl Tracker<'_> {
     /// Starts the trail at the ball's position now (a measuring move
-    /// leaves free air here, a positioning move begins here), to be gone
-    /// back along at `back_speed` (mm/s), or forgets it (`None`: a
-    /// retract, which backs out the way it came).
-    pub(super) fn start_trail(&mut self, back_speed: Option<f64>) {
+    /// leaves free air here), or forgets it (`false`: a move that does not
+    /// measure, which backs out the way it came).
+    pub(super) fn start_trail(&mut self, measuring: bool) {
         self.trail.clear();
-        if let Some(speed) = back_speed {
+        if measuring {
             self.trail.push(self.ball_undeflected());
-            self.trail_speed = speed;
         }
     }
 
@@ -87,15 +84,7 @@ impl Tracker<'_> {
             return;
         }
         self.enter(cmm, Phase::Retract);
-        // Near the strike at the retrace speed (the way in there may pass
-        // a wall by little, and a fast move cuts its corners); beyond, at
-        // the speed the move came.
-        let slow = opts.escape.retrace_speed_mm_s;
-        let near = |p: &Point3| (p - here).norm() <= opts.escape.retrace_near_mm;
-        let split = back.iter().position(|p| !near(p)).unwrap_or(back.len());
-        let (first, rest) = back.split_at(split);
-        if travel(cmm, self, first, slow, 0.0, &opts).is_ok() && !rest.is_empty() {
-            let _ = travel(cmm, self, rest, self.trail_speed.max(slow), 0.0, &opts);
-        }
+        let speed = self.modes.escape.retrace_speed_mm_s;
+        let _ = travel(cmm, self, &back, speed, 0.0, &opts);
     }
 }
