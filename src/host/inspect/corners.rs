@@ -17,6 +17,11 @@ use crate::geometry::section::SectionCurve;
 use crate::math::{Point3, Vec3};
 use crate::workpiece::Workpiece;
 
+/// A concave stretch whose bend radius is below this many ball radii is
+/// looked at point by point (the exact distance then decides): the ratio
+/// leaves room for the chord's error on a coarse curve.
+const TIGHT_BEND_RATIO: f64 = 1.1;
+
 /// How the corners are found.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CornerOptions {
@@ -57,7 +62,7 @@ pub fn reachable_points(
     r: f64,
     opts: &CornerOptions,
 ) -> Vec<DesignPoint> {
-    let near = near_corners(design, closed, r * opts.look_around_radii, opts.turn_deg);
+    let near = near_corners(design, closed, r, opts);
     let cuts = |d: &DesignPoint| {
         let ball = d.point + d.normal * r;
         workpiece
@@ -201,30 +206,42 @@ fn tangent_meet(a: &DesignPoint, b: &DesignPoint, axis: Vec3) -> Option<Point3> 
 /// Which design points lie within `reach` (mm, along the curve) of a
 /// corner (a normal turning by more than `turn_deg` between neighbours) or
 /// of an open curve's ends.
-fn near_corners(design: &[DesignPoint], closed: bool, reach: f64, turn_deg: f64) -> Vec<bool> {
+fn near_corners(design: &[DesignPoint], closed: bool, r: f64, opts: &CornerOptions) -> Vec<bool> {
     let n = design.len();
-    let cos_turn = turn_deg.to_radians().cos();
+    let cos_turn = opts.turn_deg.to_radians().cos();
     let mut seeds: Vec<usize> = Vec::new();
     if !closed && n > 0 {
         seeds.extend([0, n - 1]);
     }
-    for (k, w) in design.windows(2).enumerate() {
-        if w[0].normal.dot(&w[1].normal) < cos_turn {
-            seeds.extend([k, k + 1]);
-        }
-    }
-    if closed && n > 1 {
-        if let (Some(a), Some(b)) = (design.last(), design.first()) {
-            if a.normal.dot(&b.normal) < cos_turn {
-                seeds.extend([n - 1, 0]);
-            }
+    let last_pair = (closed && n > 2).then(|| (n - 1, 0));
+    let pairs = (0..n.saturating_sub(1))
+        .map(|k| (k, k + 1))
+        .chain(last_pair);
+    for (i, j) in pairs {
+        let (Some(a), Some(b)) = (design.get(i), design.get(j)) else {
+            continue;
+        };
+        if a.normal.dot(&b.normal) < cos_turn || bends_tighter_than_ball(a, b, r) {
+            seeds.extend([i, j]);
         }
     }
     let mut near = vec![false; n];
     for s in seeds {
-        mark_around(design, closed, s, reach, &mut near);
+        mark_around(design, closed, s, r * opts.look_around_radii, &mut near);
     }
     near
+}
+
+/// Whether the curve bends concavely between neighbours `a` and `b` on a
+/// radius below [`TIGHT_BEND_RATIO`] ball radii `r` (a hole smaller than
+/// the ball, a fillet the ball cannot follow, points too close together
+/// for their normals' turn to count as a corner).
+fn bends_tighter_than_ball(a: &DesignPoint, b: &DesignPoint, r: f64) -> bool {
+    let step = b.point - a.point;
+    let turn = b.normal - a.normal;
+    // Normals converge along a concave stretch.
+    let concave = turn.dot(&step) < 0.0;
+    concave && turn.norm() * r * TIGHT_BEND_RATIO > step.norm()
 }
 
 /// Marks the points within `reach` of point `s` along the curve, both ways.
@@ -274,11 +291,40 @@ mod tests {
             point: Point3::new(0.0, 0.5 * k as f64, 0.0),
             normal: Vec3::x(),
         }));
-        let near = near_corners(&d, false, 2.0, 10.0);
+        let near = near_corners(&d, false, 0.8, &CornerOptions::default());
         // The two ends and the corner (indices 19, 20), 2 mm either way.
         let marked: Vec<usize> = (0..d.len()).filter(|&k| near[k]).collect();
         let want: Vec<usize> = (0..=4).chain(15..=24).chain(34..=38).collect();
         assert_eq!(marked, want);
+    }
+
+    /// Points 0.1 mm apart round a circle of radius 2 mm (their normals
+    /// turn 2.9 degrees between neighbours, no corner), facing `inward`
+    /// (a hole) or out (a boss).
+    fn circle(inward: bool) -> Vec<DesignPoint> {
+        let steps = (2.0 * std::f64::consts::PI * 2.0 / 0.1).round() as usize;
+        (0..steps)
+            .map(|k| {
+                let a = k as f64 * std::f64::consts::TAU / steps as f64;
+                let out = Vec3::new(a.cos(), a.sin(), 0.0);
+                DesignPoint {
+                    point: Point3::from(out * 2.0),
+                    normal: if inward { -out } else { out },
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_hole_tighter_than_the_ball_is_looked_at_all_round() {
+        let opts = CornerOptions::default();
+        let all = |d: &[DesignPoint], r: f64| near_corners(d, true, r, &opts).iter().all(|&m| m);
+        let none = |d: &[DesignPoint], r: f64| near_corners(d, true, r, &opts).iter().all(|&m| !m);
+        // A 4 mm hole: a 5 mm ball cannot follow it, a 3 mm one can.
+        assert!(all(&circle(true), 2.5));
+        assert!(none(&circle(true), 1.5));
+        // A 4 mm boss bends the other way: any ball follows it.
+        assert!(none(&circle(false), 2.5));
     }
 
     #[test]

@@ -129,13 +129,29 @@ impl Frame {
         }
     }
 
+    /// The displacement, in the section plane, that moves a point of a
+    /// surface with normal `n` by one unit along `n`: `n`'s part in the
+    /// plane over its squared length (a drafted wall offset by `h` moves
+    /// its section by `h / cos(draft)`, and the section stays in its
+    /// plane, where `n h` would leave it by `h sin(draft)`). A normal
+    /// within [`IN_PLANE_MIN`] of the plane's own gives `n`.
+    fn offset_along(&self, n: Vec3) -> Vec3 {
+        let pn = self.plane_normal();
+        let inside = n - pn * n.dot(&pn);
+        let len2 = inside.norm_squared();
+        if len2 < IN_PLANE_MIN * IN_PLANE_MIN {
+            return n;
+        }
+        inside / len2
+    }
+
     /// Displacement of `p` (normal `n`) per unit of each basis motion.
     fn basis(&self, p: Point3, n: Vec3) -> [Vec3; 7] {
         let r = p - self.c;
         let (a, b) = (r.dot(&self.e1), r.dot(&self.e2));
         let rot = self.e2 * a - self.e1 * b;
         [
-            n,
+            self.offset_along(n),
             self.e1,
             self.e2,
             rot,
@@ -208,6 +224,11 @@ pub fn section_curvature(design: &[DesignPoint], i: usize) -> f64 {
     }
     turn.dot(&(chord / len)) / len
 }
+
+/// A normal whose part in the section plane is shorter than this (it
+/// stands within 30 degrees of the plane's normal) is offset along
+/// itself: the section runs nearly along the surface there.
+const IN_PLANE_MIN: f64 = 0.5;
 
 /// Neighbouring design normals further apart than this (cos 30 degrees)
 /// stand across a corner.
@@ -433,7 +454,7 @@ impl Correction {
         let normal = (f.e1 * (cr * na - sr * nb) + f.e2 * (sr * na + cr * nb) + nw)
             .try_normalize(1e-12)
             .unwrap_or(d.normal);
-        let point = f.c + f.e1 * (a3 + tx) + f.e2 * (b3 + ty) + w + normal * h;
+        let point = f.c + f.e1 * (a3 + tx) + f.e2 * (b3 + ty) + w + f.offset_along(normal) * h;
         DesignPoint { point, normal }
     }
 }
@@ -483,6 +504,45 @@ mod tests {
                 assert!(moved.norm() < 0.32, "{model:?}: {moved:?}");
                 assert!((moved.dot(&d.normal) - 0.3).abs() < 0.02, "{model:?}");
             }
+        }
+    }
+
+    /// A drafted bore (a cone, 7 degrees off the section plane's normal,
+    /// radius 20 mm in the plane z = 0) whose true wall lies 0.3 mm off
+    /// the design along its normal, touched along the design normals: the
+    /// offset moves the section to the true cone's section, the circle of
+    /// radius 20 - 0.3 / cos 7 degrees in the same plane (along the
+    /// normal it would leave the plane by 0.3 sin 7 degrees, 37 um).
+    #[test]
+    fn an_offset_of_a_drafted_wall_keeps_the_section_in_its_plane() {
+        let (radius, h, draft) = (20.0f64, 0.3, 7f64.to_radians());
+        let design: Vec<DesignPoint> = (0..32)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 32.0;
+                let radial = Vec3::new(a.cos(), a.sin(), 0.0);
+                let normal = -radial * draft.cos() + Vec3::z() * draft.sin();
+                DesignPoint {
+                    point: Point3::from(radial * radius),
+                    normal,
+                }
+            })
+            .collect();
+        let measured: Vec<Point3> = design.iter().map(|d| d.point + d.normal * h).collect();
+        let curvature: Vec<f64> = (0..design.len())
+            .map(|i| section_curvature(&design, i))
+            .collect();
+        let touches = Touches {
+            design: &design,
+            curvature: &curvature,
+            measured: &measured,
+        };
+        let c = fit_correction(touches, Vec3::z(), (0.05, 0.5)).expect("fits");
+        assert_eq!(c.model, Model::Offset);
+        let want = radius - h / draft.cos();
+        for d in &design {
+            let p = c.apply(d).point;
+            assert!(p.z.abs() < 1e-9, "{p:?} off the plane");
+            assert!((p.coords.xy().norm() - want).abs() < 1e-6, "{p:?}");
         }
     }
 

@@ -55,6 +55,10 @@ pub struct Tracker<'f> {
     /// The ball's path since the measuring move left free air
     /// ([`trail`]).
     trail: Vec<Point3>,
+    /// The ball's latest position pressed against the part since the
+    /// trail's last point, with the deflection there: the way back starts
+    /// along it.
+    trail_tip: Option<(Point3, Vec3)>,
     /// A retract asked for while the ball still touched the surface it
     /// measured: the phase turns to retract once the stylus is free.
     lift_off: bool,
@@ -80,6 +84,7 @@ impl<'f> Tracker<'f> {
             free: None,
             modes: ModeOptions::default(),
             trail: Vec::new(),
+            trail_tip: None,
             lift_off: false,
         }
     }
@@ -218,8 +223,11 @@ impl<'f> Tracker<'f> {
     /// surface than its radius: the true part lies off the design, and
     /// the move went on through where the design has material, as an
     /// approach that finds no surface does), backs out the way it came:
-    /// off the surface it touches ([`Self::escape`]), then back along its
-    /// path to where it left free air. Routes start there; from inside
+    /// off the surface it touches, if it still does ([`Self::escape`]),
+    /// then back along its path to where it left free air (a free ball,
+    /// as after a scan that lost its surface and ran on, goes straight
+    /// back along the path: an escape would head back the way it came
+    /// unlifted, into the surface it lost). Routes start there; from inside
     /// the design none would.
     pub fn back_out_of_design(&mut self, cmm: &mut dyn Machine) {
         let (b, r) = (self.ball_undeflected(), self.probe_radius());
@@ -227,8 +235,10 @@ impl<'f> Tracker<'f> {
             .free
             .is_some_and(|f| f.in_material(b) || f.design_foot(b).is_some_and(|(s, _)| s < r));
         if inside && self.has_trail() {
-            let moving = self.moving;
-            self.escape(cmm, moving, None);
+            if self.deflection() >= self.modes.free_mm {
+                let moving = self.moving;
+                self.escape(cmm, moving, None);
+            }
             self.retrace(cmm);
         }
     }
