@@ -1,8 +1,8 @@
 //! A scan that loses its surface and runs on, with the ball nearer the
 //! design's surface than its radius, backs out along its own path lifted
-//! off the surface it followed: the retract reads no deflection (it used
-//! to head back the way it came, unlifted, and press 24 um into the rib
-//! it had just lost).
+//! off the surface it followed: the retract reads no deflection (heading
+//! back the way it came, unlifted, it would press into the rib it has
+//! just lost).
 //!
 //! The part: the bearing housing of the shared CAD files, whose IGES file
 //! is 0.16 mm across (its units are wrong by a factor of 1000), scaled to
@@ -11,48 +11,15 @@
 //! the hub-and-rib section at z = 20 loses its surface on one of the ribs.
 mod common;
 
-use common::{arg, cmm};
-use serde_json::{json, Value};
-
-/// The shared IGES file, when it is there.
-fn bearing_iges() -> Option<std::path::PathBuf> {
-    let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/cad/bearing.iges");
-    if p.exists() {
-        Some(p)
-    } else {
-        println!("note: {} not found; skipping", p.display());
-        None
-    }
-}
-
-/// The imported workpiece with every control point scaled by `k`
-/// (trims lie in the surfaces' parameters and stay as they are).
-fn scaled(workpiece: &str, k: f64) -> Value {
-    let mut w: Value = serde_json::from_str(workpiece).unwrap();
-    for s in w["surfaces"].as_array_mut().unwrap() {
-        for row in s["control_points"].as_array_mut().unwrap() {
-            for p in row.as_array_mut().unwrap() {
-                for c in p.as_array_mut().unwrap().iter_mut().take(3) {
-                    *c = json!(c.as_f64().unwrap() * k);
-                }
-            }
-        }
-    }
-    w
-}
+use common::arg;
+use serde_json::json;
 
 #[test]
 fn a_scan_that_lost_its_surface_backs_out_without_touching_it() {
-    let Some(iges) = bearing_iges() else {
+    let dir = tempfile::tempdir().unwrap();
+    let Some(workpiece) = common::bearing_in_mm(dir.path()) else {
         return;
     };
-    let dir = tempfile::tempdir().unwrap();
-    let imported = dir.path().join("bearing-raw.json");
-    let out = cmm(&["import", &arg(&iges), "--out", &arg(&imported)]);
-    assert!(out.status.success(), "{out:?}");
-    let raw = std::fs::read_to_string(&imported).unwrap();
-    let workpiece = dir.path().join("bearing-mm.json");
-    std::fs::write(&workpiece, scaled(&raw, 1000.0).to_string()).unwrap();
     let faces = [
         "face158", "face160", "face161", "face166", "face173", "face175", "face188", "face183",
         "face184", "face163", "face164", "face176", "face185", "face199", "face172", "face187",

@@ -326,3 +326,33 @@ pub fn trace_deflections(trace: &str) -> Vec<(String, f64)> {
         })
         .collect()
 }
+
+/// The bearing housing of the shared CAD files (`../shared/cad`), whose
+/// IGES file is 0.16 mm across (its units are wrong by a factor of 1000),
+/// imported and scaled to millimetres into `dir`; `None` (with a note)
+/// when the file is not there.
+pub fn bearing_in_mm(dir: &std::path::Path) -> Option<PathBuf> {
+    let iges = repo("../shared/cad/bearing.iges");
+    if !iges.exists() {
+        println!("note: {} not found; skipping", iges.display());
+        return None;
+    }
+    let imported = dir.join("bearing-raw.json");
+    let out = cmm(&["import", &arg(&iges), "--out", &arg(&imported)]);
+    assert!(out.status.success(), "{out:?}");
+    let mut w: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&imported).unwrap()).unwrap();
+    // Trims lie in the surfaces' parameters and stay as they are.
+    for s in w["surfaces"].as_array_mut().unwrap() {
+        for row in s["control_points"].as_array_mut().unwrap() {
+            for p in row.as_array_mut().unwrap() {
+                for c in p.as_array_mut().unwrap().iter_mut().take(3) {
+                    *c = serde_json::json!(c.as_f64().unwrap() * 1000.0);
+                }
+            }
+        }
+    }
+    let path = dir.join("bearing-mm.json");
+    std::fs::write(&path, w.to_string()).unwrap();
+    Some(path)
+}

@@ -38,6 +38,9 @@ pub struct CornerOptions {
     /// Design points on a convex edge are put this far apart in normal
     /// direction, degrees (the ball centre's arc about the edge).
     pub arc_step_deg: f64,
+    /// Where the ball stops reaching between a kept design point and one
+    /// left out, the last point it reaches is found to this, mm.
+    pub boundary_step_mm: f64,
 }
 
 impl Default for CornerOptions {
@@ -47,14 +50,20 @@ impl Default for CornerOptions {
             look_around_radii: 2.5,
             tolerance_mm: 1e-3,
             arc_step_deg: 10.0,
+            boundary_step_mm: 0.01,
         }
     }
 }
 
 /// The design points of a section curve (part coordinates) that a ball of
 /// radius `r` can touch: the others (at concave corners and at ends against
-/// a wall) left out. Only points near corners and ends are looked at (an
-/// exact distance each).
+/// a wall) left out, and in their place, between a point left out and its
+/// kept neighbour on the same face (their normals within the corner's
+/// turn), the last point of the chord between them that the ball can
+/// touch ([`last_reachable`]): a coarsely sampled curve (a nearly straight
+/// one, its points 1.6 mm apart) keeps what the ball reaches up to the
+/// wall. Only points near corners and ends are looked at (an exact
+/// distance each).
 pub fn reachable_points(
     design: &[DesignPoint],
     closed: bool,
@@ -69,12 +78,65 @@ pub fn reachable_points(
             .closest_point(ball)
             .is_ok_and(|fp| fp.projection.distance < r - opts.tolerance_mm)
     };
-    design
-        .iter()
-        .zip(near)
-        .filter(|(d, near)| !*near || !cuts(d))
-        .map(|(d, _)| *d)
-        .collect()
+    let keep: Vec<bool> = (design.iter().zip(&near))
+        .map(|(d, &near)| !near || !cuts(d))
+        .collect();
+    let n = design.len();
+    let neighbour = |k: usize, step: isize| {
+        let j = k as isize + step;
+        if closed && n > 2 {
+            Some(j.rem_euclid(n as isize) as usize)
+        } else {
+            usize::try_from(j).ok().filter(|&j| j < n)
+        }
+    };
+    let mut out = Vec::with_capacity(n + 2);
+    for (k, d) in design.iter().enumerate() {
+        if !keep.get(k).copied().unwrap_or(false) {
+            continue;
+        }
+        let edge = |step| {
+            let j = neighbour(k, step).filter(|&j| !keep.get(j).copied().unwrap_or(true))?;
+            last_reachable(d, design.get(j)?, &cuts, opts)
+        };
+        out.extend(edge(-1));
+        out.push(*d);
+        out.extend(edge(1));
+    }
+    out
+}
+
+/// The point of the chord from `kept` (whose ball cuts into nothing) to
+/// `cut` (whose ball does) farthest from `kept` whose ball cuts into
+/// nothing, to [`CornerOptions::boundary_step_mm`] (bisection, the normal
+/// blended along), when the two lie on one face (normals within the
+/// corner's turn) and it lies that far from `kept`.
+fn last_reachable(
+    kept: &DesignPoint,
+    cut: &DesignPoint,
+    cuts: &dyn Fn(&DesignPoint) -> bool,
+    opts: &CornerOptions,
+) -> Option<DesignPoint> {
+    if kept.normal.dot(&cut.normal) < opts.turn_deg.to_radians().cos() {
+        return None;
+    }
+    let len = (cut.point - kept.point).norm();
+    let at = |t: f64| DesignPoint {
+        point: kept.point + (cut.point - kept.point) * t,
+        normal: (kept.normal * (1.0 - t) + cut.normal * t)
+            .try_normalize(1e-12)
+            .unwrap_or(kept.normal),
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    while (hi - lo) * len > opts.boundary_step_mm {
+        let mid = 0.5 * (lo + hi);
+        if cuts(&at(mid)) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    (lo * len >= opts.boundary_step_mm).then(|| at(lo))
 }
 
 /// The design points of a section curve over the faces `own` that a ball
