@@ -104,3 +104,36 @@ fn bad_probe_files_exit_2_naming_the_place() {
     ]);
     assert_eq!(both.status.code(), Some(2), "--probe with --stylus-length");
 }
+
+/// A 1 mm ball takes at most 0.45 mm of deflection: without
+/// `--deflections` it is calibrated at those of 0.1, 0.2, 0.3 and 0.5 mm
+/// it allows, and asked for 0.5 mm it is refused (exit 2).
+#[test]
+fn default_deflections_follow_the_tip() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cal.json");
+    let args = [
+        "calibrate-probe",
+        "--probe-tip-diameter",
+        "1",
+        "--ideal",
+        "--out",
+    ];
+    let run = cmm(&[&args[..], &[out.to_str().unwrap()]].concat());
+    assert!(run.status.success(), "{run:?}");
+    let cal: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(
+        cal["conditions"]["deflections_mm"],
+        serde_json::json!([0.1, 0.2, 0.3])
+    );
+    assert!((cal["tip_radius_mm"].as_f64().unwrap() - 0.5).abs() < 1e-6);
+    let refused = dir.path().join("refused.json");
+    let run = cmm(&[
+        &args[..],
+        &[refused.to_str().unwrap(), "--deflections", "0.5"],
+    ]
+    .concat());
+    assert_eq!(run.status.code(), Some(2), "{run:?}");
+    assert!(!refused.exists());
+}

@@ -9,6 +9,7 @@
 
 pub mod batch;
 pub mod calibrate;
+pub mod nominal_form;
 pub mod reach;
 mod run;
 

@@ -34,9 +34,10 @@ pub struct CalibrateArgs {
     /// Reference sphere diameter, mm.
     #[arg(long, default_value_t = 25.0)]
     pub sphere_diameter: f64,
-    /// Scan deflections, mm (comma separated).
-    #[arg(long, value_delimiter = ',', default_values_t = vec![0.1, 0.2, 0.3, 0.5])]
-    pub deflections: Vec<f64>,
+    /// Scan deflections, mm (comma separated); by default those of
+    /// 0.1,0.2,0.3,0.5 the tip allows (at most 0.9 of its radius).
+    #[arg(long, value_delimiter = ',')]
+    pub deflections: Option<Vec<f64>>,
     /// Scan directions (comma separated `cw`, `ccw`).
     #[arg(long, value_delimiter = ',', default_values_t = vec!["cw".to_string(), "ccw".to_string()],
           value_parser = ["cw", "ccw"])]
@@ -97,6 +98,33 @@ fn in_range(
     })
 }
 
+/// The deflections calibrated without `--deflections`, mm.
+pub const DEFAULT_DEFLECTIONS_MM: [f64; 4] = [0.1, 0.2, 0.3, 0.5];
+
+/// The largest deflection a probe takes, mm: [`MAX_DEFLECTION_MM`] and
+/// 0.9 of the tip's radius.
+fn max_deflection(nominal: &NominalProbe) -> f64 {
+    MAX_DEFLECTION_MM.min(0.45 * nominal.tip_diameter_mm)
+}
+
+/// The deflections to calibrate, mm: `--deflections`, or those of
+/// [`DEFAULT_DEFLECTIONS_MM`] the tip allows, or (a tip under 0.23 mm,
+/// which allows none of them) its largest deflection and a half of it.
+fn deflections(args: &CalibrateArgs, nominal: &NominalProbe) -> Vec<f64> {
+    if let Some(given) = &args.deflections {
+        return given.clone();
+    }
+    let max = max_deflection(nominal);
+    let allowed: Vec<f64> = (DEFAULT_DEFLECTIONS_MM.iter().copied())
+        .filter(|&d| d <= max)
+        .collect();
+    if allowed.is_empty() {
+        vec![0.5 * max, max]
+    } else {
+        allowed
+    }
+}
+
 /// Every number of the command line (or the probe file) within its
 /// physical range.
 fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliError> {
@@ -117,8 +145,8 @@ fn check_values(args: &CalibrateArgs, nominal: &NominalProbe) -> Result<(), CliE
         SPHERE_DIAMETER_RANGE_MM,
         "mm",
     )?;
-    let max_deflection = MAX_DEFLECTION_MM.min(0.45 * nominal.tip_diameter_mm);
-    for &d in &args.deflections {
+    let max_deflection = max_deflection(nominal);
+    for d in deflections(args, nominal) {
         if !(d.is_finite() && d > 0.0 && d <= max_deflection) {
             return Err(CliError::Value {
                 option: "--deflections",
@@ -220,7 +248,7 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
     };
     let opts = CalibrationOptions {
         sphere_diameter_mm: args.sphere_diameter,
-        deflections_mm: args.deflections.clone(),
+        deflections_mm: deflections(args, &nominal),
         directions: args.directions.iter().map(|d| d == "ccw").collect(),
         ..CalibrationOptions::default()
     };

@@ -45,6 +45,15 @@ pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
         for (name, k, why) in unreachable {
             lines.push(format!("  {name} [{k}]: not reachable: {why}"));
         }
+        for f in crate::app::nominal_form::form_over_tolerance(&program) {
+            lines.push(format!(
+                "  {}: note: the design's own {} has a form error of {:.4} mm, over the form tolerance {} mm: the fit fails on a perfect part",
+                f.feature,
+                f.element.name(),
+                f.nominal_form_mm,
+                f.form_mm
+            ));
+        }
         super::say(&(lines.join("\n") + "\n"))?;
     }
     Ok(status)

@@ -4,7 +4,9 @@
 use serde::Serialize;
 
 use super::model::{PointReport, Verdict};
-use crate::fit::{fit, fit_near, Cylinder, Element, ElementKind, FitOptions, Method};
+use crate::fit::{
+    fit, fit_near, Cylinder, Element, ElementKind, FitError, FitOptions, FitReport, Method,
+};
 use crate::math::{Mat3, Point3, Vec3};
 use crate::program::{FitElement, FitSpec};
 
@@ -46,13 +48,7 @@ pub struct FitResult {
 }
 
 fn kind(e: FitElement) -> (ElementKind, &'static str) {
-    let name = match e {
-        FitElement::Circle => "circle",
-        FitElement::Plane => "plane",
-        FitElement::Sphere => "sphere",
-        FitElement::Cylinder => "cylinder",
-    };
-    (e.kind(), name)
+    (e.kind(), e.name())
 }
 
 /// Fits and checks; `None` when there are no points. The nominal element
@@ -72,14 +68,10 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
     }
     let (k, name) = kind(spec.element);
     let opts = FitOptions::default();
-    // The nominal element starts from the design's normals too and the
-    // measured one from the nominal element: points that fit two elements
-    // give the one the design meant.
+    // The measured element starts from the nominal one: points that fit
+    // two elements give the one the design meant.
     let normals: Vec<Vec3> = points.iter().map(|p| Vec3::from(p.normal)).collect();
-    let nominal_fit = match design_axis(&normals) {
-        Some(axis) if k == ElementKind::Cylinder => fit_near(k, &nominal, &opts, &axis),
-        _ => fit(k, Method::Lsq, &nominal, &opts),
-    };
+    let nominal_fit = fit_nominal(spec.element, &nominal, &normals);
     let both = nominal_fit.and_then(|n| Ok((fit_near(k, &measured, &opts, &n.element)?, n)));
     Some(match both {
         Ok((m, n)) => compare(
@@ -99,6 +91,20 @@ pub fn fit_feature(spec: &FitSpec, points: &[PointReport]) -> Option<FitResult> 
             error: Some(e.to_string()),
         },
     })
+}
+
+/// The least-squares `element` of design points `nominal` with their
+/// `normals`; a cylinder starts from the axis square to the normals.
+pub fn fit_nominal(
+    element: FitElement,
+    nominal: &[Point3],
+    normals: &[Vec3],
+) -> Result<FitReport, FitError> {
+    let (k, opts) = (element.kind(), FitOptions::default());
+    match design_axis(normals) {
+        Some(axis) if k == ElementKind::Cylinder => fit_near(k, nominal, &opts, &axis),
+        _ => fit(k, Method::Lsq, nominal, &opts),
+    }
 }
 
 /// A cylinder whose axis is the direction most nearly square to every

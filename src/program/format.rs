@@ -292,6 +292,17 @@ pub enum FitElement {
 }
 
 impl FitElement {
+    /// The element's name in programs and reports (`circle`, `plane`,
+    /// `sphere`, `cylinder`).
+    pub fn name(self) -> &'static str {
+        match self {
+            FitElement::Circle => "circle",
+            FitElement::Plane => "plane",
+            FitElement::Sphere => "sphere",
+            FitElement::Cylinder => "cylinder",
+        }
+    }
+
     /// The element kind the fitting code takes.
     pub fn kind(self) -> crate::fit::ElementKind {
         use crate::fit::ElementKind;
