@@ -137,3 +137,26 @@ fn default_deflections_follow_the_tip() {
     assert_eq!(run.status.code(), Some(2), "{run:?}");
     assert!(!refused.exists());
 }
+
+/// A 0.6 mm ball on the default shaft (0.3 mm thick): below the equator
+/// its vertical shaft meets the 25 mm sphere 3.9 degrees down at 0.1 mm of
+/// deflection, so its arcs stop there, and it is calibrated to its true
+/// radius within a micrometre.
+#[test]
+fn a_small_ball_is_calibrated_without_its_shaft_touching_the_sphere() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("cal.json");
+    let run = cmm(&[
+        "calibrate-probe",
+        "--probe-tip-diameter",
+        "0.6",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(run.status.success(), "{run:?}");
+    let cal: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let found = cal["tip_radius_mm"].as_f64().unwrap();
+    let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
+    assert!((found - truth).abs() < 1e-3, "{found} vs {truth}");
+}

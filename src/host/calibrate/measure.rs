@@ -109,7 +109,10 @@ fn scan(
     let dirs = circle_directions(
         plane,
         opts.circle_points,
-        (opts.arc_below_equator_deg, opts.xy_elevation_deg),
+        (
+            opts.arc_below_equator_for(probe.tip_radius_mm),
+            opts.xy_elevation_deg,
+        ),
         ccw,
     );
     let (c, radius) = (opts.sphere_center_mm, opts.sphere_radius());

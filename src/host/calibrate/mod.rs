@@ -50,8 +50,16 @@ pub struct CalibrationOptions {
     pub scan_pitch_mm: f64,
     /// Points defining a circle (the path is a cubic spline through them).
     pub circle_points: usize,
-    /// XZ and YZ arcs start and end this far below the equator, deg.
+    /// XZ and YZ arcs start and end this far below the equator, deg, or
+    /// less where the stylus shaft would come nearer the sphere than
+    /// [`Self::shaft_clearance_mm`] ([`Self::arc_below_equator_for`]).
     pub arc_below_equator_deg: f64,
+    /// The stylus shaft's radius, mm (`None`: half the tip's radius, the
+    /// default stylus).
+    pub shaft_radius_mm: Option<f64>,
+    /// Below the equator the arcs keep the vertical shaft this far off the
+    /// sphere at the largest deflection, mm.
+    pub shaft_clearance_mm: f64,
     /// The XY circle runs this far above the equator, deg.
     pub xy_elevation_deg: f64,
     /// Active scanning's trajectory tolerance, mm.
@@ -89,6 +97,8 @@ impl Default for CalibrationOptions {
             scan_pitch_mm: 0.2,
             circle_points: 72,
             arc_below_equator_deg: 10.0,
+            shaft_radius_mm: None,
+            shaft_clearance_mm: 0.02,
             xy_elevation_deg: 15.0,
             trajectory_tolerance_mm: 1.5,
             touch_search_mm: 3.0,
@@ -106,6 +116,26 @@ impl CalibrationOptions {
     /// Sphere radius, mm.
     pub fn sphere_radius(&self) -> f64 {
         0.5 * self.sphere_diameter_mm
+    }
+
+    /// How far below the equator the XZ and YZ arcs of a ball of radius
+    /// `tip_radius_mm` reach, deg: [`Self::arc_below_equator_deg`], or
+    /// less where the vertical shaft above a ball centre at angle `a` below
+    /// the equator, `(R + r - e) cos a` from the sphere's axis at the
+    /// largest deflection `e`, would come within the clearance of the
+    /// sphere (radius `R`); none for a shaft as thick as the ball less the
+    /// deflection (a 0.6 mm ball deflected 0.1 mm: 3.9 degrees).
+    pub fn arc_below_equator_for(&self, tip_radius_mm: f64) -> f64 {
+        let shaft = self.shaft_radius_mm.unwrap_or(0.5 * tip_radius_mm);
+        let deepest = self.deflections_mm.iter().copied().fold(0.0, f64::max);
+        let big_r = self.sphere_radius();
+        let ratio = (big_r + shaft + self.shaft_clearance_mm) / (big_r + tip_radius_mm - deepest);
+        let clear_deg = if ratio >= 1.0 {
+            0.0
+        } else {
+            ratio.acos().to_degrees()
+        };
+        self.arc_below_equator_deg.min(clear_deg)
     }
 }
 
