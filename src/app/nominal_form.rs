@@ -42,7 +42,7 @@ fn over_tolerance(feature: &Feature) -> Option<FormOverTolerance> {
 }
 
 /// The design points of a feature and their normals.
-fn design_points(feature: &Feature) -> (Vec<Point3>, Vec<Vec3>) {
+pub fn design_points(feature: &Feature) -> (Vec<Point3>, Vec<Vec3>) {
     match feature {
         Feature::Section { curves, .. } => (curves.iter().flat_map(|c| &c.points))
             .map(|p| (p.point, p.normal))

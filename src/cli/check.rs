@@ -38,6 +38,12 @@ pub fn run(args: &CheckArgs) -> Result<Status, CliError> {
             lines.push(format!("  alignment: {} touch points", points.len()));
             let free = crate::host::inspect::align::undetermined(points);
             lines.extend(free.iter().map(|note| format!("  alignment: note: {note}")));
+            let targets: Vec<_> = (program.features.iter())
+                .flat_map(|f| crate::app::nominal_form::design_points(f).0)
+                .collect();
+            let opts = crate::host::inspect::align_weak::WeakOptions::default();
+            let weak = crate::host::inspect::align_weak::weakly_fixed(points, &targets, &opts);
+            lines.extend(weak.iter().map(|note| format!("  alignment: note: {note}")));
         }
         for f in &program.features {
             lines.push(format!("  {}", describe(f)));

@@ -127,6 +127,31 @@ pub fn align(
 /// a motion of the part that no alignment point's surface resists.
 const UNDETERMINED_RATIO: f64 = 1e-6;
 
+/// The decomposition [`design_svd`] gives.
+pub(super) type DesignSvd = nalgebra::linalg::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>;
+
+/// The singular value decomposition (with `V^T`) of the alignment's
+/// design Jacobian: a row a point, the signed distance's change under a
+/// turn `w` about the points' centroid `c` (scaled by their spread `l`)
+/// and a shift; with `c` and `l`.
+pub(super) fn design_svd(points: &[NominalPoint]) -> (Vec3, f64, DesignSvd) {
+    let n = points.len().max(1) as f64;
+    let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
+    let spread = (points.iter())
+        .map(|p| (p.point.coords - c).norm_squared())
+        .sum::<f64>();
+    let l = (spread / n).sqrt().max(1e-9);
+    let jac = DMatrix::from_fn(points.len(), 6, |i, j| {
+        let (x, nn) = (points[i].point.coords - c, points[i].normal);
+        if j < 3 {
+            x.cross(&nn)[j] / l
+        } else {
+            nn[j - 3]
+        }
+    });
+    (c, l, jac.svd(false, true))
+}
+
 /// The rigid motions the alignment points cannot fix, from the design
 /// alone: unit vectors `(l w, t')` of a turn `w` about the points'
 /// centroid `c` (scaled by their spread `l`) and a shift `t'`, each moving
@@ -139,21 +164,7 @@ struct FreeMotions {
 
 impl FreeMotions {
     fn of(points: &[NominalPoint]) -> FreeMotions {
-        let n = points.len().max(1) as f64;
-        let c = points.iter().fold(Vec3::zeros(), |s, p| s + p.point.coords) / n;
-        let spread = (points.iter())
-            .map(|p| (p.point.coords - c).norm_squared())
-            .sum::<f64>();
-        let l = (spread / n).sqrt().max(1e-9);
-        let jac = DMatrix::from_fn(points.len(), 6, |i, j| {
-            let (x, nn) = (points[i].point.coords - c, points[i].normal);
-            if j < 3 {
-                x.cross(&nn)[j] / l
-            } else {
-                nn[j - 3]
-            }
-        });
-        let svd = jac.svd(false, true);
+        let (c, l, svd) = design_svd(points);
         let top = svd.singular_values.iter().copied().reduce(f64::max);
         let motions = match (svd.v_t.as_ref(), top) {
             (Some(vt), Some(top)) => (0..6)

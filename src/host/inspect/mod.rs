@@ -5,6 +5,7 @@
 //! design-value scanning with geometric and autonomous corrections.
 
 pub mod align;
+pub mod align_weak;
 pub mod clearance;
 pub mod corners;
 pub mod correction;
