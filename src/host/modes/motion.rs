@@ -55,10 +55,6 @@ pub struct Tracker<'f> {
     /// The ball's path since the measuring move left free air
     /// ([`trail`]).
     trail: Vec<Point3>,
-    /// The ball's latest position pressed against the part since the
-    /// trail's last point, with the deflection there: the way back starts
-    /// along it.
-    trail_tip: Option<(Point3, Vec3)>,
     /// A retract asked for while the ball still touched the surface it
     /// measured: the phase turns to retract once the stylus is free.
     lift_off: bool,
@@ -84,7 +80,6 @@ impl<'f> Tracker<'f> {
             free: None,
             modes: ModeOptions::default(),
             trail: Vec::new(),
-            trail_tip: None,
             lift_off: false,
         }
     }

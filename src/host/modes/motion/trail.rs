@@ -14,7 +14,7 @@
 //! the feature led to, from which later routes start.
 use super::{travel, Tracker};
 use crate::host::observe::{Machine, Phase};
-use crate::math::{Point3, Vec3};
+use crate::math::Point3;
 
 impl Tracker<'_> {
     /// Starts the trail at the ball's position now (a measuring move
@@ -22,7 +22,6 @@ impl Tracker<'_> {
     /// measure, which backs out the way it came).
     pub(super) fn start_trail(&mut self, measuring: bool) {
         self.trail.clear();
-        self.trail_tip = None;
         if measuring {
             self.trail.push(self.ball_undeflected());
         }
@@ -36,38 +35,24 @@ impl Tracker<'_> {
 
     /// Adds the ball's position to the trail when it has moved
     /// [`super::EscapeOptions::trail_step_mm`] from the last point kept,
-    /// lifted off the surface along the stylus's deflection; between
-    /// them, keeps the latest position where the stylus was pressed (the
-    /// tip), so that the way back does not cut across a surface the ball
-    /// left since (a scan that lost its surface and ran on past it).
+    /// lifted off the surface along the stylus's deflection.
     #[inline(always)]
     pub(super) fn extend_trail(&mut self) {
         let Some(&last) = self.trail.last() else {
             return;
         };
         let here = self.ball_undeflected();
-        let d = self.now.deflection;
         if (here - last).norm_squared() < self.trail_step_squared() {
-            if d.norm_squared() >= self.modes.free_mm.powi(2) {
-                self.trail_tip = Some((here, d));
-            }
             return;
         }
-        self.trail_tip = None;
-        self.trail.push(here + self.lift(d));
-    }
-
-    /// How far a trail point at deflection `d` is lifted off the surface:
-    /// along the deflection by its length and
-    /// [`super::EscapeOptions::retrace_clear_mm`] when the stylus is
-    /// pressed, else not at all.
-    fn lift(&self, d: Vec3) -> Vec3 {
-        match d.try_normalize(1e-9) {
+        let d = self.now.deflection;
+        let lift = match d.try_normalize(1e-9) {
             Some(u) if d.norm() >= self.modes.free_mm => {
                 u * (d.norm() + self.modes.escape.retrace_clear_mm)
             }
-            _ => Vec3::zeros(),
-        }
+            _ => crate::math::Vec3::zeros(),
+        };
+        self.trail.push(here + lift);
     }
 
     /// The square of how far apart the trail's points are kept, mm^2
@@ -90,9 +75,8 @@ impl Tracker<'_> {
     pub(super) fn retrace(&mut self, cmm: &mut dyn Machine) {
         let opts = self.modes;
         let trail = std::mem::take(&mut self.trail);
-        let tip = self.trail_tip.take().map(|(p, d)| p + self.lift(d));
         let here = self.ball_undeflected();
-        let back: Vec<Point3> = tip.into_iter().chain(trail.iter().rev().copied()).collect();
+        let back: Vec<Point3> = trail.iter().rev().copied().collect();
         let Some(&start) = trail.first() else {
             return;
         };
