@@ -432,7 +432,6 @@ fn part_to_machine(program: &Program) -> PartToMachine {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 /// The program's verdict: incomplete when its alignment failed or its end
 /// move struck the part (a crash a batch script must see, though every
 /// feature was measured before it), else that of its features.
