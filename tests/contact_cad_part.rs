@@ -253,3 +253,49 @@ fn a_ball_near_one_face_splits_few_faces_and_answers_as_the_whole_part() {
     let all = search.leaf_count();
     assert!(made > 0 && made * 10 < all, "{made} leaves made of {all}");
 }
+
+/// A ball centre moving in 5 um steps (a scan's control cycles) along and
+/// across faces of a real part gets from the search that remembers its
+/// last feet and bounds the same answers as a search that knows nothing
+/// at every query: the bounds a leaf keeps from its last foot never clear
+/// a leaf that holds the closest point.
+#[test]
+fn small_steps_answer_as_a_search_that_remembers_nothing() {
+    let wp =
+        Workpiece::from_path(&repo("workpieces/nist-ctc05.stp")).unwrap_or_else(|e| panic!("{e}"));
+    let am = AsMachined::nominal();
+    let mut warm = ContactSearch::new(&wp, &am, &ContactOptions::default());
+    let mut cold = ContactSearch::new(&wp, &am, &ContactOptions::default());
+    let opts = contact_options(&ProjectionOptions::default());
+    let reach = 2.0;
+    // From points near the part's edges, 400 steps each in a random
+    // direction: the closest point passes from leaf to leaf and face to
+    // face.
+    let mut r = rng(17);
+    let mut path = Vec::new();
+    for start in edge_points(&wp, 40, 5) {
+        let step = random_direction(&mut r) * 0.005;
+        path.extend((0..400).map(|k| start + step * k as f64));
+    }
+    let mut hits = 0;
+    for p in path {
+        let a = warm.query((&wp, &am), p, reach, &opts);
+        cold.reset();
+        let b = cold.query((&wp, &am), p, reach, &opts);
+        match (
+            a.unwrap_or_else(|e| panic!("{e}")),
+            b.unwrap_or_else(|e| panic!("{e}")),
+        ) {
+            (Some(a), Some(b)) => {
+                assert!(
+                    (a.distance - b.distance).abs() < 1e-9,
+                    "{p}: {a:?} vs {b:?}"
+                );
+                hits += 1;
+            }
+            (None, None) => {}
+            (a, b) => panic!("{p}: {a:?} vs {b:?}"),
+        }
+    }
+    assert!(hits > 8000, "{hits} contacts");
+}

@@ -18,13 +18,30 @@ const SIDE_GLUE_MM: f64 = 1e-6;
 /// Leaves whose last foot is kept for a warm start.
 const WARM_SLOTS: usize = 8;
 
+/// Taken off a leaf's warm bound for the rounding of the distances, mm.
+const WARM_BOUND_ROUNDING_MM: f64 = 1e-9;
+
 /// One leaf's last foot.
 #[derive(Debug, Clone, Copy)]
 struct WarmFoot {
     leaf: u32,
     foot: Foot,
+    /// The query point the foot was found for.
+    at: Point3,
     /// The query that last used it.
     stamp: u64,
+}
+
+impl WarmFoot {
+    /// A lower bound of the leaf's distance from `y`, mm: a confirmed
+    /// foot's distance from where it was found less how far `y` lies from
+    /// there (the distance to a fixed set is 1-Lipschitz); none for an
+    /// unconfirmed foot (its distance bounds the leaf's from above only).
+    fn bound_at(&self, y: Point3) -> Option<f64> {
+        let d = self.foot.dist2.sqrt();
+        let moved = (y - self.at).norm();
+        (self.foot.status.is_confirmed()).then_some(d - moved - WARM_BOUND_ROUNDING_MM)
+    }
 }
 
 /// A foot that takes part in the answer.
@@ -249,6 +266,15 @@ impl Cursor {
                 floor = floor.min(tight);
                 continue;
             }
+            // A neighbour the ball passes by keeps its last foot's
+            // distance less the way come since: no Newton while that
+            // clears it.
+            if let Some(kept) = warm_bound(&mut self.warm, id, y, self.stamp) {
+                if kept >= limit {
+                    floor = floor.min(kept);
+                    continue;
+                }
+            }
             let warm = (&mut self.warm, self.stamp, id);
             let foot = leaf_foot((ix, wp, am), leaf, warm, y, opts);
             let d = foot.dist2.sqrt();
@@ -412,6 +438,7 @@ fn leaf_foot(
     let start = || leaf.start(y, &ix.true_samples(id, (wp, am)));
     if let Some(w) = warm.iter_mut().find(|w| w.leaf == id) {
         w.stamp = stamp;
+        w.at = y;
         local_minimum_cached(eval, y, &mut w.foot, &leaf.bounds, opts);
         if !w.foot.status.is_confirmed() {
             let cold = local_minimum(eval, y, start(), &leaf.bounds, opts);
@@ -427,10 +454,19 @@ fn leaf_foot(
         WarmFoot {
             leaf: id,
             foot,
+            at: y,
             stamp,
         },
     );
     foot
+}
+
+/// The warm bound ([`WarmFoot::bound_at`]) of leaf `id` at `y` when it
+/// has a warm foot, which `stamp` then marks used.
+fn warm_bound(warm: &mut [WarmFoot], id: u32, y: Point3, stamp: u64) -> Option<f64> {
+    let w = warm.iter_mut().find(|w| w.leaf == id)?;
+    w.stamp = stamp;
+    w.bound_at(y)
 }
 
 /// Keeps `w` among the warm feet, in place of the one unused longest.
