@@ -1,6 +1,6 @@
 //! A feature's report from its measurement and its evaluated points:
 //! statistics, the tolerance verdict and the fitted element.
-use super::fitted::fit_feature;
+use super::fitted::{fit_feature, FitResult};
 use super::model::{FeatureReport, PointReport, Stats, Tolerance, Verdict};
 use crate::formats::serde_name;
 use crate::host::inspect::feature::MeasuredFeature;
@@ -15,17 +15,32 @@ pub fn feature_report(
     measured: MeasuredFeature,
     points: Vec<PointReport>,
 ) -> FeatureReport {
-    let mut report = deviation_report(feature.name(), measured, points);
-    if let Some(spec) = feature.fit() {
-        report.fit = fit_feature(spec, &report.points);
-        // A fit out of tolerance fails a feature in tolerance; a fit that
-        // could not be made leaves it incomplete (its points out of
-        // tolerance still fail it).
-        let fit_status = report.fit.as_ref().map(|f| f.status);
-        if report.status == Verdict::Pass {
-            report.status = fit_status.unwrap_or(Verdict::Pass);
+    let report = deviation_report(feature.name(), measured, points);
+    match feature.fit() {
+        Some(spec) => {
+            let fit = fit_feature(spec, &report.points);
+            with_fit(report, fit)
+        }
+        None => report,
+    }
+}
+
+/// `report` with its fitted element. A fit out of tolerance fails a
+/// feature in tolerance; a fit that could not be made leaves it incomplete
+/// (its points out of tolerance still fail it). The fit of a feature whose
+/// measuring did not complete is shown but not judged: its points cover
+/// only part of the element (a circle measured over a fifth of its
+/// round), so its size, form and position say little of the element's.
+fn with_fit(mut report: FeatureReport, mut fit: Option<FitResult>) -> FeatureReport {
+    if report.status == Verdict::Incomplete {
+        if let Some(f) = fit.as_mut() {
+            f.not_judged();
         }
     }
+    if report.status == Verdict::Pass {
+        report.status = fit.as_ref().map_or(Verdict::Pass, |f| f.status);
+    }
+    report.fit = fit;
     report
 }
 
@@ -130,6 +145,7 @@ mod tests {
     use super::*;
     use crate::host::inspect::record::{AttemptMode, CollisionReport, FeatureKind};
     use crate::host::inspect::CurveResult;
+    use crate::program::FitSpec;
 
     fn attempt(mode: AttemptMode, outcome: Outcome) -> AttemptReport {
         AttemptReport {
@@ -209,5 +225,62 @@ mod tests {
         );
         let one_off = deviation_report("top", measured(), vec![point(true), point(false)]);
         assert_eq!(one_off.status, Verdict::Pass);
+    }
+
+    /// A circle's points over a fifth of its round, measured by a scan
+    /// that ended early: the fit is made and shown, but neither passes nor
+    /// fails the feature; the same points from a scan that completed do.
+    #[test]
+    fn the_fit_of_an_incomplete_feature_is_not_judged() {
+        let arc: Vec<PointReport> = (0..20)
+            .map(|k| {
+                let t = 0.4 * std::f64::consts::PI * k as f64 / 19.0;
+                let p = [5.0 * t.cos(), 5.0 * t.sin(), 0.0];
+                PointReport {
+                    measured: p,
+                    nominal: p,
+                    normal: [t.cos(), t.sin(), 0.0],
+                    deviation_mm: 0.0,
+                    true_deviation_mm: 0.0,
+                    edge: false,
+                    off_section: false,
+                    in_section: None,
+                    measured_in_section: None,
+                }
+            })
+            .collect();
+        let spec = FitSpec {
+            element: crate::program::FitElement::Circle,
+            size_mm: Some([-0.01, 0.01]),
+            form_mm: Some(0.01),
+            position_mm: Some(0.01),
+        };
+        let report = |complete: bool| {
+            let measured = MeasuredFeature {
+                results: vec![CurveResult {
+                    attempts: vec![attempt(AttemptMode::Active, Outcome::Completed)],
+                    corrections: Vec::new(),
+                    points: Vec::new(),
+                    complete,
+                    notes: Vec::new(),
+                    learned: None,
+                    points_before_stop: false,
+                }],
+                faces: vec![0],
+                tolerance: (-0.01, 0.01),
+                kind: FeatureKind::SectionScan,
+            };
+            let r = deviation_report("bore", measured, arc.clone());
+            with_fit(r, fit_feature(&spec, &arc))
+        };
+        let done = report(true);
+        assert_eq!(done.status, Verdict::Pass);
+        assert_eq!(done.fit.as_ref().map(|f| f.status), Some(Verdict::Pass));
+        let cut = report(false);
+        assert_eq!(cut.status, Verdict::Incomplete);
+        let fit = cut.fit.unwrap_or_else(|| panic!("no fit"));
+        assert_eq!(fit.status, Verdict::Incomplete);
+        assert!(fit.measured.is_some(), "{fit:?}");
+        assert!(fit.error.is_some_and(|e| e.contains("not judged")));
     }
 }

@@ -47,6 +47,19 @@ pub struct FitResult {
     pub error: Option<String>,
 }
 
+impl FitResult {
+    /// Leaves the fit unjudged (status incomplete, with why) because the
+    /// feature's measuring did not complete.
+    pub fn not_judged(&mut self) {
+        self.status = Verdict::Incomplete;
+        self.error.get_or_insert_with(|| {
+            "not judged: the feature's measuring did not complete, so the fit covers only \
+             the points measured"
+                .to_string()
+        });
+    }
+}
+
 fn kind(e: FitElement) -> (ElementKind, &'static str) {
     (e.kind(), e.name())
 }
