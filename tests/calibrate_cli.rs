@@ -160,3 +160,43 @@ fn a_small_ball_is_calibrated_without_its_shaft_touching_the_sphere() {
     let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
     assert!((found - truth).abs() < 1e-3, "{found} vs {truth}");
 }
+
+/// A probe file's shaft diameter is the shaft calibrated with: a 0.9 mm
+/// shaft on a 1 mm ball meets the 25 mm sphere below its equator at any
+/// deflection, so the XZ and YZ arcs stop at the equator (fewer points
+/// than on the default 0.5 mm shaft, whose arcs reach 8 degrees below at
+/// 0.1 mm deflection), and the thick shaft never touches the sphere.
+#[test]
+fn a_probe_files_shaft_diameter_limits_the_arcs() {
+    let dir = tempfile::tempdir().unwrap();
+    let xz_points = |probe: &str| {
+        let file = dir.path().join("probe.json");
+        std::fs::write(&file, probe).unwrap();
+        let out = dir.path().join("cal.json");
+        let run = cmm(&[
+            "calibrate-probe",
+            "--probe",
+            file.to_str().unwrap(),
+            "--deflections",
+            "0.1",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(run.status.success(), "{run:?}");
+        let cal: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let found = cal["tip_radius_mm"].as_f64().unwrap();
+        let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
+        assert!((found - truth).abs() < 1e-3, "{found} vs {truth}");
+        let scans = cal["scans"].as_array().unwrap().clone();
+        let xz = scans.iter().find(|s| s["plane"] == "xz").unwrap();
+        xz["points"].as_u64().unwrap()
+    };
+    let plain = xz_points(r#"{"tip_diameter_mm": 1.0, "stylus_length_mm": 30}"#);
+    let thick =
+        xz_points(r#"{"tip_diameter_mm": 1.0, "stylus_length_mm": 30, "shaft_diameter_mm": 0.9}"#);
+    assert!(
+        thick < plain,
+        "{thick} points on the thick shaft, {plain} on the default"
+    );
+}

@@ -16,6 +16,7 @@ fn setup(seed: u64, ideal: bool) -> SimulatedSetup {
         profile: MachineProfile::default(),
         tip_diameter_mm: 3.0,
         stylus_length_mm: 50.0,
+        shaft_diameter_mm: None,
         seed,
         ideal,
         keep_geometric_errors: false,

@@ -227,6 +227,7 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
         None => NominalProbe {
             tip_diameter_mm: args.probe_tip_diameter,
             stylus_length_mm: args.stylus_length,
+            shaft_diameter_mm: None,
         },
     };
     check_values(args, &nominal)?;
@@ -242,6 +243,7 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
         },
         tip_diameter_mm: nominal.tip_diameter_mm,
         stylus_length_mm: nominal.stylus_length_mm,
+        shaft_diameter_mm: nominal.shaft_diameter_mm,
         seed: args.seed,
         ideal: args.ideal,
         keep_geometric_errors: args.keep_geometric_errors,
@@ -250,6 +252,7 @@ pub fn run(args: &CalibrateArgs) -> Result<Status, CliError> {
         sphere_diameter_mm: args.sphere_diameter,
         deflections_mm: deflections(args, &nominal),
         directions: args.directions.iter().map(|d| d == "ccw").collect(),
+        shaft_radius_mm: nominal.shaft_diameter_mm.map(|d| 0.5 * d),
         ..CalibrationOptions::default()
     };
     if let Some(text) = &args.head_angles {

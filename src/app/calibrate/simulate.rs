@@ -37,6 +37,8 @@ pub struct SimulatedSetup {
     pub tip_diameter_mm: f64,
     /// Nominal stylus length (vertical), mm.
     pub stylus_length_mm: f64,
+    /// Stylus shaft diameter, mm (`None`: half the tip's).
+    pub shaft_diameter_mm: Option<f64>,
     /// Seed of every random draw.
     pub seed: u64,
     /// Switch off every simulated error and all noise.
@@ -55,6 +57,7 @@ impl Default for SimulatedSetup {
             profile: MachineProfile::default(),
             tip_diameter_mm: 3.0,
             stylus_length_mm: 50.0,
+            shaft_diameter_mm: None,
             seed: 1,
             ideal: false,
             keep_geometric_errors: false,
@@ -82,11 +85,15 @@ pub enum SimulatedCalError {
 /// The true probe of a setup (realistic unless ideal).
 pub fn true_probe(setup: &SimulatedSetup) -> TrueProbe {
     let nominal = nominal_probe(setup.tip_diameter_mm, setup.stylus_length_mm);
-    if setup.ideal {
+    let mut probe = if setup.ideal {
         TrueProbe::ideal(nominal.probe_vector, nominal.tip_radius_mm)
     } else {
         TrueProbe::realistic(nominal.probe_vector, nominal.tip_radius_mm)
+    };
+    if let Some(d) = setup.shaft_diameter_mm {
+        probe.shape.shaft_radius_mm = 0.5 * d;
     }
+    probe
 }
 
 /// The machine profile the world runs with: the given one, or its ideal

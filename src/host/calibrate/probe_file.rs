@@ -21,6 +21,9 @@ pub struct NominalProbe {
     pub tip_diameter_mm: f64,
     /// Stylus length, mm.
     pub stylus_length_mm: f64,
+    /// Stylus shaft diameter, mm (`None`: half the tip's, the part
+    /// program's default).
+    pub shaft_diameter_mm: Option<f64>,
 }
 
 /// Why a probe file cannot be used.
@@ -81,12 +84,18 @@ pub fn read_probe_file(path: &Path) -> Result<NominalProbe, ProbeFileError> {
             })
         }
     };
+    let tip = check(spec.tip_diameter_mm, "tip_diameter_mm", MAX_TIP_DIAMETER_MM)?;
+    // A shaft thicker than the ball would touch before it.
+    let shaft = (spec.shaft_diameter_mm)
+        .map(|d| check(d, "shaft_diameter_mm", tip))
+        .transpose()?;
     Ok(NominalProbe {
-        tip_diameter_mm: check(spec.tip_diameter_mm, "tip_diameter_mm", MAX_TIP_DIAMETER_MM)?,
+        tip_diameter_mm: tip,
         stylus_length_mm: check(
             spec.stylus_length_mm,
             "stylus_length_mm",
             MAX_STYLUS_LENGTH_MM,
         )?,
+        shaft_diameter_mm: shaft,
     })
 }
