@@ -69,7 +69,17 @@ use crate::math::{Point3, Vec2, Vec3};
 pub struct ContactOptions {
     /// How far (mm) the ball centre may move before the list of leaves
     /// near it is made again (it holds the leaves within `reach + 2 slack`).
+    /// The most: a list of more than [`Self::dense_list`] leaves halves
+    /// the slack of the next one, down to [`Self::min_slack_mm`], and a
+    /// list of less than a quarter of that doubles it again (near faces cut
+    /// into tiny pieces, a small ball's list holds thousands of leaves
+    /// within a few tenths of a millimetre, and each query would look at
+    /// those its move since the listing brought near).
     pub slack_mm: f64,
+    /// See [`Self::slack_mm`], mm.
+    pub min_slack_mm: f64,
+    /// See [`Self::slack_mm`]: leaves in a list.
+    pub dense_list: usize,
     /// Feet on other faces whose distance comes within this (mm) of the
     /// least one take part in the sign rule at a face boundary (the gaps
     /// and overlaps of a B-rep's trimmed faces along their common edges).
@@ -89,6 +99,8 @@ impl Default for ContactOptions {
     fn default() -> Self {
         ContactOptions {
             slack_mm: 0.3,
+            min_slack_mm: 0.02,
+            dense_list: 256,
             edge_tie_mm: 1e-3,
             leaves: LeafOptions::default(),
             free_air_ratio: 0.9,

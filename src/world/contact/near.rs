@@ -88,6 +88,11 @@ pub(super) struct NearList {
 }
 
 impl NearList {
+    /// Number of leaves listed.
+    pub(super) fn len(&self) -> usize {
+        self.entries.len()
+    }
+
     /// Forgets the list.
     pub(super) fn clear(&mut self) {
         self.at = None;

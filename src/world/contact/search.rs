@@ -18,6 +18,18 @@ const SIDE_GLUE_MM: f64 = 1e-6;
 /// Leaves whose last foot is kept for a warm start.
 const WARM_SLOTS: usize = 8;
 
+/// The slack of the list after one of `listed` leaves made with `slack`
+/// (see [`ContactOptions::slack_mm`]).
+fn next_slack(opts: &ContactOptions, slack: f64, listed: usize) -> f64 {
+    if listed > opts.dense_list {
+        (0.5 * slack).max(opts.min_slack_mm)
+    } else if 4 * listed < opts.dense_list {
+        (2.0 * slack).min(opts.slack_mm)
+    } else {
+        slack
+    }
+}
+
 /// Taken off a leaf's warm bound for the rounding of the distances, mm.
 const WARM_BOUND_ROUNDING_MM: f64 = 1e-9;
 
@@ -62,6 +74,8 @@ pub struct Cursor {
     anchor: Option<(Point3, f64)>,
     /// The leaves near the ball, in order of bound at each query.
     near: NearList,
+    /// The slack of the next list, mm ([`ContactOptions::slack_mm`]).
+    slack: f64,
     warm: Vec<WarmFoot>,
     stamp: u64,
     /// The leaf of the last answer: searched first, its foot is the best
@@ -146,6 +160,7 @@ impl Cursor {
             opts: *opts,
             anchor: None,
             near: NearList::default(),
+            slack: opts.slack_mm,
             warm: Vec::with_capacity(WARM_SLOTS),
             stamp: 0,
             last: None,
@@ -158,6 +173,7 @@ impl Cursor {
     pub(crate) fn reset(&mut self) {
         self.anchor = None;
         self.near.clear();
+        self.slack = self.opts.slack_mm;
         self.warm.clear();
         self.last = None;
     }
@@ -204,9 +220,11 @@ impl Cursor {
         let needed = reach + self.opts.edge_tie_mm;
         let fresh = self.near.margin_at(y).is_some_and(|m| m >= needed);
         if !fresh {
-            let listed = needed + 2.0 * self.opts.slack_mm;
+            let listed = needed + 2.0 * self.slack;
             let fill = |out: &mut Vec<(f64, u32)>| ix.within_bounds((wp, am), y, listed, out);
-            if !self.near.list(y, listed, fill) {
+            let any = self.near.list(y, listed, fill);
+            self.slack = next_slack(&self.opts, self.slack, self.near.len());
+            if !any {
                 let kept = (reach, self.opts.free_air_ratio);
                 let floor = ix.nearest_within((wp, am), y, kept);
                 self.anchor = Some((y, floor));
@@ -512,4 +530,29 @@ fn on_domain_side(wp: &Workpiece, face: usize, uv: Vec2) -> bool {
         (b - a).norm() > SIDE_GLUE_MM && (c - a).norm() > SIDE_GLUE_MM
     };
     open(0, u0, u1) || open(1, v0, v1)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dense list halves the next slack down to the least, a sparse one
+    /// doubles it back up to the most; one between keeps it.
+    #[test]
+    fn the_slack_follows_how_many_leaves_a_list_holds() {
+        let o = ContactOptions::default();
+        let dense = o.dense_list + 1;
+        let mut s = o.slack_mm;
+        let mut seen = vec![s];
+        while s > o.min_slack_mm {
+            s = next_slack(&o, s, dense);
+            seen.push(s);
+        }
+        assert_eq!(seen, vec![0.3, 0.15, 0.075, 0.0375, 0.02]);
+        assert_eq!(next_slack(&o, s, o.dense_list / 2), s);
+        while s < o.slack_mm {
+            s = next_slack(&o, s, 0);
+        }
+        assert_eq!(s, o.slack_mm);
+    }
 }
