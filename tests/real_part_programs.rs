@@ -187,6 +187,7 @@ fn nist_ctc05_program_measures_every_feature_exactly() {
         ],
     );
     positioning_touches_nothing(&trace);
+    approaches_touch_nothing(&trace);
 }
 
 /// A turned flange (`workpieces/io1-flange.stp`, STEPcode's AP214 test
@@ -212,6 +213,14 @@ fn io1_flange_program_measures_every_feature_exactly() {
     );
     positioning_touches_nothing(&trace);
     retracts_touch_nothing(&trace);
+    approaches_touch_nothing(&trace);
+}
+
+/// Every cycle of the trace in the phase `approach` reads no deflection:
+/// the cycles on the surface, while the stylus presses to the scan's
+/// deflection, belong to the scan.
+fn approaches_touch_nothing(trace: &str) {
+    phase_touches_nothing(trace, "approach", 100);
 }
 
 /// Every cycle of the trace in the phase `retract` reads no deflection:
@@ -375,6 +384,7 @@ fn abc_lamp_program_measures_every_feature_exactly() {
     let (report, trace) = scan_ideal("part-programs/abc-lamp.json", out.path());
     exact_and_covered(&report, &[]);
     positioning_touches_nothing(&trace);
+    approaches_touch_nothing(&trace);
 }
 
 #[test]

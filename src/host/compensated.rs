@@ -69,4 +69,8 @@ impl<C: Observe + ?Sized> Observe for Compensated<'_, C> {
     fn note_phase(&mut self, phase: Phase) {
         self.inner.note_phase(phase);
     }
+
+    fn note_contact(&mut self, phase: Phase) {
+        self.inner.note_contact(phase);
+    }
 }

@@ -12,6 +12,13 @@ pub trait Observe {
     fn note_trajectory_error(&mut self, _dl_mm: f64) {}
     /// What the software is doing from the next cycle on.
     fn note_phase(&mut self, _phase: Phase) {}
+    /// The last cycle read the ball on the surface, and the approach turns
+    /// into the measuring move `phase` it starts: the approach's cycles
+    /// since the ball first read a deflection and the next ones belong to
+    /// it.
+    fn note_contact(&mut self, phase: Phase) {
+        self.note_phase(phase);
+    }
 }
 
 /// A machine as the measuring modes drive it: a [`Cmm`] that takes the

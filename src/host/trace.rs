@@ -99,6 +99,15 @@ impl<C: Cmm + ?Sized> Observe for TracingCmm<'_, C> {
     fn note_phase(&mut self, phase: Phase) {
         self.phase = phase;
     }
+
+    fn note_contact(&mut self, phase: Phase) {
+        let approach = self.phase;
+        let touching = |r: &&mut TraceRow| r.phase == approach && r.deflection != Vec3::zeros();
+        for r in self.rows.iter_mut().rev().take_while(touching) {
+            r.phase = phase;
+        }
+        self.phase = phase;
+    }
 }
 
 /// Header of the trace CSV.

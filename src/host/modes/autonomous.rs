@@ -126,7 +126,7 @@ fn touch_down(
     task: &AutonomousTask,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    tr.enter(cmm, Phase::Approach);
+    tr.enter_approach(cmm, Phase::Autonomous);
     // As far as a design-value scan's approach looks for its surface.
     let (from, reach) = (
         tr.ball_undeflected(),

@@ -58,6 +58,10 @@ pub struct Tracker<'f> {
     /// A retract asked for while the ball still touched the surface it
     /// measured: the phase turns to retract once the stylus is free.
     lift_off: bool,
+    /// The measuring move an approach starts ([`Self::enter_approach`]):
+    /// the phase turns to it at the cycle that reads the ball on the
+    /// surface.
+    touch_down: Option<Phase>,
 }
 
 impl<'f> Tracker<'f> {
@@ -81,6 +85,7 @@ impl<'f> Tracker<'f> {
             modes: ModeOptions::default(),
             trail: Vec::new(),
             lift_off: false,
+            touch_down: None,
         }
     }
 
@@ -106,6 +111,7 @@ impl<'f> Tracker<'f> {
     /// Enters `phase`: tells the machine's observer and remembers it.
     pub fn enter(&mut self, cmm: &mut dyn Machine, phase: Phase) {
         self.lift_off = false;
+        self.touch_down = None;
         match phase {
             // A measuring move leaves free air (one that starts on the
             // surface goes on with the trail it has).
@@ -119,6 +125,17 @@ impl<'f> Tracker<'f> {
         }
         self.phase = phase;
         cmm.note_phase(phase);
+    }
+
+    /// Enters the approach of the measuring move `then` (a scan): from the
+    /// cycle that reads the ball on the surface (a deflection of
+    /// [`ModeOptions::strike_mm`], as a move between measurements would
+    /// call a strike) the phase is `then`, and the approach's cycles since
+    /// the ball first read a deflection are its first (a touch's approach
+    /// is phase `touch` throughout): an approach's cycles read none.
+    pub fn enter_approach(&mut self, cmm: &mut dyn Machine, then: Phase) {
+        self.enter(cmm, Phase::Approach);
+        self.touch_down = Some(then);
     }
 
     /// Ends a measuring move: the phase turns to retract once the stylus
@@ -194,6 +211,12 @@ impl<'f> Tracker<'f> {
         }
         if self.lift_off && self.deflection() < self.modes.free_mm {
             self.enter(cmm, Phase::Retract);
+        }
+        if let Some(then) = (self.touch_down).filter(|_| self.deflection() >= self.modes.strike_mm)
+        {
+            self.touch_down = None;
+            self.phase = then;
+            cmm.note_contact(then);
         }
         match self.now.status {
             MachineStatus::Ok => None,
@@ -577,7 +600,8 @@ pub fn approach_to(
     speed: f64,
     opts: &ModeOptions,
 ) -> Result<(), Outcome> {
-    straight(cmm, tr, (target, speed), Phase::Approach, opts)
+    tr.enter_approach(cmm, Phase::Scan);
+    travel(cmm, tr, &[target], speed, 0.0, opts)
 }
 
 /// Waypoints over the clearance height from `here` to the point outside

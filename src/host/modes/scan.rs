@@ -127,7 +127,7 @@ fn approach(
         tr.enter(cmm, Phase::Scan);
         return Ok(());
     }
-    tr.enter(cmm, Phase::Approach);
+    tr.enter_approach(cmm, Phase::Scan);
     let reach = 2.0 * (ep + opts.standoff_mm) + 2.0;
     let from = line_start(tr, start, n0);
     for _ in 0..opts.max_cycles {
