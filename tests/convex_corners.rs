@@ -90,7 +90,14 @@ fn a_box_outline_is_scanned_round_its_edges_at_the_wanted_deflection() {
         "a lift-off of {} cycles",
         scanned.len() - end
     );
-    let kept = &scanned[..end];
+    // So does the press onto the part at its start: a head over which the
+    // deflection rises every cycle, up from the first it reads.
+    let mut start = 0;
+    while start + 1 < end && scanned[start + 1] > scanned[start] {
+        start += 1;
+    }
+    assert!(start < 100, "a press of {start} cycles");
+    let kept = &scanned[start..end];
     let (lo, hi, cycles) = (
         kept.iter().copied().fold(f64::INFINITY, f64::min),
         kept.iter().copied().fold(0.0f64, f64::max),

@@ -59,7 +59,7 @@ impl fmt::Display for Unreachable {
         match self {
             Unreachable::Strikes { probe_part, ball } => write!(
                 f,
-                "the probe's {} would strike the part with the ball centre at ({:.3}, {:.3}, {:.3})",
+                "the probe's {} would strike the part, or pass closer to it than the clearance's posture margin, with the ball centre at ({:.3}, {:.3}, {:.3})",
                 probe_part.name(),
                 ball.x,
                 ball.y,
