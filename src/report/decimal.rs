@@ -17,8 +17,6 @@
 //! integers, not a fixed number of decimals with the standard library's
 //! rounding.
 
-use std::fmt::Write;
-
 /// Most decimals of the exact path for a value with a fractional part.
 const MAX_EXACT_DECIMALS: usize = 22;
 
@@ -32,6 +30,19 @@ const fn pow10_table() -> [u128; MAX_EXACT_DECIMALS + 1] {
     let mut table = [1u128; MAX_EXACT_DECIMALS + 1];
     let mut k = 1;
     while k <= MAX_EXACT_DECIMALS {
+        table[k] = table[k - 1] * 10;
+        k += 1;
+    }
+    table
+}
+
+/// Powers of ten that fit a `u64` (up to 10^19).
+const POW10_U64: [u64; 20] = pow10_u64_table();
+
+const fn pow10_u64_table() -> [u64; 20] {
+    let mut table = [1u64; 20];
+    let mut k = 1;
+    while k < 20 {
         table[k] = table[k - 1] * 10;
         k += 1;
     }
@@ -52,13 +63,74 @@ const fn digit_pairs() -> [u8; 200] {
     table
 }
 
+/// A text buffer: a `String`, or the bytes of a UTF-8 file being written.
+pub trait TextSink {
+    /// Appends text.
+    fn push_text(&mut self, text: &str);
+    /// Appends bytes that are all ASCII.
+    fn push_ascii(&mut self, bytes: &[u8]);
+    /// The text written so far, as bytes.
+    fn text_bytes(&self) -> &[u8];
+    /// Removes the ASCII byte at `at`.
+    fn remove_ascii(&mut self, at: usize);
+}
+
+impl TextSink for String {
+    fn push_text(&mut self, text: &str) {
+        self.push_str(text);
+    }
+
+    fn push_ascii(&mut self, bytes: &[u8]) {
+        // ASCII bytes are chars of their own: no UTF-8 validation needed.
+        self.reserve(bytes.len());
+        self.extend(bytes.iter().map(|&b| char::from(b)));
+    }
+
+    fn text_bytes(&self) -> &[u8] {
+        self.as_bytes()
+    }
+
+    fn remove_ascii(&mut self, at: usize) {
+        if self.is_char_boundary(at) && at < self.len() {
+            self.remove(at);
+        }
+    }
+}
+
+impl TextSink for Vec<u8> {
+    fn push_text(&mut self, text: &str) {
+        self.extend_from_slice(text.as_bytes());
+    }
+
+    fn push_ascii(&mut self, bytes: &[u8]) {
+        self.extend_from_slice(bytes);
+    }
+
+    fn text_bytes(&self) -> &[u8] {
+        self
+    }
+
+    fn remove_ascii(&mut self, at: usize) {
+        if at < self.len() {
+            self.remove(at);
+        }
+    }
+}
+
 /// Appends `value` with `decimals` digits after the point, exactly as
 /// `format!("{value:.decimals$}")` writes it.
-pub fn push_std_fixed(out: &mut String, value: f64, decimals: usize) {
+pub fn push_std_fixed<S: TextSink + ?Sized>(out: &mut S, value: f64, decimals: usize) {
     if !push_exact(out, value, decimals) {
-        // Writing into a String cannot fail.
-        let _ = write!(out, "{value:.decimals$}");
+        out.push_ascii(format!("{value:.decimals$}").as_bytes());
     }
+}
+
+/// Appends the decimal digits of `n`.
+pub fn push_integer<S: TextSink + ?Sized>(out: &mut S, n: u64) {
+    let mut buf = [b'0'; 20];
+    let end = buf.len();
+    let start = write_u64(&mut buf, end, n);
+    out.push_ascii(buf.get(start..).unwrap_or_default());
 }
 
 /// The sign, binary mantissa and exponent of a finite `value`
@@ -76,7 +148,7 @@ fn decompose(value: f64) -> (bool, u64, i32) {
 }
 
 /// The exact path; `false` (nothing written) where it does not apply.
-fn push_exact(out: &mut String, value: f64, decimals: usize) -> bool {
+fn push_exact<S: TextSink + ?Sized>(out: &mut S, value: f64, decimals: usize) -> bool {
     if !value.is_finite() {
         return false;
     }
@@ -90,18 +162,45 @@ fn push_exact(out: &mut String, value: f64, decimals: usize) -> bool {
         return false;
     }
     if negative {
-        out.push('-');
+        out.push_ascii(b"-");
     }
     if exponent >= 0 {
         push_digits(out, u128::from(mantissa << exponent), 0);
         if decimals > 0 {
-            out.push('.');
-            out.extend(std::iter::repeat_n('0', decimals));
+            out.push_ascii(b".");
+            for _ in 0..decimals {
+                out.push_ascii(b"0");
+            }
         }
-    } else {
+    } else if !push_scaled_u64(out, mantissa, exponent.unsigned_abs(), decimals) {
         let scaled = u128::from(mantissa) * POW10[decimals];
         push_digits(out, round_shift(scaled, exponent.unsigned_abs()), decimals);
     }
+    true
+}
+
+/// The exact path's `mantissa * 10^decimals / 2^shift` (`shift` > 0)
+/// rounded as [`round_shift`] does and written with `decimals` decimals,
+/// all in `u64` arithmetic: the common case of report numbers (a few
+/// decimals, not tiny). `false` (nothing written) where it does not fit.
+fn push_scaled_u64<S: TextSink + ?Sized>(
+    out: &mut S,
+    mantissa: u64,
+    shift: u32,
+    decimals: usize,
+) -> bool {
+    let unit = POW10_U64.get(decimals).copied();
+    let Some(scaled) = unit.and_then(|unit| mantissa.checked_mul(unit)) else {
+        return false;
+    };
+    if shift == 0 || shift >= u64::BITS {
+        return false;
+    }
+    let quotient = scaled >> shift;
+    let remainder = scaled & ((1u64 << shift) - 1);
+    let half = 1u64 << (shift - 1);
+    let up = remainder > half || (remainder == half && quotient & 1 == 1);
+    push_u64_digits(out, quotient + u64::from(up), decimals);
     true
 }
 
@@ -121,7 +220,38 @@ fn round_shift(n: u128, shift: u32) -> u128 {
 
 /// Appends the integer `scaled / 10^decimals` with `decimals` digits after
 /// the point (no point for 0 decimals); `decimals` is at most 22.
-fn push_digits(out: &mut String, scaled: u128, decimals: usize) {
+fn push_digits<S: TextSink + ?Sized>(out: &mut S, scaled: u128, decimals: usize) {
+    match u64::try_from(scaled) {
+        Ok(small) => push_u64_digits(out, small, decimals),
+        Err(_) => push_u128_digits(out, scaled, decimals),
+    }
+}
+
+/// [`push_digits`] for a `scaled` that fits a `u64`: the decimals one by
+/// one from the right, the point, then the integer's digits.
+fn push_u64_digits<S: TextSink + ?Sized>(out: &mut S, scaled: u64, decimals: usize) {
+    // At most 20 integer digits, the point and 22 decimals.
+    let mut buf = [b'0'; 43];
+    let (integer, mut fraction) = match POW10_U64.get(decimals) {
+        Some(&unit) => (scaled / unit, scaled % unit),
+        None => (0, scaled),
+    };
+    let mut at = buf.len();
+    if decimals > 0 {
+        for _ in 0..decimals {
+            at -= 1;
+            buf[at] = b'0' + (fraction % 10) as u8;
+            fraction /= 10;
+        }
+        at -= 1;
+        buf[at] = b'.';
+    }
+    let start = write_u64(&mut buf, at, integer);
+    out.push_ascii(buf.get(start..).unwrap_or_default());
+}
+
+/// [`push_digits`] for any `u128`.
+fn push_u128_digits<S: TextSink + ?Sized>(out: &mut S, scaled: u128, decimals: usize) {
     // At most 39 digits of a u128, at least decimals + 1 <= 23; the buffer
     // starts as zeros, which pad a short number on the left, and keeps
     // room in front for the point.
@@ -129,7 +259,7 @@ fn push_digits(out: &mut String, scaled: u128, decimals: usize) {
     let end = buf.len();
     let start = write_u128(&mut buf, end, scaled).min(end - decimals - 1);
     if decimals == 0 {
-        push_ascii(out, buf.get(start..).unwrap_or_default());
+        out.push_ascii(buf.get(start..).unwrap_or_default());
         return;
     }
     // The integer digits move one place to the left, the point follows
@@ -139,13 +269,7 @@ fn push_digits(out: &mut String, scaled: u128, decimals: usize) {
     if let Some(dot) = buf.get_mut(point - 1) {
         *dot = b'.';
     }
-    push_ascii(out, buf.get(start - 1..).unwrap_or_default());
-}
-
-/// Appends ASCII digits.
-fn push_ascii(out: &mut String, digits: &[u8]) {
-    // The buffers hold only ASCII digits, always valid UTF-8.
-    out.push_str(std::str::from_utf8(digits).unwrap_or_default());
+    out.push_ascii(buf.get(start - 1..).unwrap_or_default());
 }
 
 /// Writes the decimal digits of `n` into `buf` ending before `end`;
@@ -193,6 +317,9 @@ mod tests {
         let mut out = String::from("x");
         push_std_fixed(&mut out, value, decimals);
         let expected = format!("{value:.decimals$}");
+        let mut bytes = b"x".to_vec();
+        push_std_fixed(&mut bytes, value, decimals);
+        assert_eq!(&bytes[1..], expected.as_bytes());
         assert_eq!(
             &out[1..],
             expected,

@@ -34,6 +34,16 @@ pub struct ReportFormatter {
 }
 
 impl ReportFormatter {
+    /// A formatter for a value written at the given depth of the report
+    /// (a member's value whose key is indented `indent` levels): it writes
+    /// the value as it would inside the whole report.
+    pub fn at_indent(indent: usize) -> ReportFormatter {
+        ReportFormatter {
+            indent,
+            ..ReportFormatter::default()
+        }
+    }
+
     fn newline<W: ?Sized + Write>(&self, w: &mut W) -> io::Result<()> {
         w.write_all(b"\n")?;
         (0..self.indent).try_for_each(|_| w.write_all(b"  "))

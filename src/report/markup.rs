@@ -2,9 +2,8 @@
 //! number formatting (deterministic, locale-free), as new strings or
 //! appended to a caller's buffer.
 
-use std::fmt::Write;
-
 use super::decimal::push_std_fixed;
+pub use super::decimal::TextSink;
 
 /// Escapes `&`, `<`, `>`, `"` and `'` for XML/HTML text and attribute values;
 /// control characters other than tab, CR and LF (not allowed in XML 1.0)
@@ -15,8 +14,8 @@ pub fn escape(text: &str) -> String {
     out
 }
 
-/// Appends `text` escaped as by [`escape`].
-pub fn push_escaped(out: &mut String, text: &str) {
+/// Appends `text` escaped as by [`escape`] to a `String` or UTF-8 bytes.
+pub fn push_escaped<S: TextSink + ?Sized>(out: &mut S, text: &str) {
     let mut plain = 0;
     for (at, c) in text.char_indices() {
         let replacement = match c {
@@ -29,11 +28,11 @@ pub fn push_escaped(out: &mut String, text: &str) {
             c if c.is_control() => "\u{FFFD}",
             _ => continue,
         };
-        out.push_str(&text[plain..at]);
-        out.push_str(replacement);
+        out.push_text(&text[plain..at]);
+        out.push_text(replacement);
         plain = at + c.len_utf8();
     }
-    out.push_str(&text[plain..]);
+    out.push_text(&text[plain..]);
 }
 
 /// A CSV field (RFC 4180): quoted when it holds a comma, quote, CR or LF.
@@ -53,12 +52,11 @@ pub fn csv_field(text: &str) -> String {
 /// straight into the buffer: the same bytes without the formatting
 /// machinery, which costs several times more on a report's hundreds of
 /// thousands of numbers.
-pub fn push_json_number(out: &mut String, value: f64) {
+pub fn push_json_number<S: TextSink + ?Sized>(out: &mut S, value: f64) {
     if value.is_finite() {
-        out.push_str(zmij::Buffer::new().format_finite(value));
+        out.push_ascii(zmij::Buffer::new().format_finite(value).as_bytes());
     } else {
-        // Writing into a String cannot fail.
-        let _ = write!(out, "{value}");
+        out.push_ascii(format!("{value}").as_bytes());
     }
 }
 
@@ -70,14 +68,14 @@ pub fn fixed(value: f64, decimals: usize) -> String {
     out
 }
 
-/// Appends `value` as by [`fixed`].
-pub fn push_fixed(out: &mut String, value: f64, decimals: usize) {
-    let start = out.len();
+/// Appends `value` as by [`fixed`] to a `String` or UTF-8 bytes.
+pub fn push_fixed<S: TextSink + ?Sized>(out: &mut S, value: f64, decimals: usize) {
+    let start = out.text_bytes().len();
     push_std_fixed(out, value, decimals);
-    let written = &out.as_bytes()[start..];
+    let written = out.text_bytes().get(start..).unwrap_or_default();
     if let Some((b'-', rest)) = written.split_first() {
         if rest.iter().all(|&b| b == b'0' || b == b'.') {
-            out.remove(start);
+            out.remove_ascii(start);
         }
     }
 }

@@ -3,7 +3,9 @@
 
 use super::markup::{fixed, json_name};
 use super::model::{AttemptReport, CorrectionReport, FeatureReport, Tolerance};
-use super::svg::{empty_plot, padded, range, Frame, Svg, MARGIN_BOTTOM, MARGIN_TOP};
+use super::svg::{
+    empty_plot, padded, px_text, range, Frame, PixelTexts, Svg, MARGIN_BOTTOM, MARGIN_TOP,
+};
 use crate::host::modes::Outcome;
 
 /// Width of the deviation plot and the timeline, px.
@@ -81,15 +83,16 @@ fn distance(a: [f64; 3], b: [f64; 3]) -> f64 {
 }
 
 /// Deviation (y) along the section (x) with the tolerance band shaded, the
-/// zero line, and points outside the band in red.
-pub fn deviation_plot(feature: &FeatureReport) -> String {
+/// zero line, and points outside the band in red; appended to `out`.
+pub fn deviation_plot(out: &mut Vec<u8>, feature: &FeatureReport) {
     let title = format!("{}: deviation along the section", feature.name);
     if feature.points.is_empty() {
-        return empty_plot(PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, "no points measured");
+        let message = "no points measured";
+        return empty_plot(out, PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, message);
     }
     let (xs, x_title) = positions(feature);
     let frame = deviation_frame(feature, &xs);
-    let mut svg = Svg::new(PLOT_WIDTH, DEVIATION_HEIGHT, &title);
+    let mut svg = Svg::new(out, PLOT_WIDTH, DEVIATION_HEIGHT, &title);
     svg.reserve(feature.points.len() * POINT_MARKUP_BYTES);
     draw_band(&mut svg, &frame, feature.tolerance_mm);
     frame.draw_axes(&mut svg, x_title, "deviation (mm)");
@@ -116,7 +119,7 @@ fn deviation_frame(feature: &FeatureReport, xs: &[f64]) -> Frame {
 }
 
 /// The shaded tolerance band with its limit lines.
-fn draw_band(svg: &mut Svg, frame: &Frame, tol: Tolerance) {
+fn draw_band(svg: &mut Svg<'_>, frame: &Frame, tol: Tolerance) {
     let (x0, x1) = (frame.x.lo, frame.x.hi);
     let (left, top) = frame.map(x0, tol.upper);
     let (right, bottom) = frame.map(x1, tol.lower);
@@ -127,7 +130,7 @@ fn draw_band(svg: &mut Svg, frame: &Frame, tol: Tolerance) {
 
 /// The deviation trace and one marker per point (non-finite deviations
 /// are left out).
-fn draw_points(svg: &mut Svg, frame: &Frame, xs: &[f64], feature: &FeatureReport) {
+fn draw_points(svg: &mut Svg<'_>, frame: &Frame, xs: &[f64], feature: &FeatureReport) {
     let tol = feature.tolerance_mm;
     let shown: Vec<((f64, f64), bool)> = xs
         .iter()
@@ -140,12 +143,14 @@ fn draw_points(svg: &mut Svg, frame: &Frame, xs: &[f64], feature: &FeatureReport
             )
         })
         .collect();
+    let texts = PixelTexts::new(shown.iter().map(|s| s.0));
     if feature.kind != crate::report::FeatureKind::TouchPoints {
-        let trace: Vec<(f64, f64)> = shown.iter().map(|s| s.0).collect();
-        svg.polyline(&trace, "trace");
+        svg.polyline_texts(&texts, false, "trace");
     }
-    for (pixel, out) in shown {
-        svg.circle(pixel, MARKER_RADIUS, if out { "pt-out" } else { "pt-in" });
+    let radius = px_text(MARKER_RADIUS);
+    for (k, (_, out)) in shown.iter().enumerate() {
+        let class = if *out { "pt-out" } else { "pt-in" };
+        svg.circle_at(&texts, k, &radius, class);
     }
 }
 
@@ -186,11 +191,12 @@ fn timeline_height(feature: &FeatureReport) -> f64 {
 ///
 /// The model does not record which gap a correction belongs to; correction
 /// `k` is drawn after attempt `k` (the usual attempt, correct, retry cycle),
-/// surplus corrections after the last attempt.
-pub fn timeline_plot(feature: &FeatureReport) -> String {
+/// surplus corrections after the last attempt. Appended to `out`.
+pub fn timeline_plot(out: &mut Vec<u8>, feature: &FeatureReport) {
     let title = format!("{}: attempts and corrections", feature.name);
     if feature.attempts.is_empty() {
         return empty_plot(
+            out,
             PLOT_WIDTH,
             EMPTY_PLOT_HEIGHT,
             &title,
@@ -199,7 +205,7 @@ pub fn timeline_plot(feature: &FeatureReport) -> String {
     }
     let spans = attempt_spans(feature);
     let frame = timeline_frame(feature, &spans);
-    let mut svg = Svg::new(PLOT_WIDTH, timeline_height(feature), &title);
+    let mut svg = Svg::new(out, PLOT_WIDTH, timeline_height(feature), &title);
     frame.draw_x_axis(&mut svg, "cumulative machine time (s)");
     draw_bars(&mut svg, &frame, feature, &spans);
     draw_corrections(&mut svg, &frame, feature, &spans);
@@ -216,7 +222,7 @@ fn timeline_frame(feature: &FeatureReport, spans: &[(f64, f64)]) -> Frame {
 }
 
 /// One bar per attempt with its label.
-fn draw_bars(svg: &mut Svg, frame: &Frame, feature: &FeatureReport, spans: &[(f64, f64)]) {
+fn draw_bars(svg: &mut Svg<'_>, frame: &Frame, feature: &FeatureReport, spans: &[(f64, f64)]) {
     for (row, (attempt, span)) in feature.attempts.iter().zip(spans).enumerate() {
         let centre = frame.y.map(row as f64 + 0.5);
         let (left, right) = (frame.x.map(span.0), frame.x.map(span.1));
@@ -261,7 +267,7 @@ fn label_place(frame: &Frame, left: f64, right: f64) -> (f64, &'static str) {
 }
 
 /// Correction markers and their legend below the axis.
-fn draw_corrections(svg: &mut Svg, frame: &Frame, f: &FeatureReport, spans: &[(f64, f64)]) {
+fn draw_corrections(svg: &mut Svg<'_>, frame: &Frame, f: &FeatureReport, spans: &[(f64, f64)]) {
     let legend_top = timeline_height(f) - f.corrections.len() as f64 * LEGEND_LINE;
     for (k, correction) in f.corrections.iter().enumerate() {
         let time = spans.get(k).or(spans.last()).map_or(0.0, |s| s.1);
@@ -274,7 +280,7 @@ fn draw_corrections(svg: &mut Svg, frame: &Frame, f: &FeatureReport, spans: &[(f
 
 /// Correction number `number` at pixel column `x`: a dashed line across
 /// the rows and a labelled diamond above them.
-fn draw_marker(svg: &mut Svg, frame: &Frame, x: f64, number: usize) {
+fn draw_marker(svg: &mut Svg<'_>, frame: &Frame, x: f64, number: usize) {
     let (top, bottom) = (frame.y.px_hi, frame.y.px_lo);
     svg.line((x, top), (x, bottom), "corr-line");
     let (d, y) = (DIAMOND_PX, top - 10.0);

@@ -6,7 +6,7 @@ use nalgebra::SymmetricEigen;
 use super::markup::fixed;
 use super::model::{FeatureReport, PointReport};
 use super::plots::{out_of_tolerance, EMPTY_PLOT_HEIGHT, PLOT_WIDTH};
-use super::svg::{empty_plot, nice_floor, range, step_decimals, Svg};
+use super::svg::{empty_plot, nice_floor, px_text, range, step_decimals, PixelTexts, Svg};
 use crate::math::{Mat3, Vec3};
 
 /// Largest height of the profile plot, px (its width is [`PLOT_WIDTH`]);
@@ -101,8 +101,11 @@ fn canonical_sign(v: Vec3) -> Vec3 {
 /// [`CLOSING_GAP`] times the median spacing of its points.
 fn is_closed(points: &[Vec3]) -> bool {
     let mut steps: Vec<f64> = points.windows(2).map(|w| (w[1] - w[0]).norm()).collect();
-    steps.sort_by(f64::total_cmp);
-    let median = steps.get(steps.len() / 2).copied().unwrap_or(0.0);
+    let middle = steps.len() / 2;
+    let median = match steps.get(middle) {
+        Some(_) => *steps.select_nth_unstable_by(middle, f64::total_cmp).1,
+        None => 0.0,
+    };
     let gap = match (points.first(), points.last()) {
         (Some(a), Some(b)) => (b - a).norm(),
         _ => f64::INFINITY,
@@ -111,11 +114,11 @@ fn is_closed(points: &[Vec3]) -> bool {
 }
 
 /// Coordinates with the first appended when the curve is closed.
-fn closed_if(coords: Vec<(f64, f64)>, closed: bool) -> Vec<(f64, f64)> {
-    match (closed, coords.first().copied()) {
-        (true, Some(first)) => coords.into_iter().chain([first]).collect(),
-        _ => coords,
+fn closed_if(mut coords: Vec<(f64, f64)>, closed: bool) -> Vec<(f64, f64)> {
+    if let (true, Some(first)) = (closed, coords.first().copied()) {
+        coords.push(first);
     }
+    coords
 }
 
 /// Equal-scale map from view coordinates (mm) into the plot's pixels.
@@ -130,10 +133,12 @@ struct Fit {
 }
 
 impl Fit {
-    /// Fits the bounding box of the coordinates into the drawing area.
-    fn new(coords: &[(f64, f64)]) -> Fit {
-        let (u0, u1) = range(coords.iter().map(|c| c.0)).unwrap_or((0.0, 0.0));
-        let (v0, v1) = range(coords.iter().map(|c| c.1)).unwrap_or((0.0, 0.0));
+    /// Fits the bounding box of the coordinates (all layers, in order) into
+    /// the drawing area.
+    fn new(layers: [&[(f64, f64)]; 4]) -> Fit {
+        let coords = || layers.iter().flat_map(|layer| layer.iter());
+        let (u0, u1) = range(coords().map(|c| c.0)).unwrap_or((0.0, 0.0));
+        let (v0, v1) = range(coords().map(|c| c.1)).unwrap_or((0.0, 0.0));
         let width = PLOT_WIDTH - 2.0 * PROFILE_MARGIN;
         let most = PROFILE_HEIGHT - PROFILE_TOP - 2.0 * PROFILE_MARGIN;
         let scale = (width / (u1 - u0).max(MIN_EXTENT_MM)).min(most / (v1 - v0).max(MIN_EXTENT_MM));
@@ -192,8 +197,9 @@ fn amplification(feature: &FeatureReport, points: &[&PointReport], view: &View) 
 
 /// The profile plot of a feature (see the module documentation): nominal
 /// polyline, dashed tolerance limits and needles of length deviation x
-/// amplification, green inside and red outside the tolerance.
-pub fn profile_plot(feature: &FeatureReport) -> String {
+/// amplification, green inside and red outside the tolerance. Appended to
+/// `out`.
+pub fn profile_plot(out: &mut Vec<u8>, feature: &FeatureReport) {
     let title = format!("{}: profile with amplified deviations", feature.name);
     let finite = |a: [f64; 3]| a.iter().all(|c| c.is_finite());
     let points: Vec<&PointReport> = feature
@@ -202,13 +208,14 @@ pub fn profile_plot(feature: &FeatureReport) -> String {
         .filter(|p| finite(p.nominal) && finite(p.normal) && p.deviation_mm.is_finite())
         .collect();
     if points.is_empty() {
-        return empty_plot(PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, "no points measured");
+        let message = "no points measured";
+        return empty_plot(out, PLOT_WIDTH, EMPTY_PLOT_HEIGHT, &title, message);
     }
     let nominals: Vec<Vec3> = points.iter().map(|p| vec3(p.nominal)).collect();
     let view = View::principal(&nominals);
     let amp = amplification(feature, &points, &view);
-    let layers = Layers::new(feature, &points, &view, amp);
-    let mut svg = Svg::new(PLOT_WIDTH, layers.fit.height, &title);
+    let layers = Layers::new(feature, &points, &nominals, &view, amp);
+    let mut svg = Svg::new(out, PLOT_WIDTH, layers.fit.height, &title);
     svg.reserve(points.len() * POINT_MARKUP_BYTES);
     layers.draw(
         &mut svg,
@@ -230,8 +237,15 @@ struct Layers {
 }
 
 impl Layers {
-    /// Projects the nominal points, needle ends and tolerance limits.
-    fn new(feature: &FeatureReport, points: &[&PointReport], view: &View, amp: f64) -> Layers {
+    /// Projects the nominal points (`nominals` their positions), needle
+    /// ends and tolerance limits.
+    fn new(
+        feature: &FeatureReport,
+        points: &[&PointReport],
+        nominals: &[Vec3],
+        view: &View,
+        amp: f64,
+    ) -> Layers {
         let tol = feature.tolerance_mm;
         let shifted = |offset: &dyn Fn(&PointReport) -> f64| -> Vec<(f64, f64)> {
             points
@@ -247,8 +261,8 @@ impl Layers {
             .iter()
             .map(|p| out_of_tolerance(p.deviation_mm, tol))
             .collect();
-        let fit = Fit::new(&[&nominal[..], &needle_ends, &upper, &lower].concat());
-        let closed = is_closed(&points.iter().map(|p| vec3(p.nominal)).collect::<Vec<_>>());
+        let fit = Fit::new([&nominal, &needle_ends, &upper, &lower]);
+        let closed = is_closed(nominals);
         Layers {
             nominal,
             needle_ends,
@@ -261,38 +275,41 @@ impl Layers {
     }
 
     /// Draws the layers; `section` joins the points into polylines.
-    fn draw(&self, svg: &mut Svg, section: bool) {
+    fn draw(&self, svg: &mut Svg<'_>, section: bool) {
+        let nominal = PixelTexts::new(self.nominal.iter().map(|c| self.fit.map(*c)));
         if section {
             svg.polyline(&self.pixels(&self.upper), "tol-line");
             svg.polyline(&self.pixels(&self.lower), "tol-line");
-            svg.polyline(&self.pixels(&self.nominal), "nominal");
+            svg.polyline_texts(&nominal, self.closed, "nominal");
         }
-        self.draw_needles(svg);
+        self.draw_needles(svg, &nominal);
         if !section {
-            for c in &self.nominal {
-                svg.circle(self.fit.map(*c), NOMINAL_DOT_PX, "nominal-pt");
+            let radius = px_text(NOMINAL_DOT_PX);
+            for k in 0..nominal.count() {
+                svg.circle_at(&nominal, k, &radius, "nominal-pt");
             }
         }
     }
 
     /// A curve in pixels, closed when the section is.
     fn pixels(&self, coords: &[(f64, f64)]) -> Vec<(f64, f64)> {
-        let pixels = coords.iter().map(|c| self.fit.map(*c)).collect();
+        let mut pixels = Vec::with_capacity(coords.len() + 1);
+        pixels.extend(coords.iter().map(|c| self.fit.map(*c)));
         closed_if(pixels, self.closed)
     }
 
-    /// One needle per point, coloured by tolerance.
-    fn draw_needles(&self, svg: &mut Svg) {
-        let ends = self.nominal.iter().zip(&self.needle_ends);
-        for ((start, end), out) in ends.zip(&self.outside) {
+    /// One needle per point from the nominal point (`nominal` in pixels),
+    /// coloured by tolerance.
+    fn draw_needles(&self, svg: &mut Svg<'_>, nominal: &PixelTexts) {
+        for (k, (end, out)) in self.needle_ends.iter().zip(&self.outside).enumerate() {
             let class = if *out { "needle-out" } else { "needle-in" };
-            svg.line(self.fit.map(*start), self.fit.map(*end), class);
+            svg.line_from(nominal, k, self.fit.map(*end), class);
         }
     }
 }
 
 /// The amplification statement, the view axes and a scale bar.
-fn draw_captions(svg: &mut Svg, view: &View, amp: f64, fit: &Fit) {
+fn draw_captions(svg: &mut Svg<'_>, view: &View, amp: f64, fit: &Fit) {
     svg.text((10.0, 18.0), "start", "legend", &amplification_caption(amp));
     svg.text((10.0, 36.0), "start", "legend", &view_caption(view));
     let bar_mm = nice_floor(PLOT_WIDTH / 5.0 / fit.scale);

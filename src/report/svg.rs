@@ -1,9 +1,10 @@
-//! Minimal hand-written SVG: a string builder, linear axes with "nice"
-//! ticks and a plot frame. Coordinates are written with fixed decimals so
-//! that the output is deterministic and diff-friendly. Styling is by CSS
-//! class (the classes are defined in the HTML page's stylesheet).
+//! Minimal hand-written SVG: a builder writing into the page's buffer,
+//! linear axes with "nice" ticks and a plot frame. Coordinates are written
+//! with fixed decimals so that the output is deterministic and
+//! diff-friendly. Styling is by CSS class (the classes are defined in the
+//! HTML page's stylesheet).
 
-use super::markup::{fixed, push_escaped, push_fixed};
+use super::markup::{fixed, push_escaped, push_fixed, TextSink};
 
 /// Decimals of pixel coordinates.
 const PX_DECIMALS: usize = 2;
@@ -22,7 +23,7 @@ const MAX_TICKS: usize = 10;
 
 /// Appends a pixel coordinate; a non-finite value (callers leave such
 /// points out) becomes 0 so that the SVG stays valid.
-pub fn push_px(out: &mut String, value: f64) {
+pub fn push_px(out: &mut Vec<u8>, value: f64) {
     push_fixed(
         out,
         if value.is_finite() { value } else { 0.0 },
@@ -30,31 +31,83 @@ pub fn push_px(out: &mut String, value: f64) {
     );
 }
 
+/// A pixel value as [`push_px`] writes it.
+pub fn px_text(value: f64) -> Vec<u8> {
+    let mut text = Vec::new();
+    push_px(&mut text, value);
+    text
+}
+
+/// Pixel points formatted once for the several elements that draw them
+/// (a trace and its markers, a curve and the needles that start on it).
+#[derive(Debug, Default)]
+pub struct PixelTexts {
+    /// The x and y of every point as [`push_px`] writes them, back to back.
+    text: Vec<u8>,
+    /// Per point: where its x ends and where its y ends in `text`.
+    ends: Vec<(usize, usize)>,
+}
+
+impl PixelTexts {
+    /// Formats the points.
+    pub fn new(points: impl ExactSizeIterator<Item = (f64, f64)>) -> PixelTexts {
+        /// Typical bytes of one point's x and y.
+        const POINT_BYTES: usize = 12;
+        let mut texts = PixelTexts {
+            text: Vec::with_capacity(points.len() * POINT_BYTES),
+            ends: Vec::with_capacity(points.len()),
+        };
+        for (x, y) in points {
+            push_px(&mut texts.text, x);
+            let x_end = texts.text.len();
+            push_px(&mut texts.text, y);
+            texts.ends.push((x_end, texts.text.len()));
+        }
+        texts
+    }
+
+    /// How many points there are.
+    pub fn count(&self) -> usize {
+        self.ends.len()
+    }
+
+    /// The x and y text of point `k`.
+    fn get(&self, k: usize) -> Option<(&[u8], &[u8])> {
+        let start = match k.checked_sub(1) {
+            Some(previous) => self.ends.get(previous)?.1,
+            None => 0,
+        };
+        let (x_end, y_end) = *self.ends.get(k)?;
+        Some((self.text.get(start..x_end)?, self.text.get(x_end..y_end)?))
+    }
+}
+
 /// Bytes reserved for a new SVG: the frame, axes and captions of a plot.
 const INITIAL_CAPACITY: usize = 4096;
 
-/// An SVG document under construction.
+/// An SVG document under construction, written straight into the page
+/// that shows it.
 #[derive(Debug)]
-pub struct Svg {
-    out: String,
+pub struct Svg<'a> {
+    out: &'a mut Vec<u8>,
 }
 
-impl Svg {
-    /// Starts an inline `<svg>` of the given size (px) with an accessible title.
-    pub fn new(width: f64, height: f64, title: &str) -> Svg {
-        let mut svg = Svg {
-            out: String::with_capacity(INITIAL_CAPACITY),
-        };
-        svg.out.push_str("<svg class=\"plot\"");
-        svg.attr("width", width);
-        svg.attr("height", height);
-        svg.out.push_str(" viewBox=\"0 0 ");
-        push_px(&mut svg.out, width);
-        svg.out.push(' ');
-        push_px(&mut svg.out, height);
-        svg.out.push_str("\" role=\"img\"><title>");
-        push_escaped(&mut svg.out, title);
-        svg.out.push_str("</title>\n");
+impl<'a> Svg<'a> {
+    /// Starts an inline `<svg>` of the given size (px) with an accessible
+    /// title at the end of `out`.
+    pub fn new(out: &'a mut Vec<u8>, width: f64, height: f64, title: &str) -> Svg<'a> {
+        out.reserve(INITIAL_CAPACITY);
+        let mut svg = Svg { out };
+        svg.out.push_text("<svg class=\"plot\"");
+        svg.attr(" width=\"", width);
+        svg.attr(" height=\"", height);
+        svg.out.push_text(" viewBox=\"0 0 ");
+        push_px(svg.out, width);
+        svg.out.push(b' ');
+        push_px(svg.out, height);
+        svg.out.push_text("\" role=\"img\"><title>");
+        push_escaped(svg.out, title);
+        svg.out.push_text("</title>\n");
         svg
     }
 
@@ -63,48 +116,98 @@ impl Svg {
         self.out.reserve(additional);
     }
 
-    /// ` name="value"` with a pixel value.
-    fn attr(&mut self, name: &str, value: f64) {
-        self.out.push(' ');
-        self.out.push_str(name);
-        self.out.push_str("=\"");
-        push_px(&mut self.out, value);
-        self.out.push('"');
+    /// ` name="value"` with a pixel value; `lead` is ` name="`.
+    fn attr(&mut self, lead: &str, value: f64) {
+        self.out.push_text(lead);
+        push_px(self.out, value);
+        self.out.push(b'"');
+    }
+
+    /// ` name="text"` with a pixel value formatted before; `lead` is
+    /// ` name="`.
+    fn attr_text(&mut self, lead: &str, text: &[u8]) {
+        self.out.push_text(lead);
+        self.out.extend_from_slice(text);
+        self.out.push(b'"');
     }
 
     /// ` class="class"/>` and the line end.
     fn end_empty(&mut self, class: &str) {
-        self.out.push_str(" class=\"");
-        self.out.push_str(class);
-        self.out.push_str("\"/>\n");
+        self.out.push_text(" class=\"");
+        self.out.push_text(class);
+        self.out.push_text("\"/>\n");
     }
 
     /// A line segment.
     pub fn line(&mut self, a: (f64, f64), b: (f64, f64), class: &str) {
-        self.out.push_str("<line");
-        self.attr("x1", a.0);
-        self.attr("y1", a.1);
-        self.attr("x2", b.0);
-        self.attr("y2", b.1);
+        self.out.push_text("<line");
+        self.attr(" x1=\"", a.0);
+        self.attr(" y1=\"", a.1);
+        self.attr(" x2=\"", b.0);
+        self.attr(" y2=\"", b.1);
+        self.end_empty(class);
+    }
+
+    /// A line segment from point `k` of `texts` to `b` (nothing when
+    /// there is no such point).
+    pub fn line_from(&mut self, texts: &PixelTexts, k: usize, b: (f64, f64), class: &str) {
+        let Some((x, y)) = texts.get(k) else {
+            return;
+        };
+        self.out.push_text("<line");
+        self.attr_text(" x1=\"", x);
+        self.attr_text(" y1=\"", y);
+        self.attr(" x2=\"", b.0);
+        self.attr(" y2=\"", b.1);
         self.end_empty(class);
     }
 
     /// An axis-aligned rectangle from its top-left corner and size.
     pub fn rect(&mut self, corner: (f64, f64), size: (f64, f64), class: &str) {
-        self.out.push_str("<rect");
-        self.attr("x", corner.0);
-        self.attr("y", corner.1);
-        self.attr("width", size.0.max(0.0));
-        self.attr("height", size.1.max(0.0));
+        self.out.push_text("<rect");
+        self.attr(" x=\"", corner.0);
+        self.attr(" y=\"", corner.1);
+        self.attr(" width=\"", size.0.max(0.0));
+        self.attr(" height=\"", size.1.max(0.0));
         self.end_empty(class);
     }
 
-    /// A circle.
-    pub fn circle(&mut self, centre: (f64, f64), radius: f64, class: &str) {
-        self.out.push_str("<circle");
-        self.attr("cx", centre.0);
-        self.attr("cy", centre.1);
-        self.attr("r", radius);
+    /// A circle centred on point `k` of `texts`, its radius formatted by
+    /// [`px_text`] (nothing when there is no such point).
+    pub fn circle_at(&mut self, texts: &PixelTexts, k: usize, radius: &[u8], class: &str) {
+        let Some((x, y)) = texts.get(k) else {
+            return;
+        };
+        self.out.push_text("<circle");
+        self.attr_text(" cx=\"", x);
+        self.attr_text(" cy=\"", y);
+        self.attr_text(" r=\"", radius);
+        self.end_empty(class);
+    }
+
+    /// The polyline through the points of `texts`, back to the first when
+    /// `closed` (nothing for fewer than two points in all).
+    pub fn polyline_texts(&mut self, texts: &PixelTexts, closed: bool, class: &str) {
+        let count = texts.count();
+        let closing = closed && count > 0;
+        if count + usize::from(closing) < 2 {
+            return;
+        }
+        self.out.reserve(texts.text.len() + 2 * count + 64);
+        self.out.push_text("<polyline points=\"");
+        let order = (0..count).chain(closing.then_some(0));
+        for (n, k) in order.enumerate() {
+            let Some((x, y)) = texts.get(k) else {
+                continue;
+            };
+            if n > 0 {
+                self.out.push(b' ');
+            }
+            self.out.extend_from_slice(x);
+            self.out.push(b',');
+            self.out.extend_from_slice(y);
+        }
+        self.out.push(b'"');
         self.end_empty(class);
     }
 
@@ -126,45 +229,45 @@ impl Svg {
         /// Typical bytes of one `x,y` pair with its separator.
         const PAIR_BYTES: usize = 14;
         self.out.reserve(points.len() * PAIR_BYTES + 64);
-        self.out.push('<');
-        self.out.push_str(tag);
-        self.out.push_str(" points=\"");
+        self.out.push(b'<');
+        self.out.push_text(tag);
+        self.out.push_text(" points=\"");
         for (k, (x, y)) in points.iter().enumerate() {
             if k > 0 {
-                self.out.push(' ');
+                self.out.push(b' ');
             }
-            push_px(&mut self.out, *x);
-            self.out.push(',');
-            push_px(&mut self.out, *y);
+            push_px(self.out, *x);
+            self.out.push(b',');
+            push_px(self.out, *y);
         }
-        self.out.push('"');
+        self.out.push(b'"');
         self.end_empty(class);
     }
 
     /// Text; `anchor` is `start`, `middle` or `end`.
     pub fn text(&mut self, at: (f64, f64), anchor: &str, class: &str, content: &str) {
-        self.out.push_str("<text");
-        self.attr("x", at.0);
-        self.attr("y", at.1);
-        self.out.push_str(" text-anchor=\"");
-        self.out.push_str(anchor);
-        self.out.push_str("\" class=\"");
-        self.out.push_str(class);
-        self.out.push_str("\">");
-        push_escaped(&mut self.out, content);
-        self.out.push_str("</text>\n");
+        self.out.push_text("<text");
+        self.attr(" x=\"", at.0);
+        self.attr(" y=\"", at.1);
+        self.out.push_text(" text-anchor=\"");
+        self.out.push_text(anchor);
+        self.out.push_text("\" class=\"");
+        self.out.push_text(class);
+        self.out.push_text("\">");
+        push_escaped(self.out, content);
+        self.out.push_text("</text>\n");
     }
 
-    /// Closes the element and returns the markup.
-    pub fn finish(mut self) -> String {
-        self.out.push_str("</svg>\n");
-        self.out
+    /// Closes the element.
+    pub fn finish(self) {
+        self.out.push_text("</svg>\n");
     }
 }
 
-/// A placeholder plot that only says why there is nothing to draw.
-pub fn empty_plot(width: f64, height: f64, title: &str, message: &str) -> String {
-    let mut svg = Svg::new(width, height, title);
+/// A placeholder plot that only says why there is nothing to draw,
+/// appended to `out`.
+pub fn empty_plot(out: &mut Vec<u8>, width: f64, height: f64, title: &str, message: &str) {
+    let mut svg = Svg::new(out, width, height, title);
     svg.rect((0.5, 0.5), (width - 1.0, height - 1.0), "frame");
     svg.text((width / 2.0, height / 2.0), "middle", "note", message);
     svg.finish()
@@ -298,7 +401,7 @@ impl Frame {
     }
 
     /// Draws the frame box, ticks with labels and the axis titles.
-    pub fn draw_axes(&self, svg: &mut Svg, x_title: &str, y_title: &str) {
+    pub fn draw_axes(&self, svg: &mut Svg<'_>, x_title: &str, y_title: &str) {
         self.draw_x_axis(svg, x_title);
         self.draw_y_ticks(svg);
         svg.text(
@@ -310,7 +413,7 @@ impl Frame {
     }
 
     /// Draws the frame box and the x axis only (ticks, labels, title).
-    pub fn draw_x_axis(&self, svg: &mut Svg, x_title: &str) {
+    pub fn draw_x_axis(&self, svg: &mut Svg<'_>, x_title: &str) {
         let (x0, x1, y0, y1) = (self.x.px_lo, self.x.px_hi, self.y.px_lo, self.y.px_hi);
         svg.rect((x0, y1), (x1 - x0, y0 - y1), "frame");
         self.draw_x_ticks(svg);
@@ -318,7 +421,7 @@ impl Frame {
     }
 
     /// Ticks and labels along the bottom edge.
-    fn draw_x_ticks(&self, svg: &mut Svg) {
+    fn draw_x_ticks(&self, svg: &mut Svg<'_>) {
         let (step, values) = ticks(self.x.lo, self.x.hi);
         let y0 = self.y.px_lo;
         for value in values {
@@ -334,7 +437,7 @@ impl Frame {
     }
 
     /// Ticks, grid lines and labels along the left edge.
-    fn draw_y_ticks(&self, svg: &mut Svg) {
+    fn draw_y_ticks(&self, svg: &mut Svg<'_>) {
         let (step, values) = ticks(self.y.lo, self.y.hi);
         let (x0, x1) = (self.x.px_lo, self.x.px_hi);
         for value in values {

@@ -21,10 +21,12 @@ pub fn write_reports(dir: &Path, report: &Report) -> Result<(), WriteError> {
 
 /// Adds the four report files of `report` in `dir` to an output set.
 pub fn add_reports(set: &mut OutputSet, dir: &Path, report: &Report) {
+    let mut points = csv::PointsCsv::new(report);
+    let json = json::to_json_bytes_and_csv(report, &mut points);
     let contents = [
-        json::to_json_bytes(report),
-        csv::points_csv(report).into_bytes(),
-        html::report_html(report).into_bytes(),
+        json,
+        points.into_bytes(),
+        html::report_html_bytes(report),
         junit::junit_xml(report).into_bytes(),
     ];
     for (name, bytes) in REPORT_FILES.iter().zip(contents) {
