@@ -145,20 +145,24 @@ fn default_deflections_follow_the_tip() {
 #[test]
 fn a_small_ball_is_calibrated_without_its_shaft_touching_the_sphere() {
     let dir = tempfile::tempdir().unwrap();
-    let out = dir.path().join("cal.json");
-    let run = cmm(&[
-        "calibrate-probe",
-        "--probe-tip-diameter",
-        "0.6",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    calibrated_to_the_truth(dir.path(), &["--probe-tip-diameter", "0.6"]);
+}
+
+/// `cmm calibrate-probe ARGS` into `dir/cal.json`, which must succeed and
+/// find the simulated tip radius within a micrometre: the calibration.
+fn calibrated_to_the_truth(dir: &std::path::Path, args: &[&str]) -> serde_json::Value {
+    let out = dir.join("cal.json");
+    let mut all = vec!["calibrate-probe"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["--out", out.to_str().unwrap()]);
+    let run = cmm(&all);
     assert!(run.status.success(), "{run:?}");
     let cal: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let found = cal["tip_radius_mm"].as_f64().unwrap();
     let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
     assert!((found - truth).abs() < 1e-3, "{found} vs {truth}");
+    cal
 }
 
 /// A probe file's shaft diameter is the shaft calibrated with: a 0.9 mm
@@ -172,22 +176,8 @@ fn a_probe_files_shaft_diameter_limits_the_arcs() {
     let xz_points = |probe: &str| {
         let file = dir.path().join("probe.json");
         std::fs::write(&file, probe).unwrap();
-        let out = dir.path().join("cal.json");
-        let run = cmm(&[
-            "calibrate-probe",
-            "--probe",
-            file.to_str().unwrap(),
-            "--deflections",
-            "0.1",
-            "--out",
-            out.to_str().unwrap(),
-        ]);
-        assert!(run.status.success(), "{run:?}");
-        let cal: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
-        let found = cal["tip_radius_mm"].as_f64().unwrap();
-        let truth = cal["simulation_truth"]["tip_radius_mm"].as_f64().unwrap();
-        assert!((found - truth).abs() < 1e-3, "{found} vs {truth}");
+        let args = ["--probe", file.to_str().unwrap(), "--deflections", "0.1"];
+        let cal = calibrated_to_the_truth(dir.path(), &args);
         let scans = cal["scans"].as_array().unwrap().clone();
         let xz = scans.iter().find(|s| s["plane"] == "xz").unwrap();
         xz["points"].as_u64().unwrap()

@@ -495,31 +495,7 @@ mod tests {
 
     #[test]
     fn pretty_with_trailing_newline() {
-        let report = Report {
-            format: REPORT_FORMAT,
-            program: "p".into(),
-            seed: 7,
-            status: Verdict::Pass,
-            machine_time_s: 1.5,
-            wall_time_s: 0.0,
-            part_to_machine: PartToMachine {
-                rotation: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]],
-                translation_mm: [0.0; 3],
-            },
-            ideal: true,
-            alignment: None,
-            probe: ProbeUsed {
-                source: "nominal".into(),
-                tip_radius_mm: 1.0,
-                probe_vector_mm: [0.0, 0.0, -50.0],
-            },
-            features: vec![],
-            end_move: EndMoveReport {
-                outcome: crate::host::modes::Outcome::Completed,
-                machine_time_s: 0.5,
-                collision: None,
-            },
-        };
+        let report = minimal_report();
         let text = to_json(&report);
         assert!(text.ends_with("}\n"));
         assert!(text.contains("\n  \"seed\": 7,"));
